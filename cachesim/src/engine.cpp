@@ -1,0 +1,2 @@
+// Replaced by the cache engine.
+namespace nodetrace::cachesim {}

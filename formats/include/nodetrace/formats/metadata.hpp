@@ -1,0 +1,61 @@
+// Container metadata: the header, the animation-frame markers and the
+// trailer's totals (formats/FORMAT.md gives the JSON of each).
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nodetrace/formats/record.hpp"
+
+namespace nodetrace::formats {
+
+// One animation frame's marker.
+struct FrameMarker {
+  std::uint64_t frame = 0;
+  double time = 0.0;
+  // That frame's kd-tree: nodes per level (index = level), totals, depth.
+  std::vector<std::uint64_t> nodes_per_level;
+  std::uint64_t nodes = 0;
+  std::uint64_t leaves = 0;
+  std::uint32_t depth = 0;
+  // Further keys written by the producer, kept as they were.
+  nlohmann::json extra = nlohmann::json::object();
+
+  nlohmann::json to_json() const;
+  static FrameMarker from_json(const nlohmann::json& json);  // throws FormatError
+};
+
+// The header's JSON with typed access to what readers need. Plain traces
+// (text, or zstd from another tool) have an empty header.
+struct TraceHeader {
+  nlohmann::json json = nlohmann::json::object();
+
+  bool present() const { return !json.empty(); }
+  // Record form announced by the header ("records"), if any.
+  std::optional<RecordForm> form() const;
+  // True when the header says `"tag": "node-level"`.
+  bool tags_are_levels() const;
+  // True when the header announces a trailer (a missing one is truncation).
+  bool announces_trailer() const;
+};
+
+// Per data frame entry of the trailer's index.
+struct FrameIndexEntry {
+  std::uint64_t offset = 0;           // byte offset of the zstd frame in the file
+  std::uint64_t compressed_size = 0;  // bytes of the zstd frame
+  std::uint64_t first_record = 0;     // 0-based number of its first record
+  std::uint64_t record_count = 0;
+  std::uint64_t animation_frame = 0;
+};
+
+struct TraceTrailer {
+  std::vector<FrameIndexEntry> index;
+  nlohmann::json totals = nlohmann::json::object();  // records, records_per_tag, ...
+  std::uint64_t record_hash = 0;                     // xxHash64 of all record bytes
+};
+
+}  // namespace nodetrace::formats

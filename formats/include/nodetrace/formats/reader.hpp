@@ -1,0 +1,68 @@
+// Reading traces: the container of formats/FORMAT.md, plain din / extended
+// din / Dinero binary text, plain zstd streams from any tool, and stdin.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nodetrace/formats/metadata.hpp"
+#include "nodetrace/formats/record.hpp"
+
+namespace nodetrace::formats {
+
+struct ReaderOptions {
+  // Read the tag field as a node level even where no header says so
+  // (--tags-are-levels). Without it, plain traces are untagged.
+  bool tags_are_levels = false;
+  // Record form of plain (headerless) input; nullopt detects it from the
+  // first record (a letter type -> extended din, a digit label -> din).
+  // Binary input is never guessed: it must be named.
+  std::optional<RecordForm> form;
+  // Decoding threads; 0 means one per core.
+  unsigned threads = 0;
+};
+
+// A run of consecutive records, delivered in trace order.
+struct RecordBatch {
+  // Set when an animation frame begins at records[0] (or, for an animation
+  // frame with no records, on an empty batch).
+  std::optional<FrameMarker> marker;
+  std::vector<Record> records;
+  // 0-based position of records[0] in the whole trace.
+  std::uint64_t first_record = 0;
+};
+
+class TraceReader {
+ public:
+  // `path` "-" reads standard input. Throws IoError when it cannot be opened,
+  // FormatError when what it holds is not a trace.
+  static std::unique_ptr<TraceReader> open(const std::string& path,
+                                           const ReaderOptions& options = {});
+  virtual ~TraceReader();
+
+  // The file name as given, or "<stdin>"; used in every error message.
+  virtual const std::string& source_name() const = 0;
+  virtual const TraceHeader& header() const = 0;
+  virtual RecordForm form() const = 0;
+  // True when tags are node levels (header says so, or tags_are_levels).
+  virtual bool tags_are_levels() const = 0;
+
+  // Fills `batch` with the next records (replacing its contents); returns
+  // false at the end of the trace. Throws FormatError naming the record number
+  // on bad data, and on truncation or damage of a container.
+  virtual bool next(RecordBatch& batch) = 0;
+
+  // The trailer: read from the end of a seekable container when opened, else
+  // available once next() has returned false. nullopt for plain traces.
+  virtual const std::optional<TraceTrailer>& trailer() const = 0;
+
+  // Seekable containers with an index: continue reading at the data frame
+  // holding record `record` (0-based); the next batch starts at that frame's
+  // first record. Throws UsageError when the input cannot seek.
+  virtual void seek_to_record(std::uint64_t record) = 0;
+};
+
+}  // namespace nodetrace::formats

@@ -1,0 +1,55 @@
+// Writing traces: the container of formats/FORMAT.md, or plain records.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+
+#include "nodetrace/formats/metadata.hpp"
+#include "nodetrace/formats/record.hpp"
+
+namespace nodetrace::formats {
+
+enum class OutputKind : std::uint8_t {
+  Auto,       // container when the path ends in .zst or is "-", else plain
+  Container,  // header, markers, data frames, trailer
+  Plain,      // records only: text for din / xdin, 8-byte records for binary
+};
+
+struct WriterOptions {
+  RecordForm form = RecordForm::Din;
+  OutputKind kind = OutputKind::Auto;
+  int zstd_level = 3;
+  unsigned threads = 0;                        // compression threads; 0 = one per core
+  std::uint64_t records_per_frame = 1u << 20;  // records per data frame
+  unsigned address_digits = 8;                 // 8, or 16 for addresses above 32 bits
+};
+
+class TraceWriter {
+ public:
+  // `path` "-" writes to standard output; a file is written under a
+  // temporary name and renamed by finish(). `header` is the producer's part of
+  // the container header (scene, render, layout, ...); the writer adds
+  // "container", "records" and "tag" itself. Ignored for plain output.
+  static std::unique_ptr<TraceWriter> create(const std::string& path, nlohmann::json header,
+                                             const WriterOptions& options);
+  // Abandons an unfinished output: the temporary file is removed.
+  virtual ~TraceWriter();
+
+  // Starts an animation frame (writes its marker in a container; nothing in
+  // plain output). Records written before any begin_frame belong to frame 0
+  // with no marker.
+  virtual void begin_frame(const FrameMarker& marker) = 0;
+  virtual void write(std::span<const Record> records) = 0;
+  void write(const Record& record) { write(std::span<const Record>(&record, 1)); }
+  // Extra totals known only at the end (ray-kind counts, ...), merged into the
+  // trailer's "totals" object.
+  virtual void add_totals(const nlohmann::json& totals) = 0;
+  // Writes the trailer, flushes, and renames the temporary file into place.
+  virtual void finish() = 0;
+};
+
+}  // namespace nodetrace::formats

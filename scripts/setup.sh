@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs the Debian packages nodetrace needs (when missing), then configures
+# and builds into build/ (programs in build/bin/).
+#   scripts/setup.sh [--sanitize] [--build-dir DIR]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+build_dir=build
+cmake_args=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --sanitize) cmake_args+=(-DNODETRACE_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo); shift ;;
+    --build-dir) build_dir="$2"; shift 2 ;;
+    *) echo "setup.sh: unknown option $1" >&2; exit 2 ;;
+  esac
+done
+
+packages=(cmake g++ make pkg-config zstd libzstd-dev libxxhash-dev libcli11-dev libfmt-dev
+          libtinyobjloader-dev nlohmann-json3-dev libpng-dev libgtest-dev libgmock-dev)
+missing=()
+for package in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||
+    missing+=("$package")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup.sh: installing ${missing[*]}" >&2
+  sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo=sudo
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
+fi
+
+cmake -S . -B "$build_dir" "${cmake_args[@]}" >/dev/null
+cmake --build "$build_dir" -j "$(nproc)"

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Sets up (packages, configure, build) and runs the whole test suite with CTest.
+#   scripts/test.sh            tests that need ../shared skip when it is absent
+#   scripts/test.sh --ci       they must run: absent shared data fails (CI)
+#   scripts/test.sh --sanitize the same suite built with ASan + UBSan in build-sanitize/
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+setup_args=()
+build_dir=build
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --ci) export NODETRACE_REQUIRE_SHARED=1; shift ;;
+    --sanitize) setup_args+=(--sanitize); build_dir=build-sanitize; shift ;;
+    *) echo "test.sh: unknown option $1" >&2; exit 2 ;;
+  esac
+done
+
+scripts/setup.sh "${setup_args[@]}" --build-dir "$build_dir"
+ctest --test-dir "$build_dir" --output-on-failure -j "$(nproc)"

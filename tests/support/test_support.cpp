@@ -1,0 +1,78 @@
+#include "test_support.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+namespace nodetrace::testing {
+
+std::optional<std::filesystem::path> shared_dir() {
+  std::filesystem::path dir = NODETRACE_SHARED_DIR;
+  if (const char* env = std::getenv("NODETRACE_SHARED_DIR"); env && *env) dir = env;
+  if (std::filesystem::is_directory(dir / "dinero-golden")) return dir;
+  return std::nullopt;
+}
+
+bool shared_data_required() {
+  const char* env = std::getenv("NODETRACE_REQUIRE_SHARED");
+  return env && std::string(env) == "1";
+}
+
+std::filesystem::path program(const std::string& name) {
+  return std::filesystem::path(NODETRACE_BIN_DIR) / name;
+}
+
+TempDir::TempDir() {
+  std::random_device device;
+  const auto base = std::filesystem::temp_directory_path();
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    auto candidate = base / ("nodetrace-test-" + std::to_string(::getpid()) + "-" +
+                             std::to_string(device()));
+    if (std::filesystem::create_directory(candidate)) {
+      path_ = candidate;
+      return;
+    }
+  }
+  throw std::runtime_error("cannot create a temporary directory");
+}
+
+TempDir::~TempDir() {
+  std::error_code ignored;
+  std::filesystem::remove_all(path_, ignored);
+}
+
+CommandResult run_command(const std::string& command, const std::string& input) {
+  TempDir dir;
+  const auto in_path = dir / "stdin";
+  const auto out_path = dir / "stdout";
+  const auto err_path = dir / "stderr";
+  write_file(in_path, input);
+  const std::string full = "(" + command + ") <'" + in_path.string() + "' >'" +
+                           out_path.string() + "' 2>'" + err_path.string() + "'";
+  const int status = std::system(full.c_str());
+  CommandResult result;
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  result.out = read_file(out_path);
+  result.err = read_file(err_path);
+  return result;
+}
+
+std::string read_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void write_file(const std::filesystem::path& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out << bytes;
+}
+
+}  // namespace nodetrace::testing

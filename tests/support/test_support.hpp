@@ -1,0 +1,61 @@
+// Helpers shared by every test program: where ../shared and the built
+// programs are, temporary directories, and running a command.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace nodetrace::testing {
+
+// ../shared beside the checkout, or nullopt when it is absent.
+std::optional<std::filesystem::path> shared_dir();
+
+// True when absent shared data must fail the test instead of skipping it
+// (NODETRACE_REQUIRE_SHARED=1, set by .ci/run).
+bool shared_data_required();
+
+// Path of a program built into build/bin.
+std::filesystem::path program(const std::string& name);
+
+// A fresh directory removed when the object goes out of scope.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out;  // standard output
+  std::string err;  // standard error
+};
+
+// Runs `command` with /bin/sh, optionally feeding `input` on stdin.
+CommandResult run_command(const std::string& command, const std::string& input = {});
+
+std::string read_file(const std::filesystem::path& path);
+void write_file(const std::filesystem::path& path, const std::string& bytes);
+
+}  // namespace nodetrace::testing
+
+// Binds `var` to the shared directory; skips the test with a message when it
+// is absent, or fails it when shared data is required (CI).
+#define NODETRACE_SHARED_OR_SKIP(var)                                              \
+  const auto var##_optional = ::nodetrace::testing::shared_dir();                  \
+  if (!var##_optional) {                                                           \
+    if (::nodetrace::testing::shared_data_required()) {                            \
+      FAIL() << "../shared is absent but NODETRACE_REQUIRE_SHARED=1";              \
+    }                                                                              \
+    GTEST_SKIP() << "../shared not found beside the checkout: golden test skipped"; \
+  }                                                                                \
+  const std::filesystem::path var = *var##_optional
