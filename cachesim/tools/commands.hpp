@@ -1,0 +1,11 @@
+// The subcommands of `cachesim`, each in its own file. Each takes the
+// arguments after its name and returns the process exit code
+// (0 success, 1 bad data, 2 bad usage).
+#pragma once
+
+namespace nodetrace::cachesim::cli {
+
+int dinero_command(int argc, char** argv);  // cachesim dinero [Dinero IV options]
+int run_command(int argc, char** argv);     // cachesim run TRACE... [options]
+
+}  // namespace nodetrace::cachesim::cli

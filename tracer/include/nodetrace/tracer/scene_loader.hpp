@@ -1,0 +1,44 @@
+// Opening scenes: Wavefront OBJ + MTL, BART AFF, and built-in procedural
+// scenes, all behind SceneSource.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "nodetrace/tracer/scene.hpp"
+
+namespace nodetrace::tracer {
+
+// Bad scene input: what() names the file and line and what was expected.
+class SceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct BuiltinSceneInfo {
+  std::string name;         // e.g. "sphereflake"
+  std::string description;  // one line
+  int default_size;         // size parameter used when none is given
+  std::uint64_t triangles;  // triangle count at default_size
+};
+
+// The built-in procedural scenes, in listing order.
+std::vector<BuiltinSceneInfo> builtin_scenes();
+// The scene rendered when the user names none.
+std::string default_scene_name();
+
+struct SceneLoadOptions {
+  // Size parameter of a built-in scene (0: its default).
+  int builtin_size = 0;
+};
+
+// `spec` is a path ending in .obj or .aff, or a built-in scene's name
+// (optionally "name:size"). Throws SceneError for bad input, and for a spec
+// that is neither a readable file nor a built-in name.
+std::unique_ptr<SceneSource> open_scene(const std::string& spec,
+                                        const SceneLoadOptions& options = {});
+
+}  // namespace nodetrace::tracer

@@ -1,0 +1,11 @@
+// The subcommands of `tracer`, each in its own file. Each takes the arguments
+// after its name and returns the exit code (0 success, 1 bad data, 2 bad usage).
+#pragma once
+
+namespace nodetrace::tracer::cli {
+
+int scenes_command(int argc, char** argv);  // tracer scenes: list built-in scenes
+int info_command(int argc, char** argv);    // tracer info SCENE
+int render_command(int argc, char** argv);  // tracer render [SCENE] -o TRACE
+
+}  // namespace nodetrace::tracer::cli
