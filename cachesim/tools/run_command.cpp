@@ -1,12 +1,57 @@
+// cachesim run: single and split node caches, every combination of the
+// listed options simulated in one pass over each trace.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
 #include <cstdio>
 
 #include "commands.hpp"
+#include "nodetrace/cachesim/report.hpp"
+#include "nodetrace/cachesim/sweep.hpp"
+#include "nodetrace/formats/error.hpp"
+#include "nodetrace/formats/reader.hpp"
+#include "run_options.hpp"
 
 namespace nodetrace::cachesim::cli {
 
-int run_command(int, char**) {
-  std::fputs("cachesim run: not implemented yet\n", stderr);
-  return 2;
+int run_command(int argc, char** argv) {
+  CLI::App app{
+      "Simulate single and split node caches on traces; every combination of the listed values "
+      "is simulated in one pass over each trace.\n"
+      "Example: cachesim run t.din.zst --size 4k,8k,16k --scheme single,split --format csv",
+      "cachesim run"};
+  RunCommandLine line;
+  add_run_options(app, line);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
+  }
+  try {
+    const SweepOptions options = sweep_options(line);
+    const std::vector<NodeCacheConfig> configs = expand_configurations(options);
+    std::vector<ResultRow> rows;
+    std::vector<LevelRow> levels;
+    std::vector<std::string> notes;
+    for (const std::string& trace : line.traces) {
+      auto reader = formats::TraceReader::open(trace, reader_options(line));
+      TraceResult result = run_sweep(*reader, configs, trace, options.per_level);
+      rows.insert(rows.end(), result.rows.begin(), result.rows.end());
+      levels.insert(levels.end(), result.level_rows.begin(), result.level_rows.end());
+      notes.insert(notes.end(), result.notes.begin(), result.notes.end());
+    }
+    print_report(rows, levels, notes, line);
+    return 0;
+  } catch (const formats::UsageError& error) {
+    std::fprintf(stderr, "cachesim run: %s\n", error.what());
+    return 2;
+  } catch (const formats::FormatError& error) {
+    std::fprintf(stderr, "cachesim run: %s\n", error.what());
+    return 1;
+  } catch (const formats::IoError& error) {
+    std::fprintf(stderr, "cachesim run: %s\n", error.what());
+    return 1;
+  }
 }
 
 }  // namespace nodetrace::cachesim::cli

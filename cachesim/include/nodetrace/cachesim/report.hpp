@@ -1,0 +1,45 @@
+// The report of `cachesim run` and `dinero-wrap run`: one row per trace and
+// configuration, columns of DESIGN.md "Cache model", as an aligned table (for
+// people), CSV with a header line, or JSON (an array of objects; numbers as
+// numbers, empty columns as null).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "nodetrace/cachesim/sweep.hpp"
+
+namespace nodetrace::cachesim {
+
+enum class ReportFormat : std::uint8_t { Table, Csv, Json };
+std::optional<ReportFormat> parse_report_format(std::string_view name);
+
+// The column names, in order.
+const std::vector<std::string>& report_columns();
+const std::vector<std::string>& level_report_columns();
+
+// misses / fetches with six decimals, rounded half up, from integer counts
+// ("0.000000" when there are no fetches).
+std::string miss_ratio_text(std::uint64_t misses, std::uint64_t fetches);
+
+// The cells of one row (empty strings for empty columns).
+std::vector<std::string> report_cells(const ResultRow& row);
+std::vector<std::string> level_report_cells(const LevelRow& row);
+
+// The main table alone.
+std::string format_rows(const std::vector<ResultRow>& rows, ReportFormat format);
+// The per-level table alone.
+std::string format_level_rows(const std::vector<LevelRow>& rows, ReportFormat format);
+
+// The whole report: the main table, then (when `per_level`) the per-level
+// table, separated by a blank line in table and CSV form; in JSON an object
+// {"results": [...], "levels": [...]} when `per_level`, else the array alone.
+// Notes are not included (front ends print them: under the table, or on
+// standard error for CSV and JSON so that those stay machine-readable).
+std::string format_report(const std::vector<ResultRow>& rows,
+                          const std::vector<LevelRow>& level_rows, bool per_level,
+                          ReportFormat format);
+
+}  // namespace nodetrace::cachesim

@@ -1,0 +1,153 @@
+// One-pass sweeps: many node-cache configurations (DESIGN.md "Cache model")
+// simulated together over one decode of a trace.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "nodetrace/cachesim/node_cache.hpp"
+#include "nodetrace/formats/reader.hpp"
+#include "nodetrace/formats/record.hpp"
+
+namespace nodetrace::cachesim {
+
+enum class Scheme : std::uint8_t { Single, Split };
+enum class HighPolicy : std::uint8_t { Retain, Cache };
+
+std::string_view scheme_name(Scheme scheme);           // single, split
+std::optional<Scheme> parse_scheme_name(std::string_view name);
+std::string_view high_policy_name(HighPolicy policy);  // retain, cache
+std::optional<HighPolicy> parse_high_policy_name(std::string_view name);
+
+// "8192", "8k", "8K", "1m": bytes. Throws formats::UsageError.
+std::uint64_t parse_size(std::string_view text);
+// Associativity: a number, or "full" (returned as 0: all blocks of the cache).
+std::uint32_t parse_assoc(std::string_view text);
+
+// One configuration of the report, before K = auto is resolved.
+struct NodeCacheConfig {
+  Scheme scheme = Scheme::Single;
+  std::uint64_t size = 8192;  // total: single cache, or high + low
+  std::uint32_t block = 8;
+  std::uint32_t assoc = 1;  // single / low cache ways (resolved, never 0)
+  ReplacementPolicy policy = ReplacementPolicy::Lru;
+  // Split scheme only.
+  HighPolicy high_policy = HighPolicy::Retain;
+  std::uint64_t high_size = 0;
+  std::uint64_t low_size = 0;
+  std::uint32_t high_assoc = 1;          // ways of the high cache under `cache`
+  std::optional<std::uint32_t> split_level;  // nullopt: auto
+  bool count_loads = false;              // retain: loads count as misses
+};
+
+// The command-line lists of `cachesim run` / `dinero-wrap run`.
+struct SweepOptions {
+  std::vector<std::uint64_t> sizes{8192};
+  std::vector<std::uint32_t> blocks{8};
+  std::vector<std::uint32_t> assocs{1};  // 0 = full
+  std::vector<ReplacementPolicy> policies{ReplacementPolicy::Lru};
+  std::vector<Scheme> schemes{Scheme::Single};
+  std::vector<std::optional<std::uint32_t>> split_levels{std::nullopt};  // nullopt = auto
+  std::vector<HighPolicy> high_policies{HighPolicy::Retain};
+  std::optional<std::uint64_t> high_size;
+  std::optional<std::uint64_t> low_size;
+  std::optional<std::uint32_t> high_assoc;  // 0 = full; default: assoc
+  bool count_loads = false;
+  bool per_level = false;
+};
+
+// Every combination, in report order (size, block, assoc, policy, scheme,
+// split level, high policy; innermost last). Validates each geometry; throws
+// formats::UsageError.
+std::vector<NodeCacheConfig> expand_configurations(const SweepOptions& options);
+
+// Largest K for which all nodes of levels < K (nodes_per_level, node_size
+// bytes each) fit in high_size bytes.
+std::uint32_t auto_split_level(const std::vector<std::uint64_t>& nodes_per_level,
+                               std::uint64_t node_size, std::uint64_t high_size);
+
+// One report row (DESIGN.md column list). Optional fields are the empty
+// columns (high / low columns of `single`, high_loads under `cache`).
+struct ResultRow {
+  std::string trace;
+  NodeCacheConfig config;
+  std::uint32_t split_level = 0;  // resolved K (split only)
+  std::uint64_t refs = 0;
+  std::uint64_t fetches = 0;
+  std::uint64_t misses = 0;
+  std::uint64_t high_refs = 0;
+  std::uint64_t high_misses = 0;
+  std::optional<std::uint64_t> high_loads;
+  std::uint64_t low_refs = 0;
+  std::uint64_t low_misses = 0;
+};
+
+// `--per-level`: references and misses of one node level in one configuration.
+struct LevelRow {
+  std::string trace;
+  Scheme scheme = Scheme::Single;
+  std::uint64_t size = 0;
+  std::uint32_t level = 0;
+  std::uint64_t refs = 0;
+  std::uint64_t misses = 0;
+};
+
+struct TraceResult {
+  std::vector<ResultRow> rows;
+  std::vector<LevelRow> level_rows;
+  std::uint64_t other_stream_records = 0;  // tagged p / t: counted, not simulated
+  std::vector<std::string> notes;          // said under the table (or on stderr)
+};
+
+// What a sweep needs to know about its trace.
+struct TraceContext {
+  std::string trace;        // the report's `trace` column (argument as given)
+  std::string source_name;  // for error messages
+  formats::RecordForm form = formats::RecordForm::Din;
+  bool tags_are_levels = false;
+  std::optional<std::uint32_t> layout_split_level;  // header "layout"."split_level"
+  std::uint64_t node_size = 8;                      // header "layout"."node_size"
+};
+
+// Fills a TraceContext from an opened reader.
+TraceContext trace_context(const formats::TraceReader& reader, std::string trace_column);
+
+class ConfigSimulator;
+
+// Simulates every configuration over batches fed in trace order.
+class Sweep {
+ public:
+  Sweep(std::vector<NodeCacheConfig> configs, TraceContext context, bool per_level);
+  ~Sweep();
+  Sweep(const Sweep&) = delete;
+  Sweep& operator=(const Sweep&) = delete;
+
+  // Throws formats::FormatError (untagged record where levels are needed) or
+  // formats::UsageError (K = auto without markers; high levels that do not fit).
+  void feed(const formats::RecordBatch& batch);
+  TraceResult finish();
+
+ private:
+  void start(const formats::RecordBatch& first_batch);
+
+  std::vector<NodeCacheConfig> configs_;
+  TraceContext context_;
+  bool per_level_ = false;
+  bool needs_levels_ = false;
+  bool started_ = false;
+  std::uint64_t animation_frame_ = 0;
+  std::uint64_t other_stream_records_ = 0;
+  std::vector<std::unique_ptr<ConfigSimulator>> simulators_;
+  std::vector<std::string> notes_;
+};
+
+// Reads the whole trace once and simulates every configuration, decoding on
+// the calling thread while a worker thread simulates.
+TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheConfig>& configs,
+                      const std::string& trace_column, bool per_level);
+
+}  // namespace nodetrace::cachesim

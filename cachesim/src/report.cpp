@@ -1,0 +1,217 @@
+#include "nodetrace/cachesim/report.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+
+namespace nodetrace::cachesim {
+
+std::optional<ReportFormat> parse_report_format(std::string_view name) {
+  if (name == "table") return ReportFormat::Table;
+  if (name == "csv") return ReportFormat::Csv;
+  if (name == "json") return ReportFormat::Json;
+  return std::nullopt;
+}
+
+const std::vector<std::string>& report_columns() {
+  static const std::vector<std::string> columns{
+      "trace",     "scheme",   "size",       "block",      "assoc",      "policy",
+      "high_policy", "high_size", "low_size", "split_level", "refs",      "fetches",
+      "misses",    "miss_ratio", "high_refs", "high_misses", "high_loads", "low_refs",
+      "low_misses"};
+  return columns;
+}
+
+const std::vector<std::string>& level_report_columns() {
+  static const std::vector<std::string> columns{"trace", "scheme", "size", "level", "refs",
+                                                "misses"};
+  return columns;
+}
+
+std::string miss_ratio_text(std::uint64_t misses, std::uint64_t fetches) {
+  if (fetches == 0) return "0.000000";
+  // Rounded half up: floor((2 * 10^6 * misses + fetches) / (2 * fetches)).
+  const unsigned __int128 scaled =
+      (static_cast<unsigned __int128>(misses) * 2000000u + fetches) /
+      (static_cast<unsigned __int128>(fetches) * 2u);
+  const auto whole = static_cast<std::uint64_t>(scaled / 1000000u);
+  const auto fraction = static_cast<std::uint64_t>(scaled % 1000000u);
+  return fmt::format("{}.{:06}", whole, fraction);
+}
+
+namespace {
+
+// Which columns are text (quoted in JSON); the others are numbers.
+bool is_text_column(std::size_t column) {
+  return column == 0 || column == 1 || column == 5 || column == 6;
+}
+
+std::string csv_field(const std::string& cell) {
+  if (cell.find_first_of(",\"\n\r") == std::string::npos) return cell;
+  std::string quoted = "\"";
+  for (const char c : cell) {
+    if (c == '"') quoted += '"';
+    quoted += c;
+  }
+  quoted += '"';
+  return quoted;
+}
+
+std::string format_cells(const std::vector<std::string>& columns,
+                         const std::vector<std::vector<std::string>>& rows, ReportFormat format,
+                         bool (*text_column)(std::size_t)) {
+  std::string out;
+  switch (format) {
+    case ReportFormat::Csv: {
+      for (std::size_t c = 0; c < columns.size(); ++c) {
+        if (c) out += ',';
+        out += columns[c];
+      }
+      out += '\n';
+      for (const auto& row : rows) {
+        for (std::size_t c = 0; c < row.size(); ++c) {
+          if (c) out += ',';
+          out += csv_field(row[c]);
+        }
+        out += '\n';
+      }
+      return out;
+    }
+    case ReportFormat::Json: {
+      out += "[";
+      for (std::size_t r = 0; r < rows.size(); ++r) {
+        out += r ? ",\n  {" : "\n  {";
+        for (std::size_t c = 0; c < columns.size(); ++c) {
+          if (c) out += ", ";
+          out += nlohmann::json(columns[c]).dump();
+          out += ": ";
+          const std::string& cell = rows[r][c];
+          if (cell.empty() && c != 0) {
+            out += "null";
+          } else if (text_column(c)) {
+            out += nlohmann::json(cell).dump();
+          } else {
+            out += cell;
+          }
+        }
+        out += "}";
+      }
+      out += rows.empty() ? "]\n" : "\n]\n";
+      return out;
+    }
+    case ReportFormat::Table: {
+      std::vector<std::size_t> widths(columns.size());
+      for (std::size_t c = 0; c < columns.size(); ++c) widths[c] = columns[c].size();
+      for (const auto& row : rows) {
+        for (std::size_t c = 0; c < row.size(); ++c) {
+          widths[c] = std::max(widths[c], std::max<std::size_t>(row[c].size(), 1));
+        }
+      }
+      auto append_line = [&](const std::vector<std::string>& cells, bool header) {
+        std::string line;
+        for (std::size_t c = 0; c < cells.size(); ++c) {
+          if (c) line += "  ";
+          const std::string cell = cells[c].empty() && !header ? "-" : cells[c];
+          // Text left-aligned, numbers right-aligned.
+          if (text_column(c)) {
+            line += cell;
+            if (c + 1 < cells.size()) line.append(widths[c] - cell.size(), ' ');
+          } else {
+            line.append(widths[c] - cell.size(), ' ');
+            line += cell;
+          }
+        }
+        out += line;
+        out += '\n';
+      };
+      append_line(columns, true);
+      for (const auto& row : rows) append_line(row, false);
+      return out;
+    }
+  }
+  return out;
+}
+
+bool is_level_text_column(std::size_t column) { return column == 0 || column == 1; }
+
+std::string format_json_object(const std::string& rows_json, const std::string& levels_json) {
+  auto indent = [](const std::string& text) {
+    std::string out;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+      out += text[i];
+      if (text[i] == '\n' && i + 1 < text.size()) out += "  ";
+    }
+    return out;
+  };
+  std::string rows_part = indent(rows_json);
+  std::string levels_part = indent(levels_json);
+  rows_part.pop_back();
+  levels_part.pop_back();
+  return "{\n  \"results\": " + rows_part + ",\n  \"levels\": " + levels_part + "\n}\n";
+}
+
+}  // namespace
+
+std::vector<std::string> report_cells(const ResultRow& row) {
+  const NodeCacheConfig& config = row.config;
+  const bool split = config.scheme == Scheme::Split;
+  auto number = [](std::uint64_t value) { return std::to_string(value); };
+  auto split_number = [&](std::uint64_t value) { return split ? number(value) : std::string(); };
+  return {
+      row.trace,
+      std::string(scheme_name(config.scheme)),
+      number(config.size),
+      number(config.block),
+      number(config.assoc),
+      std::string(policy_name(config.policy)),
+      split ? std::string(high_policy_name(config.high_policy)) : std::string(),
+      split_number(config.high_size),
+      split_number(config.low_size),
+      split_number(row.split_level),
+      number(row.refs),
+      number(row.fetches),
+      number(row.misses),
+      miss_ratio_text(row.misses, row.fetches),
+      split_number(row.high_refs),
+      split_number(row.high_misses),
+      split && row.high_loads ? number(*row.high_loads) : std::string(),
+      split_number(row.low_refs),
+      split_number(row.low_misses),
+  };
+}
+
+std::vector<std::string> level_report_cells(const LevelRow& row) {
+  return {row.trace,
+          std::string(scheme_name(row.scheme)),
+          std::to_string(row.size),
+          std::to_string(row.level),
+          std::to_string(row.refs),
+          std::to_string(row.misses)};
+}
+
+std::string format_rows(const std::vector<ResultRow>& rows, ReportFormat format) {
+  std::vector<std::vector<std::string>> cells;
+  cells.reserve(rows.size());
+  for (const ResultRow& row : rows) cells.push_back(report_cells(row));
+  return format_cells(report_columns(), cells, format, is_text_column);
+}
+
+std::string format_level_rows(const std::vector<LevelRow>& rows, ReportFormat format) {
+  std::vector<std::vector<std::string>> cells;
+  cells.reserve(rows.size());
+  for (const LevelRow& row : rows) cells.push_back(level_report_cells(row));
+  return format_cells(level_report_columns(), cells, format, is_level_text_column);
+}
+
+std::string format_report(const std::vector<ResultRow>& rows,
+                          const std::vector<LevelRow>& level_rows, bool per_level,
+                          ReportFormat format) {
+  const std::string main_table = format_rows(rows, format);
+  if (!per_level) return main_table;
+  const std::string level_table = format_level_rows(level_rows, format);
+  if (format == ReportFormat::Json) return format_json_object(main_table, level_table);
+  return main_table + "\n" + level_table;
+}
+
+}  // namespace nodetrace::cachesim

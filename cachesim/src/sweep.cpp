@@ -1,0 +1,557 @@
+#include "nodetrace/cachesim/sweep.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <cctype>
+#include <charconv>
+#include <limits>
+
+#include "nodetrace/formats/error.hpp"
+
+namespace nodetrace::cachesim {
+
+using formats::AccessType;
+using formats::FormatError;
+using formats::Record;
+using formats::Tag;
+using formats::UsageError;
+
+std::string_view scheme_name(Scheme scheme) {
+  return scheme == Scheme::Single ? "single" : "split";
+}
+
+std::optional<Scheme> parse_scheme_name(std::string_view name) {
+  if (name == "single") return Scheme::Single;
+  if (name == "split") return Scheme::Split;
+  return std::nullopt;
+}
+
+std::string_view high_policy_name(HighPolicy policy) {
+  return policy == HighPolicy::Retain ? "retain" : "cache";
+}
+
+std::optional<HighPolicy> parse_high_policy_name(std::string_view name) {
+  if (name == "retain") return HighPolicy::Retain;
+  if (name == "cache") return HighPolicy::Cache;
+  return std::nullopt;
+}
+
+std::uint64_t parse_size(std::string_view text) {
+  std::uint64_t value = 0;
+  const char* const end = text.data() + text.size();
+  const auto [next, error] = std::from_chars(text.data(), end, value);
+  std::uint64_t scale = 1;
+  if (next != end && next + 1 == end) {
+    switch (*next) {
+      case 'k': case 'K': scale = 1024; break;
+      case 'm': case 'M': scale = 1024 * 1024; break;
+      case 'g': case 'G': scale = 1024 * 1024 * 1024; break;
+      default: scale = 0;
+    }
+  } else if (next != end) {
+    scale = 0;
+  }
+  if (error != std::errc{} || next == text.data() || scale == 0 || value == 0 ||
+      value > std::numeric_limits<std::uint64_t>::max() / scale) {
+    throw UsageError(fmt::format(
+        "'{}' is not a size: expected a positive number of bytes, optionally with k or m "
+        "(e.g. 8k)",
+        text));
+  }
+  return value * scale;
+}
+
+std::uint32_t parse_assoc(std::string_view text) {
+  if (text == "full") return 0;
+  std::uint32_t value = 0;
+  const auto [next, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc{} || next != text.data() + text.size() || value == 0) {
+    throw UsageError(fmt::format(
+        "'{}' is not an associativity: expected a positive number of ways or 'full'", text));
+  }
+  return value;
+}
+
+namespace {
+
+std::uint32_t resolve_ways(std::uint32_t assoc, std::uint64_t size, std::uint32_t block) {
+  if (assoc != 0) return assoc;
+  return static_cast<std::uint32_t>(std::max<std::uint64_t>(1, size / block));
+}
+
+}  // namespace
+
+std::vector<NodeCacheConfig> expand_configurations(const SweepOptions& options) {
+  std::vector<NodeCacheConfig> configs;
+  for (const std::uint64_t size : options.sizes) {
+    for (const std::uint32_t block : options.blocks) {
+      for (const std::uint32_t assoc : options.assocs) {
+        for (const ReplacementPolicy policy : options.policies) {
+          for (const Scheme scheme : options.schemes) {
+            NodeCacheConfig base;
+            base.scheme = scheme;
+            base.size = size;
+            base.block = block;
+            base.policy = policy;
+            base.count_loads = options.count_loads;
+            if (scheme == Scheme::Single) {
+              base.assoc = resolve_ways(assoc, size, block);
+              validate_geometry({size, block, base.assoc, policy}, fmt::format("{}-byte cache", size));
+              configs.push_back(base);
+              continue;
+            }
+            std::uint64_t high = 0;
+            if (options.high_size) {
+              high = *options.high_size;
+            } else if (options.low_size) {
+              if (*options.low_size >= size) {
+                throw UsageError(fmt::format("--low-size {} leaves nothing of the total size {} for "
+                                             "the high-level cache",
+                                             *options.low_size, size));
+              }
+              high = size - *options.low_size;
+            } else {
+              high = size / 2;
+            }
+            std::uint64_t low = 0;
+            if (options.low_size) {
+              low = *options.low_size;
+            } else if (high < size) {
+              low = size - high;
+            } else {
+              throw UsageError(fmt::format("--high-size {} leaves nothing of the total size {} for "
+                                           "the low-level cache",
+                                           high, size));
+            }
+            base.high_size = high;
+            base.low_size = low;
+            base.size = high + low;
+            base.assoc = resolve_ways(assoc, low, block);
+            const std::uint32_t high_assoc = options.high_assoc.value_or(assoc);
+            base.high_assoc = resolve_ways(high_assoc, high, block);
+            validate_geometry({low, block, base.assoc, policy},
+                              fmt::format("low-level cache of {} bytes", low));
+            for (const auto& split_level : options.split_levels) {
+              for (const HighPolicy high_policy : options.high_policies) {
+                NodeCacheConfig config = base;
+                config.split_level = split_level;
+                config.high_policy = high_policy;
+                const std::string what = fmt::format("high-level cache of {} bytes", high);
+                if (high_policy == HighPolicy::Cache) {
+                  validate_geometry({high, block, config.high_assoc, policy}, what);
+                } else {
+                  validate_geometry({high, block, 1, policy}, what);
+                }
+                configs.push_back(config);
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+  return configs;
+}
+
+std::uint32_t auto_split_level(const std::vector<std::uint64_t>& nodes_per_level,
+                               std::uint64_t node_size, std::uint64_t high_size) {
+  std::uint64_t bytes = 0;
+  std::uint32_t level = 0;
+  for (const std::uint64_t nodes : nodes_per_level) {
+    if (nodes > (high_size - bytes) / std::max<std::uint64_t>(node_size, 1)) break;
+    bytes += nodes * node_size;
+    ++level;
+  }
+  return level;
+}
+
+TraceContext trace_context(const formats::TraceReader& reader, std::string trace_column) {
+  TraceContext context;
+  context.trace = std::move(trace_column);
+  context.source_name = reader.source_name();
+  context.form = reader.form();
+  context.tags_are_levels = reader.tags_are_levels();
+  const nlohmann::json& header = reader.header().json;
+  if (header.is_object()) {
+    const auto layout = header.find("layout");
+    if (layout != header.end() && layout->is_object()) {
+      const auto split_level = layout->find("split_level");
+      if (split_level != layout->end() && split_level->is_number_unsigned()) {
+        context.layout_split_level = split_level->get<std::uint32_t>();
+      }
+      const auto node_size = layout->find("node_size");
+      if (node_size != layout->end() && node_size->is_number_unsigned() &&
+          node_size->get<std::uint64_t>() > 0) {
+        context.node_size = node_size->get<std::uint64_t>();
+      }
+    }
+  }
+  return context;
+}
+
+// ---------------------------------------------------------------------------
+// Per-configuration simulators.
+
+class ConfigSimulator {
+ public:
+  virtual ~ConfigSimulator() = default;
+  virtual void begin_frame(std::uint64_t animation_frame) = 0;
+  // `first_record`: 0-based number of records[0] in the trace (for errors).
+  virtual void feed(const Record* records, std::size_t count, std::uint64_t first_record) = 0;
+  virtual ResultRow result() const = 0;
+  virtual void append_level_rows(std::vector<LevelRow>& rows) const = 0;
+};
+
+namespace {
+
+// The distinct high-level blocks touched in the current animation frame
+// (`retain`): an open-addressing set cleared in O(1) per frame by an epoch.
+class RetainedBlocks {
+ public:
+  explicit RetainedBlocks(std::uint64_t capacity_blocks) : capacity_(capacity_blocks) {
+    const std::uint64_t slots = std::bit_ceil(std::max<std::uint64_t>(16, 2 * (capacity_ + 1)));
+    keys_.resize(slots);
+    stamps_.assign(slots, 0);
+    mask_ = slots - 1;
+    hash_shift_ = 64 - static_cast<unsigned>(std::countr_zero(slots));
+  }
+
+  std::uint64_t capacity() const { return capacity_; }
+  std::uint64_t count() const { return count_; }
+
+  void clear() {
+    count_ = 0;
+    last_ = NodeCache::kInvalid;
+    if (++epoch_ == 0) {
+      std::fill(stamps_.begin(), stamps_.end(), 0);
+      epoch_ = 1;
+    }
+  }
+
+  // True when `block` is new this frame.
+  bool insert(std::uint64_t block) {
+    if (block == last_) return false;
+    last_ = block;
+    std::uint64_t slot = (block * 0x9E3779B97F4A7C15ull) >> hash_shift_;
+    while (true) {
+      if (stamps_[slot] != epoch_) {
+        stamps_[slot] = epoch_;
+        keys_[slot] = block;
+        ++count_;
+        return true;
+      }
+      if (keys_[slot] == block) return false;
+      slot = (slot + 1) & mask_;
+    }
+  }
+
+ private:
+  std::uint64_t capacity_;
+  std::vector<std::uint64_t> keys_;
+  std::vector<std::uint32_t> stamps_;
+  std::uint32_t epoch_ = 1;
+  std::uint64_t mask_ = 0;
+  unsigned hash_shift_ = 0;
+  std::uint64_t count_ = 0;
+  std::uint64_t last_ = NodeCache::kInvalid;
+};
+
+constexpr bool is_other_stream(Tag tag) {
+  return tag == formats::kTagPrimitiveList || tag == formats::kTagTriangle;
+}
+
+struct Counters {
+  std::uint64_t refs = 0;
+  std::uint64_t fetches = 0;
+  std::uint64_t high_refs = 0;
+  std::uint64_t high_misses = 0;
+  std::uint64_t high_loads = 0;
+  std::uint64_t low_refs = 0;
+  std::uint64_t low_misses = 0;
+};
+
+// kSplit: route by level; kRetain: high part retained per animation frame;
+// kPerLevel: count per level; kAlignedDin: din records (4 bytes at a multiple
+// of 4) with blocks of at least 4 bytes, so every record is one block.
+template <bool kSplit, bool kRetain, bool kPerLevel, bool kAlignedDin>
+class Simulator final : public ConfigSimulator {
+ public:
+  Simulator(const NodeCacheConfig& config, std::uint32_t split_level, const TraceContext& context)
+      : config_(config),
+        context_(context),
+        split_level_(split_level),
+        low_(NodeCacheGeometry{kSplit ? config.low_size : config.size, config.block, config.assoc,
+                               config.policy}),
+        high_(NodeCacheGeometry{kSplit && !kRetain ? config.high_size : config.block, config.block,
+                                kSplit && !kRetain ? config.high_assoc : 1, config.policy},
+              0x5eed + 1),
+        retained_(kRetain ? config.high_size / config.block : 0) {}
+
+  void begin_frame(std::uint64_t animation_frame) override {
+    animation_frame_ = animation_frame;
+    if constexpr (kRetain) retained_.clear();
+  }
+
+  void feed(const Record* records, std::size_t count, std::uint64_t first_record) override {
+    const unsigned shift = low_.block_shift();
+    Counters c = counters_;
+    for (std::size_t i = 0; i < count; ++i) {
+      const Record& record = records[i];
+      const Tag tag = record.tag;
+      if (is_other_stream(tag)) continue;
+      std::uint64_t first_block;
+      std::uint64_t last_block;
+      if constexpr (kAlignedDin) {
+        first_block = record.address >> shift;
+        last_block = first_block;
+      } else {
+        const Record view = formats::dinero_view(record, context_.form);
+        first_block = view.address >> shift;
+        const std::uint64_t span = view.size == 0 ? 0 : view.size - 1;
+        last_block = (view.address + span) >> shift;
+        if (last_block < first_block) last_block = first_block;  // wraps past 2^64
+      }
+      ++c.refs;
+      bool high = false;
+      if constexpr (kSplit) high = tag < split_level_;
+      if (high) {
+        ++c.high_refs;
+      } else {
+        ++c.low_refs;
+      }
+      if constexpr (kPerLevel) count_level_ref(tag);
+      const AccessType type = record.type;
+      for (std::uint64_t block = first_block;; ++block) {
+        if (type <= AccessType::Misc) {
+          ++c.fetches;
+          bool miss;
+          if (high) {
+            if constexpr (kRetain) {
+              miss = false;
+              if (retained_.insert(block)) {
+                ++c.high_loads;
+                if (retained_.count() > retained_.capacity()) {
+                  throw_does_not_fit(first_record + i + 1);
+                }
+                miss = config_.count_loads;
+              }
+            } else {
+              miss = high_.access(block);
+            }
+            c.high_misses += miss;
+          } else {
+            miss = low_.access(block);
+            c.low_misses += miss;
+          }
+          if constexpr (kPerLevel) {
+            if (miss) count_level_miss(tag);
+          }
+        } else if (type == AccessType::Invalidate) {
+          if (!high) {
+            low_.invalidate(block);
+          } else if constexpr (!kRetain) {
+            high_.invalidate(block);
+          }
+        }
+        if (block == last_block) break;
+      }
+    }
+    counters_ = c;
+  }
+
+  ResultRow result() const override {
+    ResultRow row;
+    row.trace = context_.trace;
+    row.config = config_;
+    const Counters& c = counters_;
+    row.refs = c.refs;
+    row.fetches = c.fetches;
+    row.misses = c.high_misses + c.low_misses;
+    if constexpr (kSplit) {
+      row.split_level = split_level_;
+      row.high_refs = c.high_refs;
+      row.high_misses = c.high_misses;
+      if constexpr (kRetain) row.high_loads = c.high_loads;
+      row.low_refs = c.low_refs;
+      row.low_misses = c.low_misses;
+    }
+    return row;
+  }
+
+  void append_level_rows(std::vector<LevelRow>& rows) const override {
+    for (std::size_t level = 0; level < level_refs_.size(); ++level) {
+      if (level_refs_[level] == 0) continue;
+      rows.push_back(LevelRow{context_.trace, config_.scheme, config_.size,
+                              static_cast<std::uint32_t>(level), level_refs_[level],
+                              level_misses_[level]});
+    }
+  }
+
+ private:
+  void count_level_ref(Tag tag) {
+    if (tag >= level_refs_.size()) {
+      level_refs_.resize(tag + 1u, 0);
+      level_misses_.resize(tag + 1u, 0);
+    }
+    ++level_refs_[tag];
+  }
+  void count_level_miss(Tag tag) { ++level_misses_[tag]; }
+
+  [[noreturn]] void throw_does_not_fit(std::uint64_t record_number) const {
+    throw UsageError(fmt::format(
+        "{}: record {}: the high-level nodes (levels < {}) touched in animation frame {} do not "
+        "fit the high-level cache: more than {} distinct {}-byte blocks, but the {}-byte high "
+        "cache (of a {}-byte total, low cache {} bytes) holds {}; give a smaller --split-level "
+        "or a larger --high-size",
+        context_.source_name, record_number, split_level_, animation_frame_,
+        retained_.capacity(), config_.block, config_.high_size, config_.size, config_.low_size,
+        retained_.capacity()));
+  }
+
+  NodeCacheConfig config_;
+  const TraceContext& context_;
+  std::uint32_t split_level_;
+  NodeCache low_;
+  NodeCache high_;  // split under `cache` only (a 1-block dummy otherwise)
+  RetainedBlocks retained_;
+  std::uint64_t animation_frame_ = 0;
+  Counters counters_;
+  std::vector<std::uint64_t> level_refs_;
+  std::vector<std::uint64_t> level_misses_;
+};
+
+template <bool kSplit, bool kRetain, bool kPerLevel>
+std::unique_ptr<ConfigSimulator> make_simulator_3(const NodeCacheConfig& config,
+                                                  std::uint32_t split_level,
+                                                  const TraceContext& context) {
+  const bool aligned_din = context.form == formats::RecordForm::Din && config.block >= 4;
+  if (aligned_din) {
+    return std::make_unique<Simulator<kSplit, kRetain, kPerLevel, true>>(config, split_level,
+                                                                          context);
+  }
+  return std::make_unique<Simulator<kSplit, kRetain, kPerLevel, false>>(config, split_level,
+                                                                         context);
+}
+
+template <bool kSplit, bool kRetain>
+std::unique_ptr<ConfigSimulator> make_simulator_2(const NodeCacheConfig& config,
+                                                  std::uint32_t split_level,
+                                                  const TraceContext& context, bool per_level) {
+  if (per_level) return make_simulator_3<kSplit, kRetain, true>(config, split_level, context);
+  return make_simulator_3<kSplit, kRetain, false>(config, split_level, context);
+}
+
+std::unique_ptr<ConfigSimulator> make_simulator(const NodeCacheConfig& config,
+                                                std::uint32_t split_level,
+                                                const TraceContext& context, bool per_level) {
+  if (config.scheme == Scheme::Single) {
+    return make_simulator_2<false, false>(config, split_level, context, per_level);
+  }
+  if (config.high_policy == HighPolicy::Retain) {
+    return make_simulator_2<true, true>(config, split_level, context, per_level);
+  }
+  return make_simulator_2<true, false>(config, split_level, context, per_level);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+
+Sweep::Sweep(std::vector<NodeCacheConfig> configs, TraceContext context, bool per_level)
+    : configs_(std::move(configs)), context_(std::move(context)), per_level_(per_level) {
+  const bool has_split = std::any_of(configs_.begin(), configs_.end(), [](const auto& config) {
+    return config.scheme == Scheme::Split;
+  });
+  needs_levels_ = has_split || per_level_;
+  if (needs_levels_ && !context_.tags_are_levels) {
+    throw UsageError(fmt::format(
+        "{}: {} needs the node level of every record, but this trace's records are untagged "
+        "(no container header says \"tag\": \"node-level\"); if the field after the address "
+        "holds node levels, pass --tags-are-levels",
+        context_.source_name, has_split ? "the split scheme" : "--per-level"));
+  }
+}
+
+Sweep::~Sweep() = default;
+
+void Sweep::start(const formats::RecordBatch& first_batch) {
+  started_ = true;
+  const formats::FrameMarker* marker = first_batch.marker ? &*first_batch.marker : nullptr;
+  for (const NodeCacheConfig& config : configs_) {
+    std::uint32_t split_level = 0;
+    if (config.scheme == Scheme::Split) {
+      if (config.split_level) {
+        split_level = *config.split_level;
+      } else {
+        if (marker == nullptr || marker->nodes_per_level.empty()) {
+          throw UsageError(fmt::format(
+              "{}: --split-level auto needs the nodes_per_level of animation-frame markers, "
+              "which this trace does not have; give an explicit split level, e.g. "
+              "--split-level 8",
+              context_.source_name));
+        }
+        split_level = auto_split_level(marker->nodes_per_level, context_.node_size,
+                                       config.high_size);
+      }
+      if (context_.layout_split_level && *context_.layout_split_level != split_level) {
+        std::string note = fmt::format(
+            "{}: {}-byte high cache: split level {} ({}) differs from the layout's split_level "
+            "{} in the trace header",
+            context_.trace, config.high_size, split_level,
+            config.split_level ? "given" : "auto", *context_.layout_split_level);
+        if (std::find(notes_.begin(), notes_.end(), note) == notes_.end()) {
+          notes_.push_back(std::move(note));
+        }
+      }
+    }
+    simulators_.push_back(make_simulator(config, split_level, context_, per_level_));
+  }
+}
+
+void Sweep::feed(const formats::RecordBatch& batch) {
+  if (!started_) start(batch);
+  if (batch.marker) {
+    animation_frame_ = batch.marker->frame;
+    for (auto& simulator : simulators_) simulator->begin_frame(animation_frame_);
+  }
+  const Record* const records = batch.records.data();
+  const std::size_t count = batch.records.size();
+  // Checked once here rather than in every configuration's loop.
+  std::uint64_t other = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const Tag tag = records[i].tag;
+    if (formats::is_level(tag)) continue;
+    if (is_other_stream(tag)) {
+      ++other;
+    } else if (needs_levels_) {
+      throw FormatError(fmt::format(
+          "{}: record {}: no node-level tag, but the split scheme and --per-level route every "
+          "record by its level (expected `LABEL ADDRESS LEVEL`)",
+          context_.source_name, batch.first_record + i + 1));
+    }
+  }
+  other_stream_records_ += other;
+  for (auto& simulator : simulators_) simulator->feed(records, count, batch.first_record);
+}
+
+TraceResult Sweep::finish() {
+  if (!started_) start(formats::RecordBatch{});
+  TraceResult result;
+  for (const auto& simulator : simulators_) {
+    result.rows.push_back(simulator->result());
+    if (per_level_) simulator->append_level_rows(result.level_rows);
+  }
+  result.other_stream_records = other_stream_records_;
+  result.notes = notes_;
+  if (other_stream_records_ > 0) {
+    result.notes.push_back(fmt::format(
+        "{}: {} records tagged p or t (primitive lists, triangles) counted apart, not simulated "
+        "by the node caches",
+        context_.trace, other_stream_records_));
+  }
+  return result;
+}
+
+}  // namespace nodetrace::cachesim

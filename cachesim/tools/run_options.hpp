@@ -1,0 +1,155 @@
+// The options shared by `cachesim run` and `dinero-wrap run`, so both tools
+// take the same command line and print the same report.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "nodetrace/cachesim/report.hpp"
+#include "nodetrace/cachesim/sweep.hpp"
+#include "nodetrace/formats/error.hpp"
+#include "nodetrace/formats/reader.hpp"
+
+namespace nodetrace::cachesim::cli {
+
+struct RunCommandLine {
+  std::vector<std::string> traces;
+  std::vector<std::string> sizes{"8k"};
+  std::vector<std::string> blocks{"8"};
+  std::vector<std::string> assocs{"1"};
+  std::vector<std::string> policies{"lru"};
+  std::vector<std::string> schemes{"single"};
+  std::vector<std::string> split_levels{"auto"};
+  std::vector<std::string> high_policies{"retain"};
+  std::string high_size;
+  std::string low_size;
+  std::string high_assoc;
+  bool count_loads = false;
+  bool tags_are_levels = false;
+  bool per_level = false;
+  std::string format = "table";
+  std::string informat;  // plain traces: din, xdin, binary
+};
+
+inline void add_run_options(CLI::App& app, RunCommandLine& line) {
+  app.add_option("traces", line.traces, "Trace files (container, plain din / xdin, zstd); - is stdin")
+      ->required();
+  app.add_option("--size", line.sizes, "Total cache sizes, bytes with optional k/m (list)")
+      ->delimiter(',')
+      ->capture_default_str();
+  app.add_option("--block", line.blocks, "Block sizes in bytes (list)")
+      ->delimiter(',')
+      ->capture_default_str();
+  app.add_option("--assoc", line.assocs, "Associativities: ways or 'full' (list)")
+      ->delimiter(',')
+      ->capture_default_str();
+  app.add_option("--policy", line.policies, "Replacement: lru, fifo, random (list)")
+      ->delimiter(',')
+      ->capture_default_str();
+  app.add_option("--scheme", line.schemes, "single, split (list)")
+      ->delimiter(',')
+      ->capture_default_str();
+  app.add_option("--split-level", line.split_levels,
+                 "K: levels < K go to the high-level cache; 'auto' sizes K to the high cache "
+                 "from the animation-frame markers (list)")
+      ->delimiter(',')
+      ->capture_default_str();
+  app.add_option("--high-policy", line.high_policies,
+                 "High-level cache: retain (loaded once per animation frame) or cache (list)")
+      ->delimiter(',')
+      ->capture_default_str();
+  app.add_option("--high-size", line.high_size, "High-level cache size (default: half the total)");
+  app.add_option("--low-size", line.low_size, "Low-level cache size (default: the rest)");
+  app.add_option("--high-assoc", line.high_assoc,
+                 "High-level cache associativity under 'cache' (default: --assoc)");
+  app.add_flag("--count-loads", line.count_loads,
+               "retain: count the high-level loads as misses");
+  app.add_flag("--tags-are-levels", line.tags_are_levels,
+               "Read the tag field of a plain trace as the node level");
+  app.add_flag("--per-level", line.per_level,
+               "Add a table of references and misses per node level");
+  app.add_option("--format", line.format, "Report format")
+      ->check(CLI::IsMember({"table", "csv", "json"}))
+      ->capture_default_str();
+  app.add_option("--informat", line.informat,
+                 "Record form of plain traces: din, xdin or binary (default: detected)")
+      ->check(CLI::IsMember({"din", "xdin", "binary"}));
+}
+
+template <typename T, typename Parse>
+std::vector<T> parse_list(const std::vector<std::string>& texts, const char* option, Parse parse) {
+  std::vector<T> values;
+  for (const std::string& text : texts) {
+    const auto value = parse(text);
+    if (!value) {
+      throw formats::UsageError(fmt::format("{}: '{}' is not one of the accepted values", option, text));
+    }
+    values.push_back(*value);
+  }
+  return values;
+}
+
+inline SweepOptions sweep_options(const RunCommandLine& line) {
+  SweepOptions options;
+  options.sizes.clear();
+  for (const auto& text : line.sizes) options.sizes.push_back(parse_size(text));
+  options.blocks.clear();
+  for (const auto& text : line.blocks) {
+    const std::uint64_t block = parse_size(text);
+    if (block > (1u << 30)) throw formats::UsageError(fmt::format("--block {} is too large", text));
+    options.blocks.push_back(static_cast<std::uint32_t>(block));
+  }
+  options.assocs.clear();
+  for (const auto& text : line.assocs) options.assocs.push_back(parse_assoc(text));
+  options.policies = parse_list<ReplacementPolicy>(line.policies, "--policy", parse_policy_name);
+  options.schemes = parse_list<Scheme>(line.schemes, "--scheme", parse_scheme_name);
+  options.high_policies =
+      parse_list<HighPolicy>(line.high_policies, "--high-policy", parse_high_policy_name);
+  options.split_levels.clear();
+  for (const auto& text : line.split_levels) {
+    if (text == "auto") {
+      options.split_levels.push_back(std::nullopt);
+      continue;
+    }
+    std::uint32_t level = 0;
+    const auto [next, error] = std::from_chars(text.data(), text.data() + text.size(), level);
+    if (error != std::errc{} || next != text.data() + text.size() || level > formats::kMaxLevel) {
+      throw formats::UsageError(
+          fmt::format("--split-level: '{}' is not a level: expected a number or 'auto'", text));
+    }
+    options.split_levels.push_back(level);
+  }
+  if (!line.high_size.empty()) options.high_size = parse_size(line.high_size);
+  if (!line.low_size.empty()) options.low_size = parse_size(line.low_size);
+  if (!line.high_assoc.empty()) options.high_assoc = parse_assoc(line.high_assoc);
+  options.count_loads = line.count_loads;
+  options.per_level = line.per_level;
+  return options;
+}
+
+inline formats::ReaderOptions reader_options(const RunCommandLine& line) {
+  formats::ReaderOptions options;
+  options.tags_are_levels = line.tags_are_levels;
+  if (!line.informat.empty()) options.form = formats::parse_form_name(line.informat);
+  return options;
+}
+
+// Prints the report and its notes: under a table, or on standard error so
+// that CSV and JSON stay machine-readable.
+inline void print_report(const std::vector<ResultRow>& rows, const std::vector<LevelRow>& levels,
+                         const std::vector<std::string>& notes, const RunCommandLine& line) {
+  const ReportFormat format = parse_report_format(line.format).value_or(ReportFormat::Table);
+  const std::string report = format_report(rows, levels, line.per_level, format);
+  std::fwrite(report.data(), 1, report.size(), stdout);
+  for (const std::string& note : notes) {
+    std::fprintf(format == ReportFormat::Table ? stdout : stderr, "note: %s\n", note.c_str());
+  }
+  std::fflush(stdout);
+}
+
+}  // namespace nodetrace::cachesim::cli
