@@ -1,12 +1,62 @@
+// tracer scenes: list the built-in procedural scenes.
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
 #include <cstdio>
+#include <exception>
+#include <nlohmann/json.hpp>
+#include <string>
 
 #include "commands.hpp"
+#include "nodetrace/tracer/scene_loader.hpp"
 
 namespace nodetrace::tracer::cli {
 
-int scenes_command(int, char**) {
-  std::fputs("tracer scenes: not implemented yet\n", stderr);
-  return 2;
+int scenes_command(int argc, char** argv) {
+  CLI::App app{
+      "List the built-in procedural scenes: name, triangle count at the default size, the accepted sizes "
+      "and a description.\nUse one as SCENE (NAME or NAME:SIZE) in `tracer render` and `tracer info`.",
+      "tracer scenes"};
+  std::string format = "text";
+  app.add_option("--format", format, "output format")->check(CLI::IsMember({"text", "json"}));
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error) == 0 ? 0 : 2;
+  }
+
+  try {
+    const auto scenes = builtin_scenes();
+    const std::string default_name = default_scene_name();
+    if (format == "json") {
+      nlohmann::json list = nlohmann::json::array();
+      for (const auto& scene : scenes) {
+        list.push_back({{"name", scene.name},
+                        {"description", scene.description},
+                        {"default_size", scene.default_size},
+                        {"triangles", scene.triangles},
+                        {"min_size", scene.min_size},
+                        {"max_size", scene.max_size},
+                        {"min_triangles", scene.min_triangles},
+                        {"max_triangles", scene.max_triangles},
+                        {"default", scene.name == default_name}});
+      }
+      fmt::print("{}\n", nlohmann::json{{"scenes", list}, {"default", default_name}}.dump(2));
+      return 0;
+    }
+    fmt::print("{:<12} {:>10}  {:<7} {:<21} {}\n", "NAME", "TRIANGLES", "SIZES", "TRIANGLES BY SIZE", "DESCRIPTION");
+    for (const auto& scene : scenes) {
+      fmt::print("{:<12} {:>10}  {:<7} {:<21} {}{}\n", scene.name, scene.triangles,
+                 fmt::format("{}..{}", scene.min_size, scene.max_size),
+                 fmt::format("{}..{}", scene.min_triangles, scene.max_triangles), scene.description,
+                 scene.name == default_name ? " (default)" : "");
+    }
+    fmt::print("\nTRIANGLES is the count at the default size; choose another with NAME:SIZE.\n");
+    return 0;
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "tracer scenes: %s\n", error.what());
+    return 1;
+  }
 }
 
 }  // namespace nodetrace::tracer::cli

@@ -23,6 +23,8 @@ struct BuiltinSceneInfo {
   std::string description;  // one line
   int default_size;         // size parameter used when none is given
   std::uint64_t triangles;  // triangle count at default_size
+  int min_size = 0, max_size = 0;  // accepted size parameters
+  std::uint64_t min_triangles = 0, max_triangles = 0;  // counts at min_size and max_size
 };
 
 // The built-in procedural scenes, in listing order.

@@ -1,0 +1,160 @@
+// Wavefront OBJ + MTL through tinyobjloader, mapped to Whitted materials.
+#include <tiny_obj_loader.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "scene_internal.hpp"
+
+namespace nodetrace::tracer::detail {
+
+namespace {
+
+float mean3(const tinyobj::real_t* v) { return static_cast<float>((v[0] + v[1] + v[2]) / 3); }
+Vec3 vec3(const tinyobj::real_t* v) {
+  return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
+}
+
+// MTL illumination models: 3 and 5 are mirrors (reflection from Ks); 4, 6
+// and 7 are glass (reflection from Ks plus transmission); a dissolve d < 1
+// (or Tr > 0, which tinyobjloader folds into d) makes any material
+// transmissive.
+Material whitted_material(const tinyobj::material_t& m) {
+  Material material;
+  material.name = m.name;
+  material.diffuse = vec3(m.diffuse);
+  material.specular = vec3(m.specular);
+  material.shininess = static_cast<float>(m.shininess);
+  material.ior = m.ior > 0 ? static_cast<float>(m.ior) : 1.0f;
+  const bool mirror = m.illum == 3 || m.illum == 5;
+  const bool glass = m.illum == 4 || m.illum == 6 || m.illum == 7;
+  if (mirror || glass) material.reflectance = std::clamp(mean3(m.specular), 0.0f, 1.0f);
+  if (m.dissolve < 1) {
+    material.transmittance = std::clamp(static_cast<float>(1 - m.dissolve), 0.0f, 1.0f);
+  } else if (glass) {
+    // Glass with an opaque dissolve: the transmission filter Tf if given,
+    // else mostly clear.
+    const float filter = mean3(m.transmittance);
+    material.transmittance = filter > 0 ? std::clamp(filter, 0.0f, 1.0f) : 0.9f;
+  }
+  return material;
+}
+
+// The `mtllib` names of an OBJ file, for the content hash.
+std::vector<std::string> material_libraries(const std::string& obj_text) {
+  std::vector<std::string> names;
+  std::istringstream lines(obj_text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::istringstream words(line);
+    std::string keyword, name;
+    if (words >> keyword && keyword == "mtllib") {
+      while (words >> name) names.push_back(name);
+    }
+  }
+  return names;
+}
+
+}  // namespace
+
+std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path) {
+  const std::string text = read_scene_file(path);
+  std::uint64_t hash = fnv1a64(text);
+  const std::filesystem::path directory = path.parent_path();
+  for (const auto& library : material_libraries(text)) {
+    std::error_code error;
+    if (std::filesystem::is_regular_file(directory / library, error)) {
+      hash = fnv1a64(read_scene_file(directory / library), hash);
+    }
+  }
+
+  tinyobj::attrib_t attrib;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> obj_materials;
+  std::string warnings, errors;
+  std::istringstream stream(text);
+  std::string base = directory.string();
+  if (!base.empty() && base.back() != '/') base += '/';
+  tinyobj::MaterialFileReader material_reader(base);
+  const bool loaded = tinyobj::LoadObj(&attrib, &shapes, &obj_materials, &warnings, &errors, &stream,
+                                       &material_reader, /*triangulate=*/true);
+  if (!loaded || !errors.empty()) {
+    while (!errors.empty() && errors.back() == '\n') errors.pop_back();
+    throw SceneError(path.string() + ": " + (errors.empty() ? "cannot parse OBJ file" : errors));
+  }
+  for (std::size_t i = 0; i < attrib.vertices.size(); ++i) {
+    if (!std::isfinite(attrib.vertices[i])) {
+      throw SceneError(path.string() + ": vertex " + std::to_string(i / 3 + 1) +
+                       " has a coordinate that is not a finite number");
+    }
+  }
+
+  Scene scene;
+  scene.name = path.filename().string();
+  for (const auto& m : obj_materials) scene.materials.push_back(whitted_material(m));
+  const auto default_material = static_cast<std::uint32_t>(scene.materials.size());
+  Material fallback;
+  fallback.name = "default";
+  scene.materials.push_back(fallback);
+
+  auto vertex = [&](int index) {
+    const auto at = static_cast<std::size_t>(index) * 3;
+    return Vec3{static_cast<float>(attrib.vertices[at]), static_cast<float>(attrib.vertices[at + 1]),
+                static_cast<float>(attrib.vertices[at + 2])};
+  };
+  bool any_normals = false;
+  std::vector<Vec3> normals;
+  for (const auto& shape : shapes) {
+    const auto& mesh = shape.mesh;
+    std::size_t offset = 0;
+    for (std::size_t face = 0; face < mesh.num_face_vertices.size(); ++face) {
+      const std::size_t corners = mesh.num_face_vertices[face];
+      if (corners == 3) {
+        const auto& i0 = mesh.indices[offset];
+        const auto& i1 = mesh.indices[offset + 1];
+        const auto& i2 = mesh.indices[offset + 2];
+        const int material = face < mesh.material_ids.size() ? mesh.material_ids[face] : -1;
+        Triangle triangle{vertex(i0.vertex_index), vertex(i1.vertex_index), vertex(i2.vertex_index),
+                          material >= 0 && static_cast<std::size_t>(material) < obj_materials.size()
+                              ? static_cast<std::uint32_t>(material)
+                              : default_material};
+        Vec3 face_normal = cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0);
+        const float face_length = length(face_normal);
+        face_normal = face_length > 0 ? face_normal / face_length : Vec3{0, 1, 0};
+        for (const auto* index : {&i0, &i1, &i2}) {
+          if (index->normal_index >= 0) {
+            const auto at = static_cast<std::size_t>(index->normal_index) * 3;
+            const Vec3 n{static_cast<float>(attrib.normals[at]), static_cast<float>(attrib.normals[at + 1]),
+                         static_cast<float>(attrib.normals[at + 2])};
+            const float n_length = length(n);
+            normals.push_back(n_length > 0 && std::isfinite(n_length) ? n / n_length : face_normal);
+            any_normals = true;
+          } else {
+            normals.push_back(face_normal);
+          }
+        }
+        scene.triangles.push_back(triangle);
+      }
+      offset += corners;
+    }
+  }
+  if (any_normals) scene.vertex_normals = std::move(normals);
+
+  // OBJ has no lights: a key light above one front corner and a dimmer fill
+  // light above the opposite one, each half the scene's diagonal outside
+  // the bounds, so the model is lit whatever its scale.
+  const Bounds box = scene.bounds();
+  if (!box.empty()) {
+    const Vec3 size = box.hi - box.lo;
+    const float reach = 0.5f * length(size) + 1e-3f;
+    const Vec3 centre = (box.lo + box.hi) * 0.5f;
+    scene.lights.push_back({Vec3{box.hi.x + reach, box.hi.y + reach, box.hi.z + reach}, {0.8f, 0.8f, 0.8f}});
+    scene.lights.push_back({Vec3{box.lo.x - reach, box.hi.y + reach, centre.z + reach}, {0.4f, 0.4f, 0.4f}});
+  }
+  return std::make_unique<StaticSceneSource>(std::move(scene), format_hash(hash));
+}
+
+}  // namespace nodetrace::tracer::detail
