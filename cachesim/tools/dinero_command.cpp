@@ -1,12 +1,83 @@
+// `cachesim dinero`: dineroIV's command line and output over the engine.
 #include <cstdio>
+#include <exception>
+#include <iostream>
+#include <string>
+#include <vector>
 
 #include "commands.hpp"
+#include "nodetrace/cachesim/dinero.hpp"
+#include "nodetrace/formats/error.hpp"
+#include "nodetrace/formats/reader.hpp"
 
 namespace nodetrace::cachesim::cli {
 
-int dinero_command(int, char**) {
-  std::fputs("cachesim dinero: not implemented yet\n", stderr);
-  return 2;
+namespace {
+
+constexpr const char* kDineroIII =
+    "Summary of Dinero IV replacements for Dinero III options:\n\n"
+    "DineroIII    DineroIV\n"
+    "-u           -l1-usize\n"
+    "-i           -l1-isize\n"
+    "-d           -l1-dsize\n"
+    "-b           -l1-ubsize, -l1-ibsize, or -l1-dbsize\n"
+    "-S           -l1-usbsize, -l1-isbsize, or -l1-dsbsize\n"
+    "-a           -l1-uassoc, -l1-iassoc, or -l1-dassoc\n"
+    "-r           -l1-urepl, -l1-irepl, or -l1-drepl\n"
+    "-f           -l1-ufetch, -l1-ifetch, or -l1-dfetch\n"
+    "-w           -l1-uwback or -l1-dwback\n"
+    "-A           -l1-uwalloc or -l1-dwalloc\n"
+    "-Q           -flushcount\n"
+    "-z           -maxcount\n"
+    "-Z           -skipcount\n"
+    "\n"
+    "DineroIII input format: -informat d\n";
+
+constexpr const char* kAbout =
+    "cachesim dinero reimplements the behaviour of Dinero IV (Jan Edler and Mark D. Hill;\n"
+    "Copyright (C) 1997 NEC Research Institute, Inc. and Mark D. Hill) for comparison;\n"
+    "it contains none of Dinero IV's code.\n";
+
+}  // namespace
+
+int dinero_command(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  DineroOptions options;
+  try {
+    options = parse_dinero_options(args);
+  } catch (const formats::UsageError& e) {
+    std::fprintf(stderr, "cachesim dinero: %s\nRun \"cachesim dinero --help\" for usage information.\n",
+                 e.what());
+    return 2;
+  }
+  switch (options.request) {
+    case DineroOptions::Request::Help: std::fputs(dinero_help().c_str(), stdout); return 0;
+    case DineroOptions::Request::DineroIII: std::fputs(kDineroIII, stdout); return 0;
+    case DineroOptions::Request::Copyright:
+    case DineroOptions::Request::Contact: std::fputs(kAbout, stdout); return 0;
+    case DineroOptions::Request::Simulate: break;
+  }
+  try {
+    formats::ReaderOptions reader_options;
+    reader_options.form = options.form;
+    auto reader = formats::TraceReader::open(options.trace_path, reader_options);
+    std::ios::sync_with_stdio(false);
+    run_dinero(options, *reader, std::cout, std::cerr);
+    std::cout.flush();
+  } catch (const formats::UsageError& e) {
+    std::cout.flush();
+    std::fprintf(stderr, "cachesim dinero: %s\n", e.what());
+    return 2;
+  } catch (const formats::FormatError& e) {
+    std::cout.flush();
+    std::fprintf(stderr, "cachesim dinero: %s\n", e.what());
+    return 1;
+  } catch (const formats::IoError& e) {
+    std::cout.flush();
+    std::fprintf(stderr, "cachesim dinero: %s\n", e.what());
+    return 1;
+  }
+  return 0;
 }
 
 }  // namespace nodetrace::cachesim::cli

@@ -16,6 +16,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -65,12 +66,23 @@ struct LevelConfig {
   std::optional<CacheConfig> data;
 };
 
+class Hierarchy;
+
 struct HierarchyConfig {
   std::vector<LevelConfig> levels;  // levels[0] is L1 (closest to the processor)
   // Dinero's -skipcount, -maxcount, -flushcount (0: off), applied by access().
   std::uint64_t skip_count = 0;
   std::uint64_t max_count = 0;
   std::uint64_t flush_count = 0;
+  // Dinero's -on-trigger / -off-trigger (0: off): references are discarded
+  // until one at on_trigger, and from one at off_trigger (the trigger
+  // references themselves are discarded too). Applied after skip_count.
+  std::uint64_t on_trigger = 0;
+  std::uint64_t off_trigger = 0;
+  // Dinero's -stat-interval: when set, on_stat_interval is called every
+  // stat_interval simulated references (before a flush due at the same one).
+  std::uint64_t stat_interval = 0;
+  std::function<void(const Hierarchy&)> on_stat_interval;
 
   // Throws formats::UsageError, naming the cache (e.g. "l1-dcache"), for
   // geometry that cannot exist or a hierarchy Dinero IV refuses.
@@ -154,6 +166,9 @@ class Hierarchy {
   std::uint64_t references_skipped() const;    // dropped by skip_count
   std::uint64_t references_simulated() const;  // accepted, after skipping
   bool max_count_exceeded() const;
+  // Trigger state, for Dinero's end-of-run warnings.
+  bool trigger_toggled() const;
+  bool discarding() const;
 
  private:
   struct Impl;
