@@ -1,5 +1,7 @@
 #include "nodetrace/formats/record.hpp"
 
+#include <fmt/format.h>
+
 #include <array>
 
 namespace nodetrace::formats {
@@ -33,9 +35,7 @@ std::string tag_text(Tag tag) {
   if (tag == kTagNone) return {};
   if (tag == kTagPrimitiveList) return "p";
   if (tag == kTagTriangle) return "t";
-  std::string text = std::to_string(tag);
-  if (text.size() < 2) text.insert(0, "0");
-  return text;
+  return fmt::format("{:02d}", tag);
 }
 
 }  // namespace nodetrace::formats

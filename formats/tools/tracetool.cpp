@@ -1,2 +1,373 @@
-// Placeholder front end; replaced by the component's real command.
-int main() { return 2; }
+// tracetool: inspect, print, verify and convert traces (formats/FORMAT.md).
+// Exit codes: 0 success, 1 bad data, 2 bad usage.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "nodetrace/formats/error.hpp"
+#include "nodetrace/formats/reader.hpp"
+#include "nodetrace/formats/writer.hpp"
+
+namespace formats = nodetrace::formats;
+using formats::Record;
+using formats::Tag;
+
+namespace {
+
+constexpr const char* kTypeNames[formats::kAccessTypeCount] = {"read", "write", "instruction_fetch",
+                                                               "misc", "copy_back", "invalidate"};
+
+// --tags: ranges and lists of levels plus p and t, e.g. `0-3,9-,p`.
+struct TagFilter {
+  std::vector<bool> levels = std::vector<bool>(std::size_t{formats::kMaxLevel} + 1, false);
+  bool primitive_lists = false;
+  bool triangles = false;
+  bool any_level = false;
+
+  bool keeps(Tag tag) const {
+    if (formats::is_level(tag)) return levels[tag];
+    if (tag == formats::kTagPrimitiveList) return primitive_lists;
+    if (tag == formats::kTagTriangle) return triangles;
+    return false;
+  }
+
+  static TagFilter parse(const std::string& text) {
+    TagFilter filter;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+      const std::size_t comma = std::min(text.find(',', start), text.size());
+      const std::string item = text.substr(start, comma - start);
+      start = comma + 1;
+      if (item == "p") {
+        filter.primitive_lists = true;
+        continue;
+      }
+      if (item == "t") {
+        filter.triangles = true;
+        continue;
+      }
+      const auto number = [&](const std::string& digits) -> unsigned long {
+        if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 5 ||
+            std::stoul(digits) > formats::kMaxLevel) {
+          throw formats::UsageError(fmt::format(
+              "--tags: '{}' is not a level, a range (A-B, A-) or p / t (e.g. 0-3,9-,p)", item));
+        }
+        return std::stoul(digits);
+      };
+      const std::size_t dash = item.find('-');
+      unsigned long low, high;
+      if (dash == std::string::npos) {
+        low = high = number(item);
+      } else {
+        low = number(item.substr(0, dash));
+        high = dash + 1 == item.size() ? formats::kMaxLevel : number(item.substr(dash + 1));
+        if (high < low) throw formats::UsageError(fmt::format("--tags: range '{}' is empty", item));
+      }
+      for (unsigned long level = low; level <= high; ++level) filter.levels[level] = true;
+      filter.any_level = true;
+    }
+    return filter;
+  }
+};
+
+struct Summary {
+  std::uint64_t records = 0;
+  std::map<std::string, std::uint64_t> per_tag;
+  std::array<std::uint64_t, formats::kAccessTypeCount> per_type{};
+  std::uint64_t animation_frames = 0;
+};
+
+std::string tag_key(Tag tag) {
+  if (tag == formats::kTagNone) return "none";
+  if (formats::is_level(tag)) return std::to_string(tag);
+  return formats::tag_text(tag);
+}
+
+// Tag keys in a readable order: levels by number, then p, t, none.
+std::vector<std::pair<std::string, std::uint64_t>> ordered(const nlohmann::json& per_tag) {
+  std::vector<std::pair<std::string, std::uint64_t>> rows;
+  for (const auto& [key, value] : per_tag.items()) rows.emplace_back(key, value.get<std::uint64_t>());
+  const auto rank = [](const std::string& key) -> std::pair<int, unsigned long> {
+    if (!key.empty() && key.find_first_not_of("0123456789") == std::string::npos) return {0, std::stoul(key)};
+    return {key == "p" ? 1 : key == "t" ? 2 : 3, 0};
+  };
+  std::sort(rows.begin(), rows.end(), [&](const auto& a, const auto& b) { return rank(a.first) < rank(b.first); });
+  return rows;
+}
+
+formats::ReaderOptions reader_options(bool tags_are_levels, std::optional<formats::RecordForm> form,
+                                      unsigned threads = 0) {
+  formats::ReaderOptions options;
+  options.tags_are_levels = tags_are_levels;
+  options.form = form;
+  options.threads = threads;
+  return options;
+}
+
+std::optional<formats::RecordForm> form_option(const std::string& name) {
+  if (name.empty()) return std::nullopt;
+  return formats::parse_form_name(name);
+}
+
+int run_info(const std::string& path, const std::string& format, bool tags_are_levels, const std::string& form) {
+  auto reader = formats::TraceReader::open(path, reader_options(tags_are_levels, form_option(form)));
+  nlohmann::json info = nlohmann::json::object();
+  info["file"] = reader->source_name();
+  info["kind"] = std::string(reader->input_kind());
+  info["records_form"] = std::string(formats::form_name(reader->form()));
+  info["tags"] = reader->tags_are_levels() ? "node-level" : "none";
+  if (reader->header().present()) info["header"] = reader->header().json;
+  const auto& trailer = reader->trailer();
+  if (trailer && trailer->totals.contains("records") && trailer->totals.contains("record_bytes")) {
+    // A seekable container: everything is in the trailer.
+    info["records"] = trailer->totals["records"];
+    info["records_per_tag"] = trailer->totals.value("records_per_tag", nlohmann::json::object());
+    info["records_per_type"] = trailer->totals.value("records_per_type", nlohmann::json::object());
+    info["animation_frames"] = trailer->totals.value("animation_frames", 0);
+    info["data_frames"] = trailer->index.size();
+    info["decompressed_bytes"] = trailer->totals["record_bytes"];
+    info["totals"] = trailer->totals;
+  } else {
+    Summary summary;
+    std::vector<std::uint64_t> per_tag(std::size_t{1} << 16, 0);
+    formats::RecordBatch batch;
+    while (reader->next(batch)) {
+      if (batch.marker) ++summary.animation_frames;
+      for (const Record& record : batch.records) {
+        ++per_tag[record.tag];
+        ++summary.per_type[static_cast<std::size_t>(record.type)];
+      }
+      summary.records += batch.records.size();
+    }
+    nlohmann::json tags = nlohmann::json::object();
+    for (std::size_t tag = 0; tag < per_tag.size(); ++tag) {
+      if (per_tag[tag] != 0) tags[tag_key(static_cast<Tag>(tag))] = per_tag[tag];
+    }
+    nlohmann::json types = nlohmann::json::object();
+    for (int type = 0; type < formats::kAccessTypeCount; ++type) types[kTypeNames[type]] = summary.per_type[type];
+    info["records"] = summary.records;
+    info["records_per_tag"] = tags;
+    info["records_per_type"] = types;
+    info["animation_frames"] = summary.animation_frames;
+    info["data_frames"] = reader->trailer() ? reader->trailer()->index.size() : 0;
+    info["decompressed_bytes"] = reader->record_bytes();
+    if (reader->trailer()) info["totals"] = reader->trailer()->totals;
+  }
+  std::error_code error;
+  const auto file_size = path == "-" ? 0 : std::filesystem::file_size(path, error);
+  if (path != "-" && !error) info["file_bytes"] = file_size;
+  const auto records = info["records"].get<std::uint64_t>();
+  if (info.contains("file_bytes") && records > 0) {
+    info["bytes_per_record"] = static_cast<double>(file_size) / static_cast<double>(records);
+  }
+  if (format == "json") {
+    fmt::print("{}\n", info.dump(2));
+    return 0;
+  }
+  const auto row = [](std::string_view key, const std::string& value) { fmt::print("{:<20} {}\n", key, value); };
+  row("file", info["file"].get<std::string>());
+  row("kind", info["kind"].get<std::string>());
+  row("records form", info["records_form"].get<std::string>());
+  row("tags", info["tags"].get<std::string>());
+  if (info.contains("header")) {
+    for (const auto& [key, value] : info["header"].items()) row("header." + key, value.dump());
+  }
+  row("records", std::to_string(records));
+  row("animation frames", info["animation_frames"].dump());
+  row("data frames", info["data_frames"].dump());
+  if (info.contains("file_bytes")) row("file bytes", info["file_bytes"].dump());
+  row("decompressed bytes", info["decompressed_bytes"].dump());
+  if (info.contains("bytes_per_record")) row("bytes per record", fmt::format("{:.3f}", info["bytes_per_record"].get<double>()));
+  fmt::print("records per type\n");
+  for (const auto& [key, value] : info["records_per_type"].items()) fmt::print("  {:<18} {}\n", key, value.dump());
+  fmt::print("records per tag\n");
+  for (const auto& [key, value] : ordered(info["records_per_tag"])) fmt::print("  {:<18} {}\n", key, value);
+  if (info.contains("totals")) {
+    for (const auto& [key, value] : info["totals"].items()) {
+      if (key == "records" || key == "records_per_tag" || key == "records_per_type" || key == "animation_frames" ||
+          key == "data_frames" || key == "record_bytes")
+        continue;
+      row("totals." + key, value.dump());
+    }
+  }
+  return 0;
+}
+
+int run_cat(const std::string& path, const std::string& tags, const std::string& to, bool tags_are_levels,
+            const std::string& form) {
+  auto reader = formats::TraceReader::open(path, reader_options(tags_are_levels, form_option(form)));
+  std::optional<TagFilter> filter;
+  if (!tags.empty()) {
+    filter = TagFilter::parse(tags);
+    if (!reader->tags_are_levels()) {
+      throw formats::UsageError(fmt::format(
+          "{}: --tags filters by node level, but this trace's tags are not marked as node levels "
+          "(no \"tag\": \"node-level\" in a header); pass --tags-are-levels if its tag field holds levels",
+          reader->source_name()));
+    }
+  }
+  formats::WriterOptions options;
+  options.form = to.empty() ? reader->form() : *formats::parse_form_name(to);
+  options.kind = formats::OutputKind::Plain;
+  options.threads = 1;
+  auto writer = formats::TraceWriter::create("-", nlohmann::json::object(), options);
+  formats::RecordBatch batch;
+  std::vector<Record> kept;
+  while (reader->next(batch)) {
+    if (!filter) {
+      writer->write(batch.records);
+      continue;
+    }
+    kept.clear();
+    for (const Record& record : batch.records) {
+      if (filter->keeps(record.tag)) kept.push_back(record);
+    }
+    writer->write(kept);
+  }
+  writer->finish();
+  return 0;
+}
+
+int run_verify(const std::string& path, bool tags_are_levels, const std::string& form) {
+  auto reader = formats::TraceReader::open(path, reader_options(tags_are_levels, form_option(form)));
+  formats::RecordBatch batch;
+  std::uint64_t records = 0;
+  while (reader->next(batch)) records += batch.records.size();
+  const std::uint64_t frames = reader->trailer() ? reader->trailer()->index.size() : 0;
+  if (reader->input_kind() == "container") {
+    fmt::print("OK: {} records, {} frames\n", records, frames);
+  } else {
+    fmt::print("OK: {} records, {} frames (a {} trace: every record parses; it has no checksums of ours)\n", records,
+               frames, reader->input_kind() == "zstd" ? "plain zstd" : "plain text");
+  }
+  return 0;
+}
+
+struct ConvertOptions {
+  std::string to;
+  std::string form;
+  int zstd_level = 3;
+  unsigned threads = 0;
+  std::uint64_t frame_records = 1u << 20;
+  bool tags_are_levels = false;
+  bool address16 = false;
+};
+
+int run_convert(const std::string& in, const std::string& out, const ConvertOptions& convert) {
+  auto reader =
+      formats::TraceReader::open(in, reader_options(convert.tags_are_levels, form_option(convert.form), convert.threads));
+  formats::WriterOptions options;
+  options.form = convert.to.empty() ? reader->form() : *formats::parse_form_name(convert.to);
+  options.zstd_level = convert.zstd_level;
+  options.threads = convert.threads;
+  options.records_per_frame = convert.frame_records;
+  options.tags_are_levels = reader->tags_are_levels();
+  options.address_digits = convert.address16 ? 16 : 8;
+  // The producer's part of the header travels along; the writer sets the rest.
+  nlohmann::json header = reader->header().json;
+  for (const char* key : {"container", "records", "tag", "trailer"}) header.erase(key);
+  auto writer = formats::TraceWriter::create(out, header, options);
+  formats::RecordBatch batch;
+  while (reader->next(batch)) {
+    if (batch.marker) writer->begin_frame(*batch.marker);
+    writer->write(batch.records);
+  }
+  if (reader->trailer()) {
+    nlohmann::json totals = reader->trailer()->totals;
+    for (const char* key : {"records", "records_per_tag", "records_per_type", "animation_frames", "data_frames",
+                            "record_bytes"})
+      totals.erase(key);
+    if (options.form == reader->form()) writer->add_totals(totals);
+  }
+  writer->finish();
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"tracetool: inspect, print, verify and convert nodetrace / Dinero IV traces"};
+  app.require_subcommand(1);
+  const std::vector<std::string> forms = {"din", "xdin", "binary"};
+  std::string form;
+  bool tags_are_levels = false;
+
+  auto* info = app.add_subcommand("info", "Metadata and index summary of a trace");
+  std::string info_path, info_format = "table";
+  info->add_option("FILE", info_path, "Trace file, or - for standard input")->required();
+  info->add_option("--format", info_format, "Output: table or json")->check(CLI::IsMember({"table", "json"}));
+  info->add_flag("--tags-are-levels", tags_are_levels, "Read a plain trace's tag field as node levels");
+  info->add_option("--form", form, "Record form of plain input (binary is never guessed)")->check(CLI::IsMember(forms));
+
+  auto* cat = app.add_subcommand("cat", "Print records, optionally filtered by tag");
+  std::string cat_path, cat_tags, cat_to;
+  cat->add_option("FILE", cat_path, "Trace file, or - for standard input")->required();
+  cat->add_option("--tags", cat_tags, "Keep these tags: levels, ranges and p / t, e.g. 0-3,9-,p");
+  cat->add_option("--to", cat_to, "Output record form (default: the input's)")->check(CLI::IsMember(forms));
+  cat->add_flag("--tags-are-levels", tags_are_levels, "Read a plain trace's tag field as node levels");
+  cat->add_option("--form", form, "Record form of plain input (binary is never guessed)")->check(CLI::IsMember(forms));
+
+  auto* verify = app.add_subcommand("verify", "Check every checksum, the index, frame order and the record hash");
+  std::string verify_path;
+  verify->add_option("FILE", verify_path, "Trace file, or - for standard input")->required();
+  verify->add_flag("--tags-are-levels", tags_are_levels, "Read a plain trace's tag field as node levels");
+  verify->add_option("--form", form, "Record form of plain input (binary is never guessed)")->check(CLI::IsMember(forms));
+
+  auto* convert = app.add_subcommand("convert", "Convert any readable trace to a container (OUT *.zst or -) or plain records");
+  std::string convert_in, convert_out;
+  ConvertOptions convert_options;
+  convert->add_option("IN", convert_in, "Input trace, or - for standard input")->required();
+  convert->add_option("OUT", convert_out, "Output: *.zst or - for a container, any other name for plain records")->required();
+  convert->add_option("--zstd-level", convert_options.zstd_level, "zstd compression level")->check(CLI::Range(-7, 22));
+  convert->add_option("--to", convert_options.to, "Output record form (default: the input's)")->check(CLI::IsMember(forms));
+  convert->add_flag("--tags-are-levels", convert_options.tags_are_levels, "The input's tag field holds node levels");
+  convert->add_option("--threads", convert_options.threads, "Compression and decoding threads (0: one per core)");
+  convert->add_option("--frame-records", convert_options.frame_records, "Records per data frame")->check(CLI::PositiveNumber);
+  convert->add_flag("--address16", convert_options.address16, "Write 16 hex address digits instead of 8");
+  convert->add_option("--form", convert_options.form, "Record form of plain input (binary is never guessed)")->check(CLI::IsMember(forms));
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  }
+
+  try {
+    if (*info) return run_info(info_path, info_format, tags_are_levels, form);
+    if (*cat) return run_cat(cat_path, cat_tags, cat_to, tags_are_levels, form);
+    if (*verify) return run_verify(verify_path, tags_are_levels, form);
+    if (*convert) return run_convert(convert_in, convert_out, convert_options);
+  } catch (const formats::UsageError& error) {
+    std::fflush(stdout);
+    fmt::print(stderr, "tracetool: {}\n", error.what());
+    return 2;
+  } catch (const formats::FormatError& error) {
+    std::fflush(stdout);
+    fmt::print(stderr, "tracetool: {}\n", error.what());
+    return 1;
+  } catch (const formats::IoError& error) {
+    std::fflush(stdout);
+    fmt::print(stderr, "tracetool: {}\n", error.what());
+    return 1;
+  } catch (const std::exception& error) {
+    std::fflush(stdout);
+    fmt::print(stderr, "tracetool: {}\n", error.what());
+    return 1;
+  }
+  return 2;
+}

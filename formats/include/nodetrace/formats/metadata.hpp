@@ -50,12 +50,18 @@ struct FrameIndexEntry {
   std::uint64_t first_record = 0;     // 0-based number of its first record
   std::uint64_t record_count = 0;
   std::uint64_t animation_frame = 0;
+  // The frame's zstd content checksum (low 32 bits of XXH64 of its records),
+  // which tells frames apart when checking their order.
+  std::uint32_t checksum = 0;
+
+  friend bool operator==(const FrameIndexEntry&, const FrameIndexEntry&) = default;
 };
 
 struct TraceTrailer {
   std::vector<FrameIndexEntry> index;
   nlohmann::json totals = nlohmann::json::object();  // records, records_per_tag, ...
   std::uint64_t record_hash = 0;                     // xxHash64 of all record bytes
+  std::uint64_t content_hash = 0;  // xxHash64 of every file byte before the trailer
 };
 
 }  // namespace nodetrace::formats

@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "nodetrace/formats/metadata.hpp"
@@ -63,6 +64,11 @@ class TraceReader {
   // holding record `record` (0-based); the next batch starts at that frame's
   // first record. Throws UsageError when the input cannot seek.
   virtual void seek_to_record(std::uint64_t record) = 0;
+
+  // Bytes of record data (decompressed text or binary records) read so far.
+  virtual std::uint64_t record_bytes() const { return 0; }
+  // What the input is: "container", "zstd" (plain zstd) or "plain".
+  virtual std::string_view input_kind() const { return "plain"; }
 };
 
 }  // namespace nodetrace::formats

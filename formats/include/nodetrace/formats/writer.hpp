@@ -26,6 +26,10 @@ struct WriterOptions {
   unsigned threads = 0;                        // compression threads; 0 = one per core
   std::uint64_t records_per_frame = 1u << 20;  // records per data frame
   unsigned address_digits = 8;                 // 8, or 16 for addresses above 32 bits
+  // Containers: mark the tags as node levels (`"tag": "node-level"`); every
+  // record must then carry a level, `p` or `t`. Binary records carry no tag,
+  // so a binary container never says so.
+  bool tags_are_levels = true;
 };
 
 class TraceWriter {

@@ -1,0 +1,700 @@
+#define ZSTD_STATIC_LINKING_ONLY  // ZSTD_getFrameHeader, ZSTD_decompressBound
+#include "nodetrace/formats/reader.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <xxhash.h>
+#include <zstd.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <deque>
+#include <future>
+
+#include "container.hpp"
+#include "nodetrace/formats/error.hpp"
+#include "text_codec.hpp"
+#include "thread_pool.hpp"
+
+namespace nodetrace::formats {
+
+TraceReader::~TraceReader() = default;
+
+namespace {
+
+using detail::load_le32;
+using detail::load_le64;
+
+constexpr std::size_t kPlainChunkBytes = 4u << 20;  // bytes parsed per job for plain input
+constexpr std::size_t kMaxLineBytes = 1u << 20;
+
+// A file or standard input, read through a sliding buffer.
+class Input {
+ public:
+  Input(const std::string& path, const std::string& name) : name_(name) {
+    if (path == "-") {
+      fd_ = 0;
+    } else {
+      fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+      if (fd_ < 0) throw IoError(fmt::format("{}: cannot open: {}", name_, std::strerror(errno)));
+      owned_ = true;
+      struct stat info {};
+      if (::fstat(fd_, &info) == 0 && S_ISREG(info.st_mode)) {
+        seekable_ = true;
+        size_ = static_cast<std::uint64_t>(info.st_size);
+      } else if (S_ISDIR(info.st_mode)) {
+        ::close(fd_);
+        throw IoError(fmt::format("{}: is a directory", name_));
+      }
+    }
+  }
+  ~Input() {
+    if (owned_) ::close(fd_);
+  }
+  Input(const Input&) = delete;
+  Input& operator=(const Input&) = delete;
+
+  bool seekable() const { return seekable_; }
+  std::uint64_t size() const { return size_; }
+  // File offset of the first available byte.
+  std::uint64_t offset() const { return offset_; }
+  const char* data() const { return buffer_.data() + begin_; }
+  std::size_t available() const { return end_ - begin_; }
+  bool at_end() { return !ensure(1); }
+
+  // Makes `count` bytes available; false when the input ends first.
+  bool ensure(std::size_t count) {
+    if (available() >= count) return true;
+    if (eof_) return false;
+    if (begin_ > 0) {
+      std::memmove(buffer_.data(), buffer_.data() + begin_, available());
+      end_ -= begin_;
+      begin_ = 0;
+    }
+    if (buffer_.size() < count) buffer_.resize(std::max<std::size_t>(count, buffer_.size() * 2));
+    if (buffer_.size() < (1u << 20)) buffer_.resize(1u << 20);
+    while (end_ < count && !eof_) {
+      const ssize_t got = ::read(fd_, buffer_.data() + end_, buffer_.size() - end_);
+      if (got < 0) {
+        if (errno == EINTR) continue;
+        throw IoError(fmt::format("{}: read error: {}", name_, std::strerror(errno)));
+      }
+      if (got == 0) eof_ = true;
+      end_ += static_cast<std::size_t>(got);
+    }
+    return available() >= count;
+  }
+
+  // Reads whatever comes next (at least one byte unless at the end).
+  std::size_t fill_some() {
+    if (!ensure(1)) return 0;
+    if (!eof_ && available() < buffer_.size() / 2) ensure(std::min(buffer_.size(), available() + 1));
+    return available();
+  }
+
+  void consume(std::size_t count) {
+    begin_ += count;
+    offset_ += count;
+  }
+
+  // Reads `count` bytes at `position` without disturbing the stream.
+  std::string read_at(std::uint64_t position, std::size_t count) const {
+    std::string bytes(count, '\0');
+    std::size_t done = 0;
+    while (done < count) {
+      const ssize_t got = ::pread(fd_, bytes.data() + done, count - done, static_cast<off_t>(position + done));
+      if (got < 0 && errno == EINTR) continue;
+      if (got <= 0) throw IoError(fmt::format("{}: read error at byte {}", name_, position + done));
+      done += static_cast<std::size_t>(got);
+    }
+    return bytes;
+  }
+
+  void seek(std::uint64_t position) {
+    if (::lseek(fd_, static_cast<off_t>(position), SEEK_SET) < 0) {
+      throw IoError(fmt::format("{}: cannot seek: {}", name_, std::strerror(errno)));
+    }
+    begin_ = end_ = 0;
+    offset_ = position;
+    eof_ = false;
+  }
+
+ private:
+  std::string name_;
+  int fd_ = -1;
+  bool owned_ = false;
+  bool seekable_ = false;
+  std::uint64_t size_ = 0;
+  std::vector<char> buffer_;
+  std::size_t begin_ = 0, end_ = 0;
+  std::uint64_t offset_ = 0;
+  bool eof_ = false;
+};
+
+// What a worker hands back for one data frame or text chunk.
+struct Chunk {
+  std::vector<Record> records;
+  std::string bytes;  // the decompressed record bytes (containers: hashed in order)
+  bool bad_record = false;
+  detail::RecordError record_error;
+  std::string frame_error;  // damage found before parsing
+};
+
+Chunk parse_chunk(std::string bytes, detail::ParseSettings settings, bool keep_bytes) {
+  Chunk chunk;
+  chunk.bad_record = !detail::parse_records(bytes, settings, chunk.records, chunk.record_error);
+  if (keep_bytes) chunk.bytes = std::move(bytes);
+  return chunk;
+}
+
+Chunk decode_data_frame(std::string frame, detail::ParseSettings settings) {
+  Chunk chunk;
+  ZSTD_frameHeader header{};
+  const std::size_t status = ZSTD_getFrameHeader(&header, frame.data(), frame.size());
+  if (ZSTD_isError(status) || status != 0) {
+    chunk.frame_error = "damaged zstd frame header";
+    return chunk;
+  }
+  if (header.frameContentSize == ZSTD_CONTENTSIZE_UNKNOWN || !header.checksumFlag) {
+    chunk.frame_error = "a data frame must record its content size and checksum";
+    return chunk;
+  }
+  const unsigned long long bound = ZSTD_decompressBound(frame.data(), frame.size());
+  if (bound == ZSTD_CONTENTSIZE_ERROR || header.frameContentSize > bound) {
+    chunk.frame_error = "damaged zstd frame (content size does not match its blocks)";
+    return chunk;
+  }
+  std::string bytes(header.frameContentSize, '\0');
+  thread_local std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> context(ZSTD_createDCtx(), &ZSTD_freeDCtx);
+  const std::size_t size = ZSTD_decompressDCtx(context.get(), bytes.data(), bytes.size(), frame.data(), frame.size());
+  if (ZSTD_isError(size)) {
+    chunk.frame_error = fmt::format("damaged zstd frame ({})", ZSTD_getErrorName(size));
+    return chunk;
+  }
+  if (size != bytes.size()) {
+    chunk.frame_error = "damaged zstd frame (wrong content size)";
+    return chunk;
+  }
+  if (!bytes.empty()) {
+    const bool whole = settings.form == RecordForm::Binary ? bytes.size() % 8 == 0 : bytes.back() == '\n';
+    if (!whole) {
+      chunk.frame_error = "data frame does not end at a record boundary";
+      return chunk;
+    }
+  }
+  chunk.bad_record = !detail::parse_records(bytes, settings, chunk.records, chunk.record_error);
+  chunk.bytes = std::move(bytes);
+  return chunk;
+}
+
+// One item of the in-order pipeline.
+struct Unit {
+  bool is_marker = false;
+  FrameMarker marker;
+  std::future<Chunk> chunk;
+  // Containers: where the data frame is and what the index should say.
+  FrameIndexEntry entry;
+  std::uint64_t data_frame = 0;
+};
+
+enum class Mode { Container, PlainZstd, PlainRaw };
+
+class Reader final : public TraceReader {
+ public:
+  Reader(const std::string& path, const ReaderOptions& options)
+      : name_(path == "-" ? "<stdin>" : path), input_(path, name_), options_(options) {
+    open();
+  }
+
+  ~Reader() override { drain(); }
+
+  const std::string& source_name() const override { return name_; }
+  const TraceHeader& header() const override { return header_; }
+  RecordForm form() const override { return settings_.form; }
+  bool tags_are_levels() const override { return settings_.tags_are_levels; }
+  const std::optional<TraceTrailer>& trailer() const override { return trailer_; }
+  std::uint64_t record_bytes() const override { return record_bytes_; }
+  std::string_view input_kind() const override {
+    return mode_ == Mode::Container ? "container" : mode_ == Mode::PlainZstd ? "zstd" : "plain";
+  }
+
+  bool next(RecordBatch& batch) override {
+    batch.records.clear();
+    batch.marker.reset();
+    for (;;) {
+      fill_pipeline();
+      if (units_.empty()) {
+        if (!finished_) finish();
+        if (pending_marker_) {
+          batch.marker = std::move(pending_marker_);
+          pending_marker_.reset();
+          batch.first_record = records_delivered_;
+          return true;
+        }
+        return false;
+      }
+      Unit unit = std::move(units_.front());
+      units_.pop_front();
+      if (unit.is_marker) {
+        if (pending_marker_) {  // an animation frame with no records
+          batch.marker = std::move(pending_marker_);
+          pending_marker_ = std::move(unit.marker);
+          batch.first_record = records_delivered_;
+          return true;
+        }
+        pending_marker_ = std::move(unit.marker);
+        continue;
+      }
+      Chunk chunk = unit.chunk.get();
+      if (mode_ == Mode::Container) check_data_frame(unit, chunk);
+      if (chunk.bad_record) {
+        throw FormatError(fmt::format("{}: record {}: {}", name_,
+                                      records_delivered_ + chunk.record_error.record_in_chunk + 1,
+                                      chunk.record_error.message));
+      }
+      if (chunk.records.empty() && !pending_marker_) continue;
+      batch.first_record = records_delivered_;
+      records_delivered_ += chunk.records.size();
+      batch.records = std::move(chunk.records);
+      if (pending_marker_) {
+        batch.marker = std::move(pending_marker_);
+        pending_marker_.reset();
+      }
+      return true;
+    }
+  }
+
+  void seek_to_record(std::uint64_t record) override {
+    if (mode_ != Mode::Container || !input_.seekable() || !trailer_) {
+      throw UsageError(fmt::format("{}: cannot seek: only a container file with an index can", name_));
+    }
+    const auto& index = trailer_->index;
+    auto found = std::find_if(index.begin(), index.end(), [&](const FrameIndexEntry& entry) {
+      return record >= entry.first_record && record < entry.first_record + entry.record_count;
+    });
+    if (found == index.end()) {
+      throw UsageError(fmt::format("{}: record {} is beyond the trace's {} records", name_, record,
+                                   index.empty() ? 0 : index.back().first_record + index.back().record_count));
+    }
+    drain();
+    input_.seek(found->offset);
+    data_frames_ = static_cast<std::uint64_t>(found - index.begin());
+    records_read_ = records_delivered_ = found->first_record;
+    pending_marker_.reset();
+    markers_ = found->animation_frame + 1;
+    hashes_valid_ = false;
+    saw_trailer_ = false;
+    finished_ = false;
+    input_done_ = false;
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& message) const {
+    throw FormatError(fmt::format("{}: {}", name_, message));
+  }
+
+  void open() {
+    threads_ = detail::default_threads(options_.threads);
+    settings_.tags_are_levels = options_.tags_are_levels;
+    if (!input_.ensure(4)) {
+      mode_ = Mode::PlainRaw;
+      settings_.form = options_.form.value_or(RecordForm::Din);
+      if (input_.available() > 0 && settings_.form != RecordForm::Binary) {
+        settings_.form = options_.form.value_or(
+            detail::detect_text_form(std::string_view(input_.data(), input_.available())));
+      }
+    } else {
+      const std::uint32_t magic = load_le32(input_.data());
+      if (magic == detail::kHeaderMagic) {
+        mode_ = Mode::Container;
+        open_container();
+      } else if (magic == detail::kZstdMagic || (magic & detail::kSkippableMask) == detail::kHeaderMagic) {
+        mode_ = Mode::PlainZstd;
+        zstd_.reset(ZSTD_createDStream());
+        settings_.form = options_.form.value_or(RecordForm::Din);
+        if (!options_.form) {
+          // Look at the first decompressed bytes to tell din from extended din.
+          if (next_plain_bytes(first_plain_)) settings_.form = detail::detect_text_form(first_plain_);
+        }
+      } else {
+        mode_ = Mode::PlainRaw;
+        input_.fill_some();
+        settings_.form = options_.form.value_or(detail::detect_text_form(
+            std::string_view(input_.data(), std::min<std::size_t>(input_.available(), 64))));
+      }
+    }
+    if (settings_.form == RecordForm::Binary && settings_.tags_are_levels) {
+      throw UsageError(fmt::format("{}: binary records carry no tag, so their tags cannot be node levels", name_));
+    }
+    pool_ = std::make_unique<detail::ThreadPool>(threads_);
+  }
+
+  // Reads one whole skippable frame at the current position into `payload`.
+  void read_skippable(std::string& payload, const char* what) {
+    if (!input_.ensure(detail::kSkippableHeaderSize)) fail(fmt::format("truncated: {} at byte {} is cut short", what, input_.offset()));
+    const std::uint32_t size = load_le32(input_.data() + 4);
+    if (!input_.ensure(detail::kSkippableHeaderSize + size)) {
+      fail(fmt::format("truncated: {} at byte {} is cut short", what, input_.offset()));
+    }
+    payload.assign(input_.data() + detail::kSkippableHeaderSize, size);
+    consume_hashed(detail::kSkippableHeaderSize + size);
+  }
+
+  void consume_hashed(std::size_t count) {
+    XXH64_update(content_hash_.get(), input_.data(), count);
+    input_.consume(count);
+  }
+
+  void open_container() {
+    XXH64_reset(content_hash_.get(), 0);
+    XXH64_reset(record_hash_.get(), 0);
+    std::string payload;
+    read_skippable(payload, "header");
+    try {
+      header_.json = nlohmann::json::parse(payload);
+    } catch (const nlohmann::json::exception& error) {
+      fail(fmt::format("header is not valid JSON ({})", error.what()));
+    }
+    if (!header_.json.is_object()) fail("header is not a JSON object");
+    const auto container = header_.json.find("container");
+    if (container == header_.json.end() || !container->is_object() || !container->contains("name") ||
+        (*container)["name"] != detail::kContainerName || !(*container)["version"].is_number_unsigned()) {
+      fail(fmt::format("header does not name the container (\"container\": {{\"name\": \"{}\", \"version\": N}})",
+                       detail::kContainerName));
+    }
+    const auto version = (*container)["version"].get<std::uint64_t>();
+    if (version != detail::kContainerVersion) {
+      fail(fmt::format("container version {} is not one this reader knows ({})", version, detail::kContainerVersion));
+    }
+    const auto form = header_.form();
+    if (!form) fail("header's \"records\" is not din, xdin or binary");
+    settings_.form = *form;
+    settings_.tags_are_levels = options_.tags_are_levels || header_.tags_are_levels();
+    header_end_ = input_.offset();
+    if (input_.seekable() && header_.announces_trailer()) trailer_ = read_trailer_from_end();
+  }
+
+  TraceTrailer read_trailer_from_end() {
+    const std::uint64_t size = input_.size();
+    const auto missing = [&](const std::string& why) {
+      fail(fmt::format("truncated or damaged: no valid trailer at the end of the file ({})", why));
+    };
+    if (size < header_end_ + detail::kSkippableHeaderSize + detail::kFooterSize) missing("file too short");
+    const std::string footer = input_.read_at(size - detail::kFooterSize, detail::kFooterSize);
+    if (load_le32(footer.data() + 16) != detail::kFooterMagic) missing("no footer magic");
+    if (load_le32(footer.data() + 12) != detail::kContainerVersion) missing("footer version is not 1");
+    const std::uint64_t json_size = load_le32(footer.data() + 8);
+    if (json_size + detail::kFooterSize + detail::kSkippableHeaderSize > size - header_end_) {
+      missing("footer's length runs past the header");
+    }
+    const std::uint64_t start = size - detail::kFooterSize - json_size - detail::kSkippableHeaderSize;
+    const std::string frame_header = input_.read_at(start, detail::kSkippableHeaderSize);
+    if (load_le32(frame_header.data()) != detail::kTrailerMagic ||
+        load_le32(frame_header.data() + 4) != json_size + detail::kFooterSize) {
+      missing("the footer's length does not lead to the trailer frame");
+    }
+    const std::string json = input_.read_at(start + detail::kSkippableHeaderSize, json_size);
+    if (XXH64(json.data(), json.size(), 0) != load_le64(footer.data())) missing("trailer hash mismatch");
+    try {
+      return detail::decode_trailer_json(json);
+    } catch (const FormatError& error) {
+      fail(error.what());
+    }
+  }
+
+  void fill_pipeline() {
+    const std::size_t limit = 2 * static_cast<std::size_t>(threads_) + 2;
+    while (!input_done_ && units_.size() < limit) {
+      switch (mode_) {
+        case Mode::Container: read_container_unit(); break;
+        case Mode::PlainZstd:
+        case Mode::PlainRaw: read_plain_unit(); break;
+      }
+    }
+  }
+
+  void read_container_unit() {
+    if (input_.at_end()) {
+      input_done_ = true;
+      return;
+    }
+    const std::uint64_t offset = input_.offset();
+    if (!input_.ensure(4)) fail(fmt::format("truncated: stray bytes at byte {}", offset));
+    const std::uint32_t magic = load_le32(input_.data());
+    if (magic == detail::kZstdMagic) {
+      std::size_t size = 0;
+      for (std::size_t want = 1u << 16;; want *= 2) {
+        input_.ensure(want);
+        size = ZSTD_findFrameCompressedSize(input_.data(), input_.available());
+        if (!ZSTD_isError(size)) break;
+        if (input_.available() < want) {  // the whole rest of the input is not a whole frame
+          fail(fmt::format("truncated or damaged: data frame {} at byte {} is incomplete ({})", data_frames_ + 1,
+                           offset, ZSTD_getErrorName(size)));
+        }
+      }
+      Unit unit;
+      unit.data_frame = data_frames_++;
+      unit.entry.offset = offset;
+      unit.entry.compressed_size = size;
+      unit.entry.animation_frame = markers_ == 0 ? 0 : markers_ - 1;
+      unit.entry.checksum = size >= 4 ? load_le32(input_.data() + size - 4) : 0;
+      std::string frame(input_.data(), size);
+      consume_hashed(size);
+      unit.chunk = pool_->submit([frame = std::move(frame), settings = settings_]() mutable {
+        return decode_data_frame(std::move(frame), settings);
+      });
+      units_.push_back(std::move(unit));
+      return;
+    }
+    if ((magic & detail::kSkippableMask) != detail::kHeaderMagic) {
+      fail(fmt::format("damaged: bytes at byte {} are not a zstd frame (magic {:#010x})", offset, magic));
+    }
+    if (magic == detail::kTrailerMagic) {
+      read_stream_trailer(offset);
+      return;
+    }
+    std::string payload;
+    read_skippable(payload, magic == detail::kMarkerMagic ? "animation frame marker" : "skippable frame");
+    if (magic == detail::kHeaderMagic) fail(fmt::format("a second header at byte {}", offset));
+    if (magic != detail::kMarkerMagic) return;  // someone else's skippable frame
+    Unit unit;
+    unit.is_marker = true;
+    try {
+      unit.marker = FrameMarker::from_json(nlohmann::json::parse(payload));
+    } catch (const nlohmann::json::exception& error) {
+      fail(fmt::format("animation frame marker at byte {} is not valid JSON ({})", offset, error.what()));
+    } catch (const FormatError& error) {
+      fail(fmt::format("at byte {}: {}", offset, error.what()));
+    }
+    ++markers_;
+    units_.push_back(std::move(unit));
+  }
+
+  void read_stream_trailer(std::uint64_t offset) {
+    if (!input_.ensure(detail::kSkippableHeaderSize)) fail(fmt::format("truncated: trailer at byte {}", offset));
+    const std::uint32_t size = load_le32(input_.data() + 4);
+    if (size < detail::kFooterSize || !input_.ensure(detail::kSkippableHeaderSize + size)) {
+      fail(fmt::format("truncated: trailer at byte {} is cut short", offset));
+    }
+    const char* footer = input_.data() + detail::kSkippableHeaderSize + size - detail::kFooterSize;
+    const std::string_view json(input_.data() + detail::kSkippableHeaderSize, size - detail::kFooterSize);
+    if (load_le32(footer + 16) != detail::kFooterMagic || load_le32(footer + 12) != detail::kContainerVersion ||
+        load_le32(footer + 8) != json.size() || XXH64(json.data(), json.size(), 0) != load_le64(footer)) {
+      fail(fmt::format("damaged trailer at byte {} (footer does not match)", offset));
+    }
+    TraceTrailer trailer;
+    try {
+      trailer = detail::decode_trailer_json(json);
+    } catch (const FormatError& error) {
+      fail(error.what());
+    }
+    stream_content_hash_ = XXH64_digest(content_hash_.get());
+    input_.consume(detail::kSkippableHeaderSize + size);
+    if (!input_.at_end()) fail(fmt::format("unexpected bytes after the trailer at byte {}", input_.offset()));
+    if (trailer_ && !(trailer_->index == trailer.index)) fail("the trailer read from the end differs from the stream's");
+    if (!trailer_) trailer_ = std::move(trailer);
+    saw_trailer_ = true;
+    input_done_ = true;
+  }
+
+  // Plain input: the next run of decompressed or raw bytes; false at the end.
+  bool next_plain_bytes(std::string& out) {
+    out.clear();
+    if (mode_ == Mode::PlainRaw) {
+      const std::size_t available = input_.fill_some();
+      if (available == 0) return false;
+      const std::size_t take = std::min(available, kPlainChunkBytes);
+      out.assign(input_.data(), take);
+      input_.consume(take);
+      return true;
+    }
+    out.resize(kPlainChunkBytes);
+    ZSTD_outBuffer output{out.data(), out.size(), 0};
+    while (output.pos < output.size) {
+      const std::size_t before = output.pos;
+      const std::size_t available = input_.fill_some();
+      if (available == 0) {
+        if (zstd_status_ != 0) fail(fmt::format("truncated: the zstd stream ends inside a frame at byte {}", input_.offset()));
+        break;
+      }
+      ZSTD_inBuffer in{input_.data(), available, 0};
+      zstd_status_ = ZSTD_decompressStream(zstd_.get(), &output, &in);
+      if (ZSTD_isError(zstd_status_)) {
+        fail(fmt::format("damaged zstd data near byte {} ({})", input_.offset(), ZSTD_getErrorName(zstd_status_)));
+      }
+      input_.consume(in.pos);
+      if (in.pos == 0 && output.pos == before) break;  // no progress: let the caller come back
+    }
+    out.resize(output.pos);
+    return !out.empty();
+  }
+
+  void read_plain_unit() {
+    std::string bytes;
+    if (!first_plain_.empty()) {
+      bytes = std::move(first_plain_);
+      first_plain_.clear();
+    } else if (!next_plain_bytes(bytes) && carry_.empty()) {
+      input_done_ = true;
+      return;
+    }
+    const bool final = bytes.empty();
+    std::string chunk = std::move(carry_);
+    carry_.clear();
+    chunk += bytes;
+    if (!final) {
+      // Parse whole records only; the rest waits for the next bytes.
+      std::size_t cut;
+      if (settings_.form == RecordForm::Binary) {
+        cut = chunk.size() - chunk.size() % 8;
+      } else {
+        const std::size_t newline = chunk.rfind('\n');
+        cut = newline == std::string::npos ? 0 : newline + 1;
+      }
+      carry_.assign(chunk, cut, std::string::npos);
+      chunk.resize(cut);
+      if (carry_.size() > kMaxLineBytes) {
+        Unit unit;
+        std::promise<Chunk> result;
+        Chunk bad = parse_chunk(std::move(chunk), settings_, false);
+        if (!bad.bad_record) {
+          bad.bad_record = true;
+          bad.record_error = {bad.records.size(), "line longer than 1 MiB"};
+        }
+        result.set_value(std::move(bad));
+        unit.chunk = result.get_future();
+        units_.push_back(std::move(unit));
+        input_done_ = true;
+        return;
+      }
+      if (chunk.empty()) return;
+    }
+    record_bytes_ += chunk.size();
+    Unit unit;
+    unit.chunk = pool_->submit([chunk = std::move(chunk), settings = settings_]() mutable {
+      return parse_chunk(std::move(chunk), settings, false);
+    });
+    units_.push_back(std::move(unit));
+  }
+
+  void check_data_frame(const Unit& unit, const Chunk& chunk) {
+    const std::string where = fmt::format("data frame {} at byte {}", unit.data_frame + 1, unit.entry.offset);
+    if (!chunk.frame_error.empty()) fail(fmt::format("{}: {}", where, chunk.frame_error));
+    FrameIndexEntry seen = unit.entry;
+    seen.first_record = records_read_;
+    seen.record_count = chunk.records.size();
+    records_read_ += seen.record_count;
+    record_bytes_ += chunk.bytes.size();
+    if (chunk.bad_record) return;
+    if (hashes_valid_) XXH64_update(record_hash_.get(), chunk.bytes.data(), chunk.bytes.size());
+    if (trailer_) check_index_entry(seen, unit.data_frame, where);
+    seen_.push_back(seen);
+  }
+
+  void check_index_entry(const FrameIndexEntry& seen, std::uint64_t number, const std::string& where) const {
+    const auto& index = trailer_->index;
+    if (number >= index.size()) fail(fmt::format("{}: the index lists only {} data frames", where, index.size()));
+    const FrameIndexEntry& expected = index[number];
+    if (expected == seen) return;
+    if (expected.checksum != seen.checksum) {
+      for (std::size_t other = 0; other < index.size(); ++other) {
+        if (index[other].checksum == seen.checksum && index[other].compressed_size == seen.compressed_size) {
+          fail(fmt::format("{}: frame out of order: it is the index's data frame {}", where, other + 1));
+        }
+      }
+      fail(fmt::format("{}: checksum {:08x} differs from the index's {:08x}", where, seen.checksum, expected.checksum));
+    }
+    fail(fmt::format("{}: index says offset {}, size {}, first record {}, {} records, animation frame {}; "
+                     "found offset {}, size {}, first record {}, {} records, animation frame {}",
+                     where, expected.offset, expected.compressed_size, expected.first_record, expected.record_count,
+                     expected.animation_frame, seen.offset, seen.compressed_size, seen.first_record,
+                     seen.record_count, seen.animation_frame));
+  }
+
+  void finish() {
+    finished_ = true;
+    if (mode_ != Mode::Container) return;
+    if (!saw_trailer_) {
+      if (header_.announces_trailer()) {
+        fail(fmt::format("truncated: the file ends after {} data frames without the trailer the header announces",
+                         data_frames_));
+      }
+      return;
+    }
+    const auto& index = trailer_->index;
+    if (data_frames_ != index.size()) {
+      fail(fmt::format("the index lists {} data frames but the file holds {}", index.size(), data_frames_));
+    }
+    if (!hashes_valid_) return;
+    for (std::size_t i = 0; i < seen_.size(); ++i) {
+      check_index_entry(seen_[i], i, fmt::format("data frame {} at byte {}", i + 1, seen_[i].offset));
+    }
+    const auto totals = trailer_->totals.find("records");
+    if (totals != trailer_->totals.end() && (!totals->is_number_unsigned() || totals->get<std::uint64_t>() != records_read_)) {
+      fail(fmt::format("the trailer's totals say {} records but the data frames hold {}", totals->dump(), records_read_));
+    }
+    if (XXH64_digest(record_hash_.get()) != trailer_->record_hash) {
+      fail("record hash mismatch: the records are not the ones the trailer describes");
+    }
+    if (stream_content_hash_ != trailer_->content_hash) {
+      fail("content hash mismatch: the bytes before the trailer were changed");
+    }
+  }
+
+  // Waits for every job in flight (they own their data) and forgets them.
+  void drain() {
+    for (auto& unit : units_) {
+      if (unit.chunk.valid()) unit.chunk.wait();
+    }
+    units_.clear();
+  }
+
+  struct HashStateDeleter {
+    void operator()(XXH64_state_t* state) const { XXH64_freeState(state); }
+  };
+  struct DStreamDeleter {
+    void operator()(ZSTD_DStream* stream) const { ZSTD_freeDStream(stream); }
+  };
+
+  std::string name_;
+  Input input_;
+  ReaderOptions options_;
+  Mode mode_ = Mode::PlainRaw;
+  detail::ParseSettings settings_;
+  TraceHeader header_;
+  std::optional<TraceTrailer> trailer_;
+  unsigned threads_ = 1;
+  std::unique_ptr<detail::ThreadPool> pool_;
+  std::deque<Unit> units_;
+  std::optional<FrameMarker> pending_marker_;
+  bool input_done_ = false;
+  bool finished_ = false;
+  bool saw_trailer_ = false;
+  bool hashes_valid_ = true;
+  std::uint64_t header_end_ = 0;
+  std::uint64_t data_frames_ = 0;
+  std::uint64_t markers_ = 0;
+  std::uint64_t records_read_ = 0;       // containers: records in frames handed over so far
+  std::uint64_t records_delivered_ = 0;  // records returned by next()
+  std::vector<FrameIndexEntry> seen_;
+  std::unique_ptr<XXH64_state_t, HashStateDeleter> content_hash_{XXH64_createState()};
+  std::unique_ptr<XXH64_state_t, HashStateDeleter> record_hash_{XXH64_createState()};
+  std::uint64_t stream_content_hash_ = 0;
+  std::unique_ptr<ZSTD_DStream, DStreamDeleter> zstd_;
+  std::size_t zstd_status_ = 0;
+  std::string first_plain_;
+  std::string carry_;
+  std::uint64_t record_bytes_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<TraceReader> TraceReader::open(const std::string& path, const ReaderOptions& options) {
+  return std::make_unique<Reader>(path, options);
+}
+
+}  // namespace nodetrace::formats

@@ -1,0 +1,321 @@
+#include "nodetrace/formats/writer.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <xxhash.h>
+#include <zstd.h>
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cerrno>
+#include <cstring>
+#include <deque>
+#include <filesystem>
+#include <future>
+#include <vector>
+
+#include "container.hpp"
+#include "nodetrace/formats/error.hpp"
+#include "text_codec.hpp"
+#include "thread_pool.hpp"
+
+namespace nodetrace::formats {
+
+TraceWriter::~TraceWriter() = default;
+
+namespace {
+
+constexpr const char* kTypeNames[kAccessTypeCount] = {"read", "write", "instruction_fetch",
+                                                      "misc", "copy_back", "invalidate"};
+
+struct Encoded {
+  std::string text;        // the record bytes
+  std::string compressed;  // the zstd frame (containers)
+  std::uint64_t records = 0;
+};
+
+Encoded encode(std::vector<Record> records, RecordForm form, unsigned digits, std::uint64_t first_record,
+               bool compress, int level) {
+  Encoded encoded;
+  encoded.records = records.size();
+  detail::format_records(records, form, digits, first_record, encoded.text);
+  if (compress) {
+    struct Deleter {
+      void operator()(ZSTD_CCtx* context) const { ZSTD_freeCCtx(context); }
+    };
+    thread_local std::unique_ptr<ZSTD_CCtx, Deleter> context(ZSTD_createCCtx());
+    ZSTD_CCtx_reset(context.get(), ZSTD_reset_session_and_parameters);
+    ZSTD_CCtx_setParameter(context.get(), ZSTD_c_compressionLevel, level);
+    ZSTD_CCtx_setParameter(context.get(), ZSTD_c_checksumFlag, 1);
+    ZSTD_CCtx_setParameter(context.get(), ZSTD_c_contentSizeFlag, 1);
+    encoded.compressed.resize(ZSTD_compressBound(encoded.text.size()));
+    const std::size_t size = ZSTD_compress2(context.get(), encoded.compressed.data(), encoded.compressed.size(),
+                                            encoded.text.data(), encoded.text.size());
+    if (ZSTD_isError(size)) throw IoError(fmt::format("zstd compression failed: {}", ZSTD_getErrorName(size)));
+    encoded.compressed.resize(size);
+  }
+  return encoded;
+}
+
+bool ends_with(const std::string& text, std::string_view suffix) {
+  return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+class Writer final : public TraceWriter {
+ public:
+  Writer(const std::string& path, nlohmann::json header, const WriterOptions& options)
+      : path_(path), name_(path == "-" ? "<stdout>" : path), options_(options) {
+    if (options_.records_per_frame == 0) throw UsageError("records per frame must be at least 1");
+    if (options_.address_digits != 8 && options_.address_digits != 16) {
+      throw UsageError(fmt::format("address digits must be 8 or 16, not {}", options_.address_digits));
+    }
+    if (options_.zstd_level < ZSTD_minCLevel() || options_.zstd_level > ZSTD_maxCLevel()) {
+      throw UsageError(fmt::format("zstd level {} is outside {}..{}", options_.zstd_level, ZSTD_minCLevel(),
+                                   ZSTD_maxCLevel()));
+    }
+    if (header.is_null()) header = nlohmann::json::object();
+    if (!header.is_object()) throw UsageError("the trace header must be a JSON object");
+    container_ = options_.kind == OutputKind::Container ||
+                 (options_.kind == OutputKind::Auto && (path == "-" || ends_with(path, ".zst")));
+    levels_ = container_ && options_.tags_are_levels && options_.form != RecordForm::Binary;
+    pool_ = std::make_unique<detail::ThreadPool>(detail::default_threads(options_.threads));
+    tag_counts_.resize(std::size_t{1} << 16);
+    XXH64_reset(record_hash_.get(), 0);
+    XXH64_reset(content_hash_.get(), 0);
+    open_output();
+    if (container_) {
+      header["container"] = {{"name", detail::kContainerName}, {"version", detail::kContainerVersion}};
+      header["records"] = std::string(form_name(options_.form));
+      if (levels_) {
+        header["tag"] = "node-level";
+      } else {
+        header.erase("tag");
+      }
+      header["trailer"] = true;
+      emit(detail::skippable_frame(detail::kHeaderMagic, header.dump()), true);
+    }
+    pending_.reserve(std::min<std::uint64_t>(options_.records_per_frame, 1u << 20));
+  }
+
+  ~Writer() override {
+    if (finished_) return;
+    for (auto& item : queue_) {
+      if (item.job.valid()) item.job.wait();
+    }
+    queue_.clear();
+    if (fd_ > 1) ::close(fd_);
+    if (!temp_path_.empty()) ::unlink(temp_path_.c_str());
+  }
+
+  void begin_frame(const FrameMarker& marker) override {
+    check_open();
+    submit_pending();
+    ++markers_;
+    if (!container_) return;
+    Item item;
+    item.ready = detail::skippable_frame(detail::kMarkerMagic, marker.to_json().dump());
+    queue_.push_back(std::move(item));
+    drain(false);
+  }
+
+  void write(std::span<const Record> records) override {
+    check_open();
+    for (const Record& record : records) {
+      const auto type = static_cast<unsigned>(record.type);
+      if (type >= static_cast<unsigned>(kAccessTypeCount)) {
+        fail(fmt::format("record {}: access type {} is not one of Dinero IV's (0-5)", records_total_ + 1, type));
+      }
+      if (levels_ && record.tag == kTagNone) {
+        fail(fmt::format("record {}: untagged, but the trace marks its tags as node levels", records_total_ + 1));
+      }
+      if (options_.form == RecordForm::Binary && (record.address > 0xFFFFFFFFu || record.size > 0xFFFFu)) {
+        fail(fmt::format("record {}: address {:#x} or size {} does not fit a binary record (32-bit address, 16-bit size)",
+                         records_total_ + 1, record.address, record.size));
+      }
+      if (record.size == 0 && options_.form != RecordForm::Din) {
+        fail(fmt::format("record {}: size 0 (a reference is at least 1 byte)", records_total_ + 1));
+      }
+      ++type_counts_[type];
+      ++tag_counts_[record.tag];
+      ++records_total_;
+      pending_.push_back(record);
+      if (pending_.size() >= options_.records_per_frame) submit_pending();
+    }
+  }
+
+  void add_totals(const nlohmann::json& totals) override {
+    if (!totals.is_object()) throw UsageError("totals must be a JSON object");
+    extra_totals_.update(totals);
+  }
+
+  void finish() override {
+    check_open();
+    submit_pending();
+    drain(true);
+    if (container_) {
+      TraceTrailer trailer;
+      trailer.index = std::move(index_);
+      nlohmann::json per_tag = nlohmann::json::object();
+      for (std::size_t tag = 0; tag < tag_counts_.size(); ++tag) {
+        if (tag_counts_[tag] == 0) continue;
+        const Tag value = static_cast<Tag>(tag);
+        const std::string key = value == kTagNone ? "none" : is_level(value) ? std::to_string(tag) : tag_text(value);
+        per_tag[key] = tag_counts_[tag];
+      }
+      nlohmann::json per_type = nlohmann::json::object();
+      for (int type = 0; type < kAccessTypeCount; ++type) per_type[kTypeNames[type]] = type_counts_[type];
+      trailer.totals = extra_totals_;
+      trailer.totals["records"] = records_total_;
+      trailer.totals["records_per_tag"] = std::move(per_tag);
+      trailer.totals["records_per_type"] = std::move(per_type);
+      trailer.totals["animation_frames"] = markers_;
+      trailer.totals["data_frames"] = trailer.index.size();
+      trailer.totals["record_bytes"] = record_bytes_;
+      trailer.record_hash = XXH64_digest(record_hash_.get());
+      trailer.content_hash = XXH64_digest(content_hash_.get());
+      emit(detail::encode_trailer(trailer), false);
+    }
+    if (fd_ > 1) {
+      if (::close(fd_) != 0) fail(fmt::format("cannot write: {}", std::strerror(errno)));
+      fd_ = -1;
+    }
+    if (!temp_path_.empty()) {
+      if (::rename(temp_path_.c_str(), path_.c_str()) != 0) {
+        throw IoError(fmt::format("{}: cannot rename the finished output into place: {}", name_, std::strerror(errno)));
+      }
+      temp_path_.clear();
+    }
+    finished_ = true;
+  }
+
+ private:
+  struct Item {
+    std::future<Encoded> job;
+    std::string ready;  // bytes already made (a marker)
+    std::uint64_t first_record = 0;
+    std::uint64_t animation_frame = 0;
+  };
+
+  [[noreturn]] void fail(const std::string& message) const { throw FormatError(fmt::format("{}: {}", name_, message)); }
+
+  void check_open() const {
+    if (finished_) throw UsageError(fmt::format("{}: the writer is already finished", name_));
+  }
+
+  void open_output() {
+    if (path_ == "-") {
+      fd_ = 1;
+      return;
+    }
+    const std::filesystem::path target(path_);
+    const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : ".";
+    std::string pattern = (dir / fmt::format(".{}.tmp-XXXXXX", target.filename().string())).string();
+    fd_ = ::mkstemp(pattern.data());
+    if (fd_ < 0) throw IoError(fmt::format("{}: cannot create a file in {}: {}", name_, dir.string(), std::strerror(errno)));
+    ::fchmod(fd_, 0644);
+    temp_path_ = pattern;
+  }
+
+  void submit_pending() {
+    if (pending_.empty()) return;
+    Item item;
+    item.first_record = records_total_ - pending_.size();
+    item.animation_frame = markers_ == 0 ? 0 : markers_ - 1;
+    std::vector<Record> records;
+    records.swap(pending_);
+    pending_.reserve(std::min<std::uint64_t>(options_.records_per_frame, 1u << 20));
+    item.job = pool_->submit([records = std::move(records), form = options_.form, digits = options_.address_digits,
+                              first = item.first_record, compress = container_,
+                              level = options_.zstd_level]() mutable {
+      return encode(std::move(records), form, digits, first, compress, level);
+    });
+    queue_.push_back(std::move(item));
+    drain(false);
+  }
+
+  // Writes finished items in order; waits for all when `all`, else only while
+  // more jobs are in flight than keep both cores busy (bounded memory).
+  void drain(bool all) {
+    const std::size_t limit = 2 * static_cast<std::size_t>(pool_->size()) + 1;
+    while (!queue_.empty() && (all || queue_.size() > limit || !queue_.front().job.valid())) {
+      Item item = std::move(queue_.front());
+      queue_.pop_front();
+      if (!item.job.valid()) {
+        emit(item.ready, true);
+        continue;
+      }
+      Encoded encoded;
+      try {
+        encoded = item.job.get();
+      } catch (const FormatError& error) {
+        fail(error.what());
+      }
+      XXH64_update(record_hash_.get(), encoded.text.data(), encoded.text.size());
+      record_bytes_ += encoded.text.size();
+      if (!container_) {
+        emit(encoded.text, false);
+        continue;
+      }
+      FrameIndexEntry entry;
+      entry.offset = offset_;
+      entry.compressed_size = encoded.compressed.size();
+      entry.first_record = item.first_record;
+      entry.record_count = encoded.records;
+      entry.animation_frame = item.animation_frame;
+      entry.checksum = detail::load_le32(encoded.compressed.data() + encoded.compressed.size() - 4);
+      index_.push_back(entry);
+      emit(encoded.compressed, true);
+    }
+  }
+
+  void emit(std::string_view bytes, bool hashed) {
+    if (hashed) XXH64_update(content_hash_.get(), bytes.data(), bytes.size());
+    std::size_t done = 0;
+    while (done < bytes.size()) {
+      const ssize_t wrote = ::write(fd_, bytes.data() + done, bytes.size() - done);
+      if (wrote < 0) {
+        if (errno == EINTR) continue;
+        throw IoError(fmt::format("{}: cannot write: {}", name_, std::strerror(errno)));
+      }
+      done += static_cast<std::size_t>(wrote);
+    }
+    offset_ += bytes.size();
+  }
+
+  struct HashStateDeleter {
+    void operator()(XXH64_state_t* state) const { XXH64_freeState(state); }
+  };
+
+  std::string path_;
+  std::string name_;
+  WriterOptions options_;
+  bool container_ = false;
+  bool levels_ = false;
+  bool finished_ = false;
+  int fd_ = -1;
+  std::string temp_path_;
+  std::unique_ptr<detail::ThreadPool> pool_;
+  std::deque<Item> queue_;
+  std::vector<Record> pending_;
+  std::vector<FrameIndexEntry> index_;
+  std::vector<std::uint64_t> tag_counts_;
+  std::array<std::uint64_t, kAccessTypeCount> type_counts_{};
+  std::uint64_t records_total_ = 0;
+  std::uint64_t markers_ = 0;
+  std::uint64_t offset_ = 0;
+  std::uint64_t record_bytes_ = 0;
+  nlohmann::json extra_totals_ = nlohmann::json::object();
+  std::unique_ptr<XXH64_state_t, HashStateDeleter> record_hash_{XXH64_createState()};
+  std::unique_ptr<XXH64_state_t, HashStateDeleter> content_hash_{XXH64_createState()};
+};
+
+}  // namespace
+
+std::unique_ptr<TraceWriter> TraceWriter::create(const std::string& path, nlohmann::json header,
+                                                 const WriterOptions& options) {
+  return std::make_unique<Writer>(path, std::move(header), options);
+}
+
+}  // namespace nodetrace::formats
