@@ -476,33 +476,43 @@ Sweep::Sweep(std::vector<NodeCacheConfig> configs, TraceContext context, bool pe
 
 Sweep::~Sweep() = default;
 
+std::uint32_t resolve_split_level(const NodeCacheConfig& config,
+                                  const formats::FrameMarker* first_marker,
+                                  const TraceContext& context) {
+  if (config.split_level) return *config.split_level;
+  if (first_marker == nullptr || first_marker->nodes_per_level.empty()) {
+    throw UsageError(fmt::format(
+        "{}: --split-level auto needs the nodes_per_level of animation-frame markers, which this "
+        "trace does not have; give an explicit split level, e.g. --split-level 8",
+        context.source_name));
+  }
+  return auto_split_level(first_marker->nodes_per_level, context.node_size, config.high_size);
+}
+
+std::optional<std::string> split_level_note(const NodeCacheConfig& config,
+                                            std::uint32_t split_level,
+                                            const TraceContext& context) {
+  if (config.scheme != Scheme::Split || !context.layout_split_level ||
+      *context.layout_split_level == split_level) {
+    return std::nullopt;
+  }
+  return fmt::format(
+      "{}: {}-byte high cache: split level {} ({}) differs from the layout's split_level {} in "
+      "the trace header",
+      context.trace, config.high_size, split_level, config.split_level ? "given" : "auto",
+      *context.layout_split_level);
+}
+
 void Sweep::start(const formats::RecordBatch& first_batch) {
   started_ = true;
   const formats::FrameMarker* marker = first_batch.marker ? &*first_batch.marker : nullptr;
   for (const NodeCacheConfig& config : configs_) {
     std::uint32_t split_level = 0;
     if (config.scheme == Scheme::Split) {
-      if (config.split_level) {
-        split_level = *config.split_level;
-      } else {
-        if (marker == nullptr || marker->nodes_per_level.empty()) {
-          throw UsageError(fmt::format(
-              "{}: --split-level auto needs the nodes_per_level of animation-frame markers, "
-              "which this trace does not have; give an explicit split level, e.g. "
-              "--split-level 8",
-              context_.source_name));
-        }
-        split_level = auto_split_level(marker->nodes_per_level, context_.node_size,
-                                       config.high_size);
-      }
-      if (context_.layout_split_level && *context_.layout_split_level != split_level) {
-        std::string note = fmt::format(
-            "{}: {}-byte high cache: split level {} ({}) differs from the layout's split_level "
-            "{} in the trace header",
-            context_.trace, config.high_size, split_level,
-            config.split_level ? "given" : "auto", *context_.layout_split_level);
-        if (std::find(notes_.begin(), notes_.end(), note) == notes_.end()) {
-          notes_.push_back(std::move(note));
+      split_level = resolve_split_level(config, marker, context_);
+      if (auto note = split_level_note(config, split_level, context_)) {
+        if (std::find(notes_.begin(), notes_.end(), *note) == notes_.end()) {
+          notes_.push_back(std::move(*note));
         }
       }
     }

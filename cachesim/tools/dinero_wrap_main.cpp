@@ -1,2 +1,142 @@
-// Placeholder front end; replaced by the component's real command.
-int main() { return 2; }
+// dinero-wrap: run Dinero IV on (compressed, container) traces.
+//   dinero-wrap run TRACE... [cachesim run options] [--dinero CMD]
+//   dinero-wrap exec TRACE [--dinero CMD] -- [dineroIV options]
+#include <CLI/CLI.hpp>
+
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <string_view>
+
+#include "nodetrace/cachesim/report.hpp"
+#include "nodetrace/cachesim/wrap.hpp"
+#include "nodetrace/formats/error.hpp"
+#include "run_options.hpp"
+
+namespace {
+
+using namespace nodetrace;
+using namespace nodetrace::cachesim;
+
+constexpr const char* kUsage =
+    "dinero-wrap: answer cachesim questions with Dinero IV itself\n"
+    "\n"
+    "Usage:\n"
+    "  dinero-wrap run TRACE... [options]        cachesim run's options and report, by Dinero IV\n"
+    "  dinero-wrap exec TRACE [options] -- [dineroIV options]\n"
+    "                                            feed one Dinero IV run, print its output\n"
+    "\n"
+    "Dinero IV is found by --dinero CMD, $DINEROIV, or dineroIV on PATH.\n"
+    "`dinero-wrap SUBCOMMAND --help` describes each.\n";
+
+template <typename Body>
+int guarded(const char* name, Body body) {
+  try {
+    return body();
+  } catch (const formats::UsageError& error) {
+    std::fprintf(stderr, "dinero-wrap %s: %s\n", name, error.what());
+    return 2;
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "dinero-wrap %s: %s\n", name, error.what());
+    return 1;
+  }
+}
+
+int run_subcommand(int argc, char** argv) {
+  CLI::App app{
+      "Answer `cachesim run` options with Dinero IV: one Dinero IV process per cache (at most "
+      "one per core at a time), same report and columns as cachesim run.",
+      "dinero-wrap run"};
+  cli::RunCommandLine line;
+  cli::add_run_options(app, line);
+  std::string dinero;
+  unsigned jobs = 0;
+  app.add_option("--dinero", dinero,
+                 "Dinero IV command, may carry arguments (default: $DINEROIV, or dineroIV on "
+                 "PATH)");
+  app.add_option("--jobs", jobs, "Dinero IV processes at a time (default: one per core)");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
+  }
+  return guarded("run", [&] {
+    wrap::WrapOptions options;
+    options.dinero = wrap::find_dinero(dinero.empty() ? std::nullopt
+                                                      : std::optional<std::string>(dinero));
+    options.jobs = jobs;
+    options.reader = cli::reader_options(line);
+    const SweepOptions sweep = cli::sweep_options(line);
+    const std::vector<NodeCacheConfig> configs = expand_configurations(sweep);
+    std::vector<ResultRow> rows;
+    std::vector<std::string> notes;
+    for (const std::string& trace : line.traces) {
+      TraceResult result = wrap::wrap_run(trace, configs, trace, sweep.per_level, options);
+      rows.insert(rows.end(), result.rows.begin(), result.rows.end());
+      notes.insert(notes.end(), result.notes.begin(), result.notes.end());
+    }
+    cli::print_report(rows, {}, notes, line);
+    return 0;
+  });
+}
+
+int exec_subcommand(int argc, char** argv) {
+  // Everything after `--` belongs to Dinero IV.
+  int separator = argc;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--") == 0) {
+      separator = i;
+      break;
+    }
+  }
+  std::vector<std::string> dinero_arguments(argv + std::min(separator + 1, argc), argv + argc);
+  CLI::App app{
+      "Decompress TRACE and feed its records to one Dinero IV run (adding -informat for the "
+      "trace's record form unless given); Dinero IV's output is printed unchanged.",
+      "dinero-wrap exec"};
+  std::string trace;
+  std::string dinero;
+  bool tags_are_levels = false;
+  std::string informat;
+  app.add_option("trace", trace, "Trace file; - is standard input")->required();
+  app.add_option("--dinero", dinero,
+                 "Dinero IV command (default: $DINEROIV, or dineroIV on PATH)");
+  app.add_option("--informat", informat, "Record form of a plain trace: din, xdin or binary")
+      ->check(CLI::IsMember({"din", "xdin", "binary"}));
+  app.add_flag("--tags-are-levels", tags_are_levels, "Accepted for symmetry with run");
+  app.footer("Example: dinero-wrap exec t.din.zst -- -l1-dsize 8k -l1-dbsize 8 -l1-dassoc 1");
+  try {
+    app.parse(separator, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
+  }
+  return guarded("exec", [&] {
+    wrap::WrapOptions options;
+    options.dinero = wrap::find_dinero(dinero.empty() ? std::nullopt
+                                                      : std::optional<std::string>(dinero));
+    options.reader.tags_are_levels = tags_are_levels;
+    if (!informat.empty()) options.reader.form = formats::parse_form_name(informat);
+    std::fflush(stdout);
+    return wrap::wrap_exec(trace, dinero_arguments, options);
+  });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // A Dinero IV that quits early must give us EPIPE, not kill us.
+  std::signal(SIGPIPE, SIG_IGN);
+  if (argc < 2) {
+    std::fputs(kUsage, stderr);
+    return 2;
+  }
+  const std::string_view subcommand = argv[1];
+  if (subcommand == "-h" || subcommand == "--help") {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  if (subcommand == "run") return run_subcommand(argc - 1, argv + 1);
+  if (subcommand == "exec") return exec_subcommand(argc - 1, argv + 1);
+  std::fprintf(stderr, "dinero-wrap: unknown subcommand '%s'\n\n%s", argv[1], kUsage);
+  return 2;
+}

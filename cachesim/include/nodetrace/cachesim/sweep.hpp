@@ -116,6 +116,17 @@ struct TraceContext {
 // Fills a TraceContext from an opened reader.
 TraceContext trace_context(const formats::TraceReader& reader, std::string trace_column);
 
+// K of a split configuration: the one given, or auto from the first
+// animation frame's marker (the one at the trace's first record; nullptr when
+// there is none). Throws formats::UsageError for auto without nodes_per_level.
+std::uint32_t resolve_split_level(const NodeCacheConfig& config,
+                                  const formats::FrameMarker* first_marker,
+                                  const TraceContext& context);
+// The report's note when K differs from the header's layout split_level.
+std::optional<std::string> split_level_note(const NodeCacheConfig& config,
+                                            std::uint32_t split_level,
+                                            const TraceContext& context);
+
 class ConfigSimulator;
 
 // Simulates every configuration over batches fed in trace order.

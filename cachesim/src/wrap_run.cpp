@@ -1,0 +1,335 @@
+// dinero-wrap run / exec: the trace is decoded once per group of Dinero IV
+// processes (at most one per core at a time) and each process is fed the
+// records of its cache as din / extended din text.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <memory>
+#include <thread>
+
+#include "nodetrace/cachesim/wrap.hpp"
+#include "nodetrace/formats/error.hpp"
+
+namespace nodetrace::cachesim::wrap {
+
+using formats::Record;
+using formats::RecordBatch;
+using formats::RecordForm;
+using formats::Tag;
+
+namespace {
+
+constexpr std::size_t kFlushBytes = 1 << 16;
+
+// One record as Dinero IV text: din `LABEL ADDRESS` (Dinero rounds the
+// address itself), or extended din `TYPE ADDRESS SIZE`.
+std::size_t format_line(const Record& record, RecordForm form, char* out) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  static constexpr char kTypeLetters[] = "rwimcv";
+  char* p = out;
+  const auto type = static_cast<unsigned>(record.type);
+  if (form == RecordForm::Din) {
+    *p++ = static_cast<char>('0' + type);
+  } else {
+    *p++ = kTypeLetters[type];
+  }
+  *p++ = ' ';
+  auto hex = [&p](std::uint64_t value) {
+    char digits[16];
+    int count = 0;
+    do {
+      digits[count++] = kHex[value & 15];
+      value >>= 4;
+    } while (value != 0);
+    while (count > 0) *p++ = digits[--count];
+  };
+  hex(record.address);
+  if (form != RecordForm::Din) {
+    *p++ = ' ';
+    hex(record.size);
+  }
+  *p++ = '\n';
+  return static_cast<std::size_t>(p - out);
+}
+
+enum class Role : std::uint8_t { Single, High, Low, HighFrames };
+
+// A cache Dinero IV simulates for one configuration.
+struct Job {
+  std::size_t config = 0;
+  Role role = Role::Single;
+  std::uint32_t split_level = 0;
+  NodeCacheGeometry geometry;
+  std::uint64_t refs = 0;
+  std::uint64_t fetches = 0;
+  std::uint64_t misses = 0;  // HighFrames: the loads, summed over frames
+
+  bool takes(Tag tag) const {
+    switch (role) {
+      case Role::Single: return true;
+      case Role::Low: return tag >= split_level;
+      case Role::High:
+      case Role::HighFrames: return tag < split_level;
+    }
+    return false;
+  }
+};
+
+// A job's process during one pass (HighFrames: one process per frame).
+class RunningJob {
+ public:
+  RunningJob(Job& job, const WrapOptions& options, const TraceContext& context,
+             const NodeCacheConfig& config)
+      : job_(job), options_(options), context_(context), config_(config) {
+    if (job_.role != Role::HighFrames) start();
+  }
+
+  void begin_frame(std::uint64_t animation_frame) {
+    if (job_.role != Role::HighFrames) return;
+    finish();
+    frame_ = animation_frame;
+  }
+
+  void add(const char* line, std::size_t length) {
+    if (!process_) start();
+    buffer_.append(line, length);
+    ++job_.refs;
+    if (buffer_.size() >= kFlushBytes) flush();
+  }
+
+  void finish() {
+    if (!process_) return;
+    flush();
+    const int status = process_->wait();
+    if (status != 0) {
+      throw WrapError(fmt::format("Dinero IV ('{}') failed with exit status {}: {}",
+                                  process_->command(), status, process_->errors()));
+    }
+    std::vector<DineroCacheStats> caches;
+    try {
+      caches = parse_dinero_output(process_->output());
+    } catch (const formats::FormatError& error) {
+      throw WrapError(fmt::format("'{}': {}", process_->command(), error.what()));
+    }
+    process_.reset();
+    const DineroCacheStats& cache = caches.front();
+    job_.fetches += cache.demand_fetches;
+    job_.misses += cache.demand_misses;
+    if (job_.role == Role::HighFrames) {
+      // Fully associative LRU: misses == distinct blocks exactly when they fit.
+      const std::uint64_t capacity = config_.high_size / config_.block;
+      if (cache.demand_misses > capacity) {
+        throw formats::UsageError(fmt::format(
+            "{}: the high-level nodes (levels < {}) touched in animation frame {} do not fit the "
+            "high-level cache: Dinero IV loads {} {}-byte blocks into a fully associative "
+            "{}-byte cache (of a {}-byte total, low cache {} bytes) that holds {}; give a "
+            "smaller --split-level or a larger --high-size",
+            context_.source_name, job_.split_level, frame_, cache.demand_misses, config_.block,
+            config_.high_size, config_.size, config_.low_size, capacity));
+      }
+    }
+  }
+
+ private:
+  void start() {
+    std::vector<std::string> argv = options_.dinero;
+    NodeCacheGeometry geometry = job_.geometry;
+    for (auto& argument : dinero_cache_arguments(context_.form, geometry)) {
+      argv.push_back(std::move(argument));
+    }
+    process_ = std::make_unique<ChildProcess>(argv, false);
+  }
+
+  void flush() {
+    if (process_ && !buffer_.empty()) process_->write(buffer_);
+    buffer_.clear();
+  }
+
+  Job& job_;
+  const WrapOptions& options_;
+  const TraceContext& context_;
+  const NodeCacheConfig& config_;
+  std::unique_ptr<ChildProcess> process_;
+  std::string buffer_;
+  std::uint64_t frame_ = 0;
+};
+
+unsigned jobs_at_a_time(const WrapOptions& options) {
+  if (options.jobs > 0) return options.jobs;
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+}  // namespace
+
+TraceResult wrap_run(const std::string& path, const std::vector<NodeCacheConfig>& configs,
+                     const std::string& trace_column, bool per_level, const WrapOptions& options) {
+  if (per_level) {
+    throw formats::UsageError(
+        "--per-level: Dinero IV reports no counts per node level; use cachesim run for the "
+        "per-level table");
+  }
+  // Planning: the header and the first batch (its marker gives K = auto).
+  auto reader = formats::TraceReader::open(path, options.reader);
+  const TraceContext context = trace_context(*reader, trace_column);
+  RecordBatch first_batch;
+  const bool has_records = reader->next(first_batch);
+  const bool needs_levels = std::any_of(configs.begin(), configs.end(), [](const auto& config) {
+    return config.scheme == Scheme::Split;
+  });
+  if (needs_levels && !context.tags_are_levels) {
+    throw formats::UsageError(fmt::format(
+        "{}: the split scheme needs the node level of every record, but this trace's records "
+        "are untagged (no container header says \"tag\": \"node-level\"); if the field after "
+        "the address holds node levels, pass --tags-are-levels",
+        context.source_name));
+  }
+  TraceResult result;
+  std::vector<Job> jobs;
+  std::vector<std::uint32_t> split_levels(configs.size(), 0);
+  for (std::size_t i = 0; i < configs.size(); ++i) {
+    const NodeCacheConfig& config = configs[i];
+    if (config.scheme == Scheme::Single) {
+      jobs.push_back({i, Role::Single, 0, {config.size, config.block, config.assoc, config.policy}});
+      continue;
+    }
+    const formats::FrameMarker* marker = first_batch.marker ? &*first_batch.marker : nullptr;
+    const std::uint32_t split_level = resolve_split_level(config, marker, context);
+    split_levels[i] = split_level;
+    if (auto note = split_level_note(config, split_level, context)) {
+      if (std::find(result.notes.begin(), result.notes.end(), *note) == result.notes.end()) {
+        result.notes.push_back(std::move(*note));
+      }
+    }
+    if (config.high_policy == HighPolicy::Retain) {
+      const auto blocks = static_cast<std::uint32_t>(config.high_size / config.block);
+      jobs.push_back({i, Role::HighFrames, split_level,
+                      {config.high_size, config.block, blocks, ReplacementPolicy::Lru}});
+    } else {
+      jobs.push_back({i, Role::High, split_level,
+                      {config.high_size, config.block, config.high_assoc, config.policy}});
+    }
+    jobs.push_back({i, Role::Low, split_level,
+                    {config.low_size, config.block, config.assoc, config.policy}});
+  }
+
+  // Standard input is read once, so then every process runs in the one pass.
+  const std::size_t group_size =
+      path == "-" ? std::max<std::size_t>(jobs.size(), 1) : jobs_at_a_time(options);
+  std::uint64_t other_stream_records = 0;
+  for (std::size_t group_start = 0; group_start < jobs.size(); group_start += group_size) {
+    const bool first_pass = group_start == 0;
+    const std::size_t group_end = std::min(jobs.size(), group_start + group_size);
+    if (!first_pass) {
+      reader = formats::TraceReader::open(path, options.reader);
+      if (!reader->next(first_batch)) break;
+    } else if (!has_records) {
+      break;
+    }
+    std::vector<std::unique_ptr<RunningJob>> running;
+    for (std::size_t j = group_start; j < group_end; ++j) {
+      running.push_back(
+          std::make_unique<RunningJob>(jobs[j], options, context, configs[jobs[j].config]));
+    }
+    char line[64];
+    RecordBatch& batch = first_batch;
+    do {
+      if (batch.marker) {
+        for (auto& job : running) job->begin_frame(batch.marker->frame);
+      }
+      for (std::size_t r = 0; r < batch.records.size(); ++r) {
+        const Record& record = batch.records[r];
+        const Tag tag = record.tag;
+        if (tag == formats::kTagPrimitiveList || tag == formats::kTagTriangle) {
+          other_stream_records += first_pass;
+          continue;
+        }
+        if (needs_levels && !formats::is_level(tag)) {
+          throw formats::FormatError(fmt::format(
+              "{}: record {}: no node-level tag, but the split scheme routes every record by "
+              "its level (expected `LABEL ADDRESS LEVEL`)",
+              context.source_name, batch.first_record + r + 1));
+        }
+        const std::size_t length = format_line(record, context.form, line);
+        for (std::size_t j = group_start; j < group_end; ++j) {
+          if (jobs[j].takes(tag)) running[j - group_start]->add(line, length);
+        }
+      }
+    } while (reader->next(batch));
+    for (auto& job : running) job->finish();
+  }
+
+  for (std::size_t i = 0; i < configs.size(); ++i) {
+    const NodeCacheConfig& config = configs[i];
+    ResultRow row;
+    row.trace = trace_column;
+    row.config = config;
+    for (const Job& job : jobs) {
+      if (job.config != i) continue;
+      row.refs += job.refs;
+      row.fetches += job.fetches;
+      switch (job.role) {
+        case Role::Single:
+          row.misses = job.misses;
+          break;
+        case Role::High:
+          row.high_refs = job.refs;
+          row.high_misses = job.misses;
+          break;
+        case Role::HighFrames:
+          row.high_refs = job.refs;
+          row.high_loads = job.misses;
+          row.high_misses = config.count_loads ? job.misses : 0;
+          break;
+        case Role::Low:
+          row.low_refs = job.refs;
+          row.low_misses = job.misses;
+          break;
+      }
+    }
+    if (config.scheme == Scheme::Split) {
+      row.split_level = split_levels[i];
+      row.misses = row.high_misses + row.low_misses;
+    }
+    result.rows.push_back(row);
+  }
+  result.other_stream_records = other_stream_records;
+  if (other_stream_records > 0) {
+    result.notes.push_back(fmt::format(
+        "{}: {} records tagged p or t (primitive lists, triangles) counted apart, not simulated "
+        "by the node caches",
+        trace_column, other_stream_records));
+  }
+  return result;
+}
+
+int wrap_exec(const std::string& path, const std::vector<std::string>& arguments,
+              const WrapOptions& options) {
+  auto reader = formats::TraceReader::open(path, options.reader);
+  const RecordForm form =
+      reader->form() == RecordForm::Din ? RecordForm::Din : RecordForm::ExtendedDin;
+  std::vector<std::string> argv = options.dinero;
+  const bool has_informat =
+      std::find(arguments.begin(), arguments.end(), "-informat") != arguments.end();
+  if (!has_informat) {
+    argv.push_back("-informat");
+    argv.push_back(form == RecordForm::Din ? "d" : "D");
+  }
+  argv.insert(argv.end(), arguments.begin(), arguments.end());
+  ChildProcess process(argv, true);
+  RecordBatch batch;
+  std::string buffer;
+  char line[64];
+  while (reader->next(batch)) {
+    for (const Record& record : batch.records) {
+      buffer.append(line, format_line(record, form, line));
+      if (buffer.size() >= kFlushBytes) {
+        process.write(buffer);
+        buffer.clear();
+      }
+    }
+  }
+  process.write(buffer);
+  return process.wait();
+}
+
+}  // namespace nodetrace::cachesim::wrap
