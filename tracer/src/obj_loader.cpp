@@ -2,6 +2,8 @@
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <charconv>
+#include <string_view>
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -43,6 +45,39 @@ Material whitted_material(const tinyobj::material_t& m) {
   return material;
 }
 
+// tinyobjloader reads a malformed or non-finite coordinate as some number
+// without complaint; check `v`, `vn` and `vt` lines first so bad input is an
+// error naming the line.
+void check_coordinates(const std::string& text, const std::filesystem::path& path) {
+  std::size_t line_start = 0;
+  for (int line = 1; line_start < text.size(); ++line) {
+    std::size_t line_end = text.find('\n', line_start);
+    if (line_end == std::string::npos) line_end = text.size();
+    std::string_view rest(text.data() + line_start, line_end - line_start);
+    line_start = line_end + 1;
+    auto next_word = [&rest]() {
+      const std::size_t begin = rest.find_first_not_of(" \t\r");
+      if (begin == std::string_view::npos) return std::string_view{};
+      rest.remove_prefix(begin);
+      const std::size_t end = std::min(rest.find_first_of(" \t\r"), rest.size());
+      const std::string_view word = rest.substr(0, end);
+      rest.remove_prefix(end);
+      return word;
+    };
+    const std::string_view keyword = next_word();
+    if (keyword != "v" && keyword != "vn" && keyword != "vt") continue;
+    for (std::string_view word = next_word(); !word.empty() && word.front() != '#'; word = next_word()) {
+      if (word.front() == '+') word.remove_prefix(1);
+      double value = 0;
+      const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value);
+      if (error != std::errc() || end != word.data() + word.size() || !std::isfinite(value)) {
+        throw SceneError(path.string() + ":" + std::to_string(line) + ": expected a finite number in '" +
+                         std::string(keyword) + "' line, got '" + std::string(word) + "'");
+      }
+    }
+  }
+}
+
 // The `mtllib` names of an OBJ file, for the content hash.
 std::vector<std::string> material_libraries(const std::string& obj_text) {
   std::vector<std::string> names;
@@ -62,6 +97,7 @@ std::vector<std::string> material_libraries(const std::string& obj_text) {
 
 std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path) {
   const std::string text = read_scene_file(path);
+  check_coordinates(text, path);
   std::uint64_t hash = fnv1a64(text);
   const std::filesystem::path directory = path.parent_path();
   for (const auto& library : material_libraries(text)) {
