@@ -1,0 +1,20 @@
+// A rendered picture and its PNG output.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "nodetrace/tracer/vec3.hpp"
+
+namespace nodetrace::tracer {
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<Vec3> pixels;  // linear RGB, row-major from the top row
+};
+
+// 8-bit sRGB PNG written to a temporary name and renamed into place. Throws
+// formats::IoError when the file cannot be written.
+void write_png(const Image& image, const std::string& path);
+
+}  // namespace nodetrace::tracer

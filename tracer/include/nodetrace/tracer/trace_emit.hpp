@@ -1,0 +1,62 @@
+// Rendering a scene source into a trace: for each animation frame, build the
+// kd-tree, lay it out, render, and write the marker and the records through
+// formats::TraceWriter with the header of DESIGN.md.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "nodetrace/formats/record.hpp"
+#include "nodetrace/tracer/kdtree.hpp"
+#include "nodetrace/tracer/layout.hpp"
+#include "nodetrace/tracer/render.hpp"
+#include "nodetrace/tracer/scene.hpp"
+
+namespace nodetrace::tracer {
+
+struct TraceJobOptions {
+  RenderOptions render;
+  KdBuildOptions build;
+  LayoutKind layout = LayoutKind::Dfl;
+  // Hybrid K: a fixed level, or derived per frame from the high cache size.
+  std::optional<std::uint32_t> split_level;
+  std::optional<std::uint64_t> high_size;
+  // Frames first..last of the source's animation, or one instant `time`.
+  std::uint64_t first_frame = 0, last_frame = 0;
+  std::optional<double> time;
+  std::string output;  // trace path, "-" for stdout; empty: no trace
+  formats::RecordForm form = formats::RecordForm::Din;
+  std::string image;  // PNG of the first frame; empty: none
+};
+
+struct FrameReport {
+  std::uint64_t frame = 0;
+  double time = 0;
+  std::uint64_t triangles = 0;
+  KdTreeStats tree;
+  std::uint32_t split_level = 0;
+  RenderStats render;
+};
+
+struct TraceJobResult {
+  std::vector<FrameReport> frames;
+  RenderStats total;  // seconds: sum of the frames' render times
+  nlohmann::json header;
+  RayKindPlan plan;
+};
+
+// The split level of a layout for a tree: the fixed one, or the one derived
+// from the high cache size (hybrid only; 0 for the other layouts).
+std::uint32_t choose_split_level(const TraceJobOptions& options, const KdTreeStats& stats);
+
+// Throws formats::UsageError for options that cannot work, SceneError from the
+// source, formats::IoError / FormatError from the writer. `progress` gets the
+// fraction of all frames done.
+TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& options,
+                             const Renderer::Progress& progress = {});
+
+}  // namespace nodetrace::tracer

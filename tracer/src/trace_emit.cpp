@@ -1,0 +1,191 @@
+#include "nodetrace/tracer/trace_emit.hpp"
+
+#include <memory>
+
+#include "nodetrace/formats/error.hpp"
+#include "nodetrace/formats/metadata.hpp"
+#include "nodetrace/formats/writer.hpp"
+
+namespace nodetrace::tracer {
+
+namespace {
+
+nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
+                           const TraceJobOptions& options, std::uint32_t split_level,
+                           const RayKindPlan& plan, std::uint64_t frame_count) {
+  const RenderOptions& r = options.render;
+  nlohmann::json header;
+  header["producer"] = {{"tool", "tracer"}, {"version", NODETRACE_VERSION}};
+  header["scene"] = {{"name", source.name()},
+                     {"hash", source.content_hash()},
+                     {"triangles", first_scene.triangles.size()}};
+  nlohmann::json render = {{"width", r.width},
+                           {"height", r.height},
+                           {"max_depth", r.max_depth},
+                           {"pixel_order", pixel_order_name(r.pixel_order)},
+                           {"frames", frame_count},
+                           {"first_frame", options.first_frame}};
+  if (r.pixel_order == PixelOrder::Tiled) render["tile_size"] = r.tile_size;
+  if (options.time) render["time"] = *options.time;
+  if (r.camera) {
+    const Camera& c = *r.camera;
+    render["camera"] = {{"eye", {c.eye.x, c.eye.y, c.eye.z}},
+                        {"look_at", {c.look_at.x, c.look_at.y, c.look_at.z}},
+                        {"up", {c.up.x, c.up.y, c.up.z}},
+                        {"fov", c.fov_y_degrees}};
+  }
+  header["render"] = render;
+  nlohmann::json layout = {{"name", layout_name(options.layout)},
+                           {"split_level", split_level},
+                           {"node_size", r.addresses.node_size},
+                           {"node_base", r.addresses.node_base}};
+  if (options.layout == LayoutKind::Hybrid && options.high_size) {
+    layout["high_size"] = *options.high_size;
+  }
+  header["layout"] = layout;
+  header["kdtree"] = {{"traversal_cost", options.build.traversal_cost},
+                      {"intersection_cost", options.build.intersection_cost},
+                      {"empty_bonus", options.build.empty_bonus},
+                      {"max_depth", options.build.max_depth}};
+  nlohmann::json cast = nlohmann::json::array();
+  nlohmann::json left_out = nlohmann::json::object();
+  for (int k = 0; k < kRayKindCount; ++k) {
+    const std::string name(ray_kind_name(static_cast<RayKind>(k)));
+    if (plan.cast[k]) {
+      cast.push_back(name);
+    } else {
+      left_out[name] = plan.why_not[k];
+    }
+  }
+  header["rays"] = {{"cast", cast}, {"left_out", left_out}};
+  nlohmann::json streams = nlohmann::json::array();
+  if (r.streams.nodes) streams.push_back("nodes");
+  if (r.streams.lists) streams.push_back("lists");
+  if (r.streams.triangles) streams.push_back("triangles");
+  header["streams"] = {{"kinds", streams}};
+  if (r.streams.lists) {
+    header["streams"]["list_base"] = r.addresses.list_base;
+    header["streams"]["list_entry_size"] = r.addresses.list_entry_size;
+  }
+  if (r.streams.triangles) {
+    header["streams"]["triangle_base"] = r.addresses.triangle_base;
+    header["streams"]["triangle_size"] = r.addresses.triangle_size;
+  }
+  return header;
+}
+
+}  // namespace
+
+std::uint32_t choose_split_level(const TraceJobOptions& options, const KdTreeStats& stats) {
+  if (options.layout != LayoutKind::Hybrid) return 0;
+  if (options.split_level) return *options.split_level;
+  if (options.high_size) {
+    return split_level_for_high_size(stats.nodes_per_level, *options.high_size,
+                                     options.render.addresses.node_size);
+  }
+  throw formats::UsageError("the hybrid layout needs --split-level K or --high-size SIZE");
+}
+
+TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& options,
+                             const Renderer::Progress& progress) {
+  const RenderOptions& r = options.render;
+  if (r.width <= 0 || r.height <= 0) throw formats::UsageError("width and height must be positive");
+  if (r.max_depth < 1) throw formats::UsageError("--max-depth must be at least 1");
+  if (r.addresses.node_size == 0) throw formats::UsageError("--node-size must be positive");
+  if (!r.streams.nodes && !r.streams.lists && !r.streams.triangles) {
+    throw formats::UsageError("--streams selects no stream");
+  }
+  if (options.layout == LayoutKind::Hybrid && !options.split_level && !options.high_size) {
+    throw formats::UsageError("the hybrid layout needs --split-level K or --high-size SIZE");
+  }
+  const Animation& animation = source.animation();
+  std::vector<std::pair<std::uint64_t, double>> frames;
+  if (options.time) {
+    frames.emplace_back(options.first_frame, *options.time);
+  } else {
+    if (options.last_frame < options.first_frame) {
+      throw formats::UsageError("--frames A-B needs A <= B");
+    }
+    if (options.last_frame >= animation.frames) {
+      throw formats::UsageError("frame " + std::to_string(options.last_frame) + " is out of range: " +
+                                source.name() + " has " + std::to_string(animation.frames) +
+                                " frame(s), numbered from 0");
+    }
+    for (auto f = options.first_frame; f <= options.last_frame; ++f) {
+      frames.emplace_back(f, animation.time_of_frame(f));
+    }
+  }
+
+  TraceJobResult result;
+  std::unique_ptr<formats::TraceWriter> writer;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const auto [frame, time] = frames[i];
+    const Scene scene = source.at_time(time);
+    const KdTree tree = KdTree::build(scene.triangles, options.build);
+    FrameReport report;
+    report.frame = frame;
+    report.time = time;
+    report.triangles = scene.triangles.size();
+    report.tree = tree.stats();
+    report.split_level = choose_split_level(options, tree.stats());
+    const Layout layout = make_layout(tree, options.layout, report.split_level);
+    const Renderer renderer(scene, tree, layout, r);
+
+    if (i == 0) {
+      result.plan = renderer.ray_plan();
+      result.header = make_header(source, scene, options, report.split_level, result.plan, frames.size());
+      if (!options.output.empty()) {
+        formats::WriterOptions writer_options;
+        writer_options.form = options.form;
+        writer_options.threads = r.threads;
+        // Wider addresses only when some stream can reach past 32 bits.
+        const std::uint64_t node_end =
+            r.addresses.node_base + 4 * tree.stats().nodes * std::uint64_t{r.addresses.node_size};
+        const bool wide = node_end > 0xFFFFFFFFull ||
+                          (r.streams.lists && r.addresses.list_base > 0xC0000000ull) ||
+                          (r.streams.triangles && r.addresses.triangle_base > 0xC0000000ull);
+        writer_options.address_digits = wide ? 16 : 8;
+        writer = formats::TraceWriter::create(options.output, result.header, writer_options);
+      }
+    }
+    if (writer) {
+      formats::FrameMarker marker;
+      marker.frame = frame;
+      marker.time = time;
+      marker.nodes_per_level = tree.stats().nodes_per_level;
+      marker.nodes = tree.stats().nodes;
+      marker.leaves = tree.stats().leaves;
+      marker.depth = tree.stats().depth;
+      marker.extra = {{"split_level", report.split_level},
+                      {"triangles", scene.triangles.size()},
+                      {"empty_leaves", tree.stats().empty_leaves}};
+      writer->begin_frame(marker);
+    }
+    Image image;
+    const bool want_image = i == 0 && !options.image.empty();
+    const double done = double(i), count = double(frames.size());
+    Renderer::Progress frame_progress;
+    if (progress) frame_progress = [&](double f) { progress((done + f) / count); };
+    Renderer::RecordSink sink;
+    if (writer) sink = [&](std::span<const formats::Record> records) { writer->write(records); };
+    report.render = renderer.render(sink, want_image ? &image : nullptr, frame_progress);
+    if (want_image) write_png(image, options.image);
+    result.total += report.render;
+    result.total.seconds += report.render.seconds;
+    result.frames.push_back(std::move(report));
+  }
+  if (writer) {
+    nlohmann::json rays = nlohmann::json::object();
+    for (int k = 0; k < kRayKindCount; ++k) {
+      rays[std::string(ray_kind_name(static_cast<RayKind>(k)))] = result.total.rays[k];
+    }
+    writer->add_totals({{"rays", rays},
+                        {"node_fetches", result.total.node_fetches},
+                        {"leaf_visits", result.total.leaf_visits},
+                        {"triangle_tests", result.total.triangle_tests}});
+    writer->finish();
+  }
+  return result;
+}
+
+}  // namespace nodetrace::tracer
