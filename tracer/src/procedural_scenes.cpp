@@ -106,11 +106,11 @@ Scene sphereflake(int depth) {
   const auto glass = add_material(scene, make_material("glass", {0.05f, 0.05f, 0.05f}, {1, 1, 1}, 120, 0.1f, 0.9f, 1.5f));
   add_quad(scene, -8, -8, 8, 8, 0, floor);
   add_sphereflake(scene, {0, 1, 0}, 1, {0, 1, 0}, 0, depth, mirror);
-  for (const Vec3& c : {Vec3{2.3f, 0.4f, 1.1f}, Vec3{-2.0f, 0.4f, 1.6f}, Vec3{0.5f, 0.4f, 2.6f}}) {
+  for (const Vec3& c : {Vec3{2.4f, 0.4f, 0.3f}, Vec3{-2.3f, 0.4f, 0.9f}, Vec3{1.1f, 0.4f, 2.3f}}) {
     append(scene, make_sphere_mesh(c, 0.4f, 3, glass));
   }
   scene.lights = {{{6, 9, 7}, {0.7f, 0.7f, 0.65f}}, {{-7, 6, 3}, {0.35f, 0.35f, 0.45f}}, {{1, 8, -6}, {0.3f, 0.3f, 0.3f}}};
-  scene.camera = Camera{{4.4f, 3.0f, 5.8f}, {0, 0.9f, 0}, {0, 1, 0}, 40};
+  scene.camera = Camera{{3.4f, 2.7f, 4.6f}, {0, 1.05f, 0}, {0, 1, 0}, 42};
   scene.background = {0.35f, 0.45f, 0.6f};
   return scene;
 }
