@@ -74,7 +74,7 @@ HexStatus read_hex(const char*& p, const char* end, std::uint64_t& value, unsign
 }
 
 std::string bad_digit(unsigned char c, const char* field) {
-  return fmt::format("non hex digit (code {:#04x}) in {}", static_cast<unsigned>(c), field);
+  return fmt::format("non hex digit (code {:#x}) in {}", static_cast<unsigned>(c), field);
 }
 
 // The tag field as a node level, `p` or `t`.

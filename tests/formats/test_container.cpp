@@ -1,0 +1,370 @@
+// The trace container: round trips, byte-for-byte zstd compatibility,
+// determinism across thread counts, markers through a pipe, seeking, and
+// damage / truncation detection.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <thread>
+
+#include "formats_test_util.hpp"
+#include "test_support.hpp"
+
+namespace nodetrace::formats {
+namespace {
+
+using nodetrace::testing::read_file;
+using nodetrace::testing::run_command;
+using nodetrace::testing::TempDir;
+using nodetrace::testing::write_file;
+using testing_util::read_all;
+using testing_util::read_error;
+using testing_util::sample_records;
+using testing_util::write_trace;
+
+FrameMarker marker(std::uint64_t frame) {
+  FrameMarker result;
+  result.frame = frame;
+  result.time = 0.5 * static_cast<double>(frame);
+  result.nodes_per_level = {1, 2, 4};
+  result.nodes = 7;
+  result.leaves = 4;
+  result.depth = 3;
+  result.extra["note"] = "kept";
+  return result;
+}
+
+// What reading back gives for records written in `form`.
+std::vector<Record> as_read_back(std::vector<Record> records, RecordForm form, bool levels) {
+  for (auto& record : records) {
+    if (form == RecordForm::Din) record.size = 4;
+    if (form == RecordForm::Binary || !levels) record.tag = kTagNone;
+  }
+  return records;
+}
+
+WriterOptions options_for(RecordForm form, std::uint64_t per_frame = 1000, unsigned threads = 2) {
+  WriterOptions options;
+  options.form = form;
+  options.records_per_frame = per_frame;
+  options.threads = threads;
+  return options;
+}
+
+class Container : public ::testing::Test {
+ protected:
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  TempDir dir_;
+};
+
+TEST_F(Container, RoundTripsEveryFormWithMarkers) {
+  const auto records = sample_records(5500);
+  const std::vector<std::pair<std::uint64_t, FrameMarker>> markers = {{0, marker(0)}, {2000, marker(1)},
+                                                                      {2000, marker(2)}, {5500, marker(3)}};
+  for (const RecordForm form : {RecordForm::Din, RecordForm::ExtendedDin, RecordForm::Binary}) {
+    const std::string file = path(std::string("t.") + std::string(form_name(form)) + ".zst");
+    write_trace(file, records, options_for(form), {{"scene", {{"name", "unit"}}}}, markers);
+    const auto result = read_all(file);
+    EXPECT_EQ(result.form, form);
+    EXPECT_EQ(result.tags_are_levels, form != RecordForm::Binary);
+    EXPECT_EQ(result.records, as_read_back(records, form, true)) << form_name(form);
+    ASSERT_EQ(result.markers.size(), 4u);
+    for (std::size_t i = 0; i < markers.size(); ++i) {
+      EXPECT_EQ(result.markers[i].first, markers[i].first);
+      EXPECT_EQ(result.markers[i].second.frame, markers[i].second.frame);
+      EXPECT_EQ(result.markers[i].second.nodes_per_level, markers[i].second.nodes_per_level);
+      EXPECT_EQ(result.markers[i].second.extra.at("note"), "kept");
+    }
+    auto reader = TraceReader::open(file);
+    EXPECT_EQ(reader->header().json.at("scene").at("name"), "unit");
+    ASSERT_TRUE(reader->trailer());
+    const auto& totals = reader->trailer()->totals;
+    EXPECT_EQ(totals.at("records"), 5500u);
+    EXPECT_EQ(totals.at("animation_frames"), 4u);
+    EXPECT_EQ(totals.at("records_per_type").at("read"), 5500u);
+    // 2000, then 0 for the empty frame 1... frames: [0,1000),[1000,2000),[2000..5500) in 4 frames.
+    EXPECT_EQ(reader->trailer()->index.size(), 6u);
+    EXPECT_EQ(reader->trailer()->index[2].animation_frame, 2u);
+    EXPECT_EQ(reader->trailer()->index[5].record_count, 500u);
+  }
+}
+
+TEST_F(Container, PlainOutputRoundTrips) {
+  const auto records = sample_records(3000);
+  for (const RecordForm form : {RecordForm::Din, RecordForm::ExtendedDin, RecordForm::Binary}) {
+    const std::string file = path("plain.out");
+    write_trace(file, records, options_for(form));
+    ReaderOptions options;
+    options.form = form == RecordForm::Binary ? std::optional(RecordForm::Binary) : std::nullopt;
+    options.tags_are_levels = form != RecordForm::Binary;
+    const auto result = read_all(file, options);
+    EXPECT_EQ(result.form, form);
+    EXPECT_EQ(result.records, as_read_back(records, form, true));
+  }
+  std::vector<Record> untagged = {{0x1a38, 4, AccessType::Write, kTagNone}};
+  write_trace(path("u.din"), untagged, options_for(RecordForm::Din));
+  EXPECT_EQ(read_file(path("u.din")), "1 00001a38\n");
+  WriterOptions wide = options_for(RecordForm::ExtendedDin);
+  wide.address_digits = 16;
+  write_trace(path("w.xdin"), {{0x1a38, 8, AccessType::Read, 7}}, wide);
+  EXPECT_EQ(read_file(path("w.xdin")), "r 0000000000001a38 8 07\n");
+}
+
+TEST_F(Container, ZstdProgramDecompressesToTheRecordText) {
+  const auto records = sample_records(20000);
+  write_trace(path("t.din.zst"), records, options_for(RecordForm::Din, 3000), {}, {{0, marker(0)}, {7000, marker(1)}});
+  write_trace(path("t.din"), records, options_for(RecordForm::Din));
+  const auto result = run_command("zstd -dc '" + path("t.din.zst") + "'");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.out, read_file(path("t.din")));
+  EXPECT_EQ(result.out.substr(0, 14), "0 " + result.out.substr(2, 8) + " " + result.out.substr(11, 2) + "\n");
+}
+
+TEST_F(Container, BytesDoNotDependOnThreadCount) {
+  const auto records = sample_records(30000);
+  write_trace(path("one.din.zst"), records, options_for(RecordForm::Din, 2500, 1), {}, {{0, marker(0)}});
+  write_trace(path("two.din.zst"), records, options_for(RecordForm::Din, 2500, 2), {}, {{0, marker(0)}});
+  write_trace(path("four.din.zst"), records, options_for(RecordForm::Din, 2500, 4), {}, {{0, marker(0)}});
+  const std::string one = read_file(path("one.din.zst"));
+  EXPECT_EQ(one, read_file(path("two.din.zst")));
+  EXPECT_EQ(one, read_file(path("four.din.zst")));
+  ReaderOptions single;
+  single.threads = 1;
+  EXPECT_EQ(read_all(path("one.din.zst"), single).records, read_all(path("one.din.zst")).records);
+}
+
+TEST_F(Container, MarkersArriveInOrderThroughAPipe) {
+  const auto records = sample_records(9000);
+  std::vector<std::pair<std::uint64_t, FrameMarker>> markers;
+  for (std::uint64_t frame = 0; frame < 6; ++frame) markers.emplace_back(frame * 1500, marker(frame));
+  markers.emplace_back(9000, marker(6));  // an animation frame with no records
+  write_trace(path("t.din.zst"), records, options_for(RecordForm::Din, 700), {}, markers);
+  const std::string bytes = read_file(path("t.din.zst"));
+
+  int pipe_fds[2];
+  ASSERT_EQ(::pipe(pipe_fds), 0);
+  const int saved_stdin = ::dup(0);
+  ::dup2(pipe_fds[0], 0);
+  ::close(pipe_fds[0]);
+  std::thread feeder([&] {
+    std::size_t done = 0;
+    while (done < bytes.size()) {
+      const auto wrote = ::write(pipe_fds[1], bytes.data() + done, std::min<std::size_t>(4096, bytes.size() - done));
+      if (wrote <= 0) break;
+      done += static_cast<std::size_t>(wrote);
+    }
+    ::close(pipe_fds[1]);
+  });
+  testing_util::ReadResult result;
+  std::string error;
+  try {
+    auto reader = TraceReader::open("-");
+    EXPECT_EQ(reader->source_name(), "<stdin>");
+    EXPECT_FALSE(reader->trailer());
+    RecordBatch batch;
+    while (reader->next(batch)) {
+      if (batch.marker) result.markers.emplace_back(result.records.size(), *batch.marker);
+      result.records.insert(result.records.end(), batch.records.begin(), batch.records.end());
+    }
+    EXPECT_TRUE(reader->trailer());  // available once the stream has ended
+    EXPECT_THROW(reader->seek_to_record(0), UsageError);
+  } catch (const std::exception& caught) {
+    error = caught.what();
+  }
+  feeder.join();
+  ::dup2(saved_stdin, 0);
+  ::close(saved_stdin);
+  ASSERT_EQ(error, "");
+  EXPECT_EQ(result.records, as_read_back(records, RecordForm::Din, true));
+  ASSERT_EQ(result.markers.size(), markers.size());
+  for (std::size_t i = 0; i < markers.size(); ++i) {
+    EXPECT_EQ(result.markers[i].first, markers[i].first);
+    EXPECT_EQ(result.markers[i].second.frame, i);
+  }
+}
+
+TEST_F(Container, SeeksByTheIndex) {
+  const auto records = sample_records(10000);
+  write_trace(path("t.xdin.zst"), records, options_for(RecordForm::ExtendedDin, 1000));
+  auto reader = TraceReader::open(path("t.xdin.zst"));
+  reader->seek_to_record(4321);
+  RecordBatch batch;
+  ASSERT_TRUE(reader->next(batch));
+  EXPECT_EQ(batch.first_record, 4000u);
+  ASSERT_EQ(batch.records.size(), 1000u);
+  EXPECT_EQ(batch.records[321], records[4321]);
+  std::uint64_t rest = batch.records.size();
+  while (reader->next(batch)) rest += batch.records.size();
+  EXPECT_EQ(rest, 6000u);
+  EXPECT_THROW(reader->seek_to_record(10000), UsageError);
+}
+
+TEST_F(Container, ReadsPlainZstdFromOtherToolsAndSkipsUnknownSkippableFrames) {
+  write_file(path("t.din"), "2 130\n0 ff2f80 x\n1 ff2f84\n");
+  ASSERT_EQ(run_command("zstd -q -c '" + path("t.din") + "' > '" + path("t.din.zst") + "'").exit_code, 0);
+  auto result = read_all(path("t.din.zst"));
+  ASSERT_EQ(result.records.size(), 3u);
+  EXPECT_EQ(result.records[1], (Record{0xff2f80, 4, AccessType::Read, kTagNone}));
+  // Someone else's skippable frame in front (magic 0x184D2A53, 3 bytes).
+  const std::string skippable("\x53\x2a\x4d\x18\x03\x00\x00\x00xyz", 11);
+  write_file(path("s.din.zst"), skippable + read_file(path("t.din.zst")));
+  EXPECT_EQ(read_all(path("s.din.zst")).records, result.records);
+  // Two concatenated zstd frames (as `cat a.zst b.zst` makes).
+  write_file(path("c.din.zst"), read_file(path("t.din.zst")) + read_file(path("t.din.zst")));
+  EXPECT_EQ(read_all(path("c.din.zst")).records.size(), 6u);
+  write_file(path("x.xdin"), "r 100 4\n");
+  ASSERT_EQ(run_command("zstd -q -c '" + path("x.xdin") + "' > '" + path("x.xdin.zst") + "'").exit_code, 0);
+  EXPECT_EQ(read_all(path("x.xdin.zst")).form, RecordForm::ExtendedDin);
+  // A damaged plain zstd stream.
+  std::string damaged = read_file(path("t.din.zst"));
+  damaged.resize(damaged.size() - 3);
+  write_file(path("d.din.zst"), damaged);
+  EXPECT_NE(read_error(path("d.din.zst")), "");
+}
+
+TEST_F(Container, WriterUsesATemporaryFileAndRemovesItWhenAbandoned) {
+  {
+    auto writer = TraceWriter::create(path("t.din.zst"), {}, options_for(RecordForm::Din));
+    writer->write(sample_records(10));
+    EXPECT_FALSE(std::filesystem::exists(path("t.din.zst")));
+  }
+  EXPECT_TRUE(std::filesystem::is_empty(dir_.path()));
+  write_trace(path("t.din.zst"), sample_records(10), options_for(RecordForm::Din));
+  std::size_t files = 0;
+  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir_.path())) ++files;
+  EXPECT_EQ(files, 1u);
+}
+
+TEST_F(Container, WriterRejectsWhatItCannotWrite) {
+  auto writer = TraceWriter::create(path("t.din.zst"), {}, options_for(RecordForm::Din));
+  EXPECT_THROW(writer->write(Record{0x100, 4, AccessType::Read, kTagNone}), FormatError);
+  auto binary = TraceWriter::create(path("t.bin"), {}, options_for(RecordForm::Binary));
+  EXPECT_THROW(binary->write(Record{0x100000000ull, 4, AccessType::Read, kTagNone}), FormatError);
+  WriterOptions bad = options_for(RecordForm::Din);
+  bad.address_digits = 12;
+  EXPECT_THROW(TraceWriter::create(path("u.din.zst"), {}, bad), UsageError);
+  // Untagged records in a container that does not claim levels are fine.
+  WriterOptions untagged = options_for(RecordForm::Din);
+  untagged.tags_are_levels = false;
+  write_trace(path("u.din.zst"), {{0x100, 4, AccessType::Read, kTagNone}}, untagged);
+  const auto result = read_all(path("u.din.zst"));
+  EXPECT_FALSE(result.tags_are_levels);
+  EXPECT_EQ(result.records.size(), 1u);
+}
+
+TEST_F(Container, AddedTotalsReachTheTrailer) {
+  auto writer = TraceWriter::create(path("t.din.zst"), {}, options_for(RecordForm::Din));
+  writer->write(sample_records(5));
+  writer->add_totals({{"rays", {{"primary", 12}}}});
+  writer->finish();
+  auto reader = TraceReader::open(path("t.din.zst"));
+  EXPECT_EQ(reader->trailer()->totals.at("rays").at("primary"), 12);
+  EXPECT_EQ(reader->trailer()->totals.at("records"), 5);
+}
+
+// A small container with a header, markers, several data frames and a trailer.
+std::string small_container(const std::string& file) {
+  write_trace(file, sample_records(1200), options_for(RecordForm::Din, 200), {{"scene", "fuzz"}},
+              {{0, marker(0)}, {600, marker(1)}});
+  return read_file(file);
+}
+
+TEST_F(Container, EveryFlippedByteIsDetected) {
+  const std::string original = small_container(path("t.din.zst"));
+  ASSERT_EQ(read_error(path("t.din.zst")), "");
+  int detected = 0, tried = 0;
+  for (std::size_t at = 0; at < original.size(); at += 7) {
+    std::string damaged = original;
+    damaged[at] = static_cast<char>(damaged[at] ^ 0x10);
+    write_file(path("d.din.zst"), damaged);
+    ++tried;
+    std::string message;
+    try {
+      read_all(path("d.din.zst"));
+    } catch (const FormatError& error) {
+      message = error.what();
+    } catch (const UsageError& error) {
+      message = error.what();
+    }
+    EXPECT_NE(message, "") << "flip at byte " << at << " went unnoticed";
+    if (!message.empty()) ++detected;
+    EXPECT_EQ(message.rfind(path("d.din.zst"), 0), 0u) << message;
+  }
+  EXPECT_EQ(detected, tried);
+}
+
+TEST_F(Container, TruncationIsDetected) {
+  const std::string original = small_container(path("t.din.zst"));
+  for (std::size_t keep = 0; keep < original.size(); keep += 13) {
+    write_file(path("d.din.zst"), original.substr(0, keep));
+    const std::string message = keep == 0 ? "empty" : read_error(path("d.din.zst"));
+    EXPECT_NE(message, "") << "cut to " << keep << " bytes went unnoticed";
+  }
+  // Without its trailer, the header's promise is broken.
+  auto reader = TraceReader::open(path("t.din.zst"));
+  const auto trailer_start = reader->trailer()->index.back().offset + reader->trailer()->index.back().compressed_size;
+  write_file(path("d.din.zst"), original.substr(0, trailer_start));
+  EXPECT_NE(read_error(path("d.din.zst")).find("truncated"), std::string::npos) << read_error(path("d.din.zst"));
+}
+
+TEST_F(Container, FramesOutOfOrderAreNamed) {
+  // Frames of identical records compress to the same size, so swapping two
+  // keeps every offset right; only the order check can tell.
+  std::vector<Record> records;
+  for (int frame = 0; frame < 3; ++frame) {
+    for (int i = 0; i < 100; ++i) records.push_back({0x1000u + 0x100u * frame, 4, AccessType::Read, 1});
+  }
+  write_trace(path("t.din.zst"), records, options_for(RecordForm::Din, 100));
+  auto reader = TraceReader::open(path("t.din.zst"));
+  const auto index = reader->trailer()->index;
+  ASSERT_EQ(index.size(), 3u);
+  ASSERT_EQ(index[0].compressed_size, index[1].compressed_size);
+  std::string bytes = read_file(path("t.din.zst"));
+  const std::string first = bytes.substr(index[0].offset, index[0].compressed_size);
+  const std::string second = bytes.substr(index[1].offset, index[1].compressed_size);
+  bytes.replace(index[0].offset, first.size(), second);
+  bytes.replace(index[1].offset, second.size(), first);
+  write_file(path("s.din.zst"), bytes);
+  EXPECT_NE(read_error(path("s.din.zst")).find("data frame 1 at byte " + std::to_string(index[0].offset) +
+                                               ": frame out of order: it is the index's data frame 2"),
+            std::string::npos)
+      << read_error(path("s.din.zst"));
+}
+
+TEST_F(Container, FuzzedInputNeverCrashes) {
+  const std::string container = small_container(path("t.din.zst"));
+  std::string text;
+  for (int i = 0; i < 300; ++i) text += i % 3 ? "0 00001a38 07\n" : "r 1a38 8 p\n";
+  std::uint64_t state = 12345;
+  const auto next = [&] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return state >> 33;
+  };
+  for (int round = 0; round < 400; ++round) {
+    std::string input = round % 2 ? container : text;
+    const int edits = 1 + static_cast<int>(next() % 4);
+    for (int e = 0; e < edits && !input.empty(); ++e) {
+      const std::size_t at = next() % input.size();
+      switch (next() % 4) {
+        case 0: input[at] = static_cast<char>(next()); break;
+        case 1: input.erase(at, 1 + next() % 16); break;
+        case 2: input.insert(at, std::string(1 + next() % 4, static_cast<char>(next()))); break;
+        case 3: input.resize(at); break;
+      }
+    }
+    write_file(path("f.in"), input);
+    for (const bool levels : {false, true}) {
+      ReaderOptions options;
+      options.tags_are_levels = levels;
+      options.threads = 1 + round % 2;
+      try {
+        read_all(path("f.in"), options);
+      } catch (const FormatError&) {
+      } catch (const UsageError&) {
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace nodetrace::formats
