@@ -1,12 +1,126 @@
+// tracer info SCENE: what a scene holds, its kd-tree, and which ray kinds a
+// render of it casts.
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+#include <fmt/ranges.h>
+
 #include <cstdio>
+#include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "nodetrace/formats/error.hpp"
+#include "nodetrace/tracer/scene_loader.hpp"
+#include "render_options.hpp"
 
 namespace nodetrace::tracer::cli {
 
-int info_command(int, char**) {
-  std::fputs("tracer info: not implemented yet\n", stderr);
-  return 2;
+int info_command(int argc, char** argv) {
+  CLI::App app{"Scene and kd-tree statistics: triangles, materials, lights, bounds, the SAH\n"
+               "kd-tree's figures, and which ray kinds a render casts.",
+               "tracer info"};
+  std::string scene_spec, format = "text";
+  int max_depth = 10;
+  std::uint32_t node_size = 8;
+  app.add_option("scene", scene_spec, "an .obj or .aff file, or a built-in scene's name")->required();
+  app.add_option("--format", format, "text or json")->check(CLI::IsMember({"text", "json"}))->capture_default_str();
+  app.add_option("--max-depth", max_depth, "ray tree depth assumed for the ray kinds")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  app.add_option("--node-size", node_size, "bytes per node, for the split levels shown")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  SceneCommandOptions scene_options;
+  add_scene_options(app, scene_options);
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    if (!scene_options.frames.empty()) throw formats::UsageError("--frames: info describes one frame; use --frame");
+    const auto source = open_scene(scene_spec);
+    const Animation& animation = source->animation();
+    const std::uint64_t frame = scene_options.frame.value_or(0);
+    if (!scene_options.time && frame >= animation.frames) {
+      throw formats::UsageError("frame " + std::to_string(frame) + " is out of range: " + source->name() +
+                                " has " + std::to_string(animation.frames) + " frame(s)");
+    }
+    const double time = scene_options.time.value_or(animation.time_of_frame(frame));
+    const Scene scene = source->at_time(time);
+    const KdTree tree = KdTree::build(scene.triangles, make_build_options(scene_options));
+    const KdTreeStats& s = tree.stats();
+    const RayKindPlan plan = plan_ray_kinds(scene, max_depth);
+    const Bounds bounds = scene.bounds();
+
+    nlohmann::json j;
+    j["scene"] = {{"name", source->name()},
+                  {"hash", source->content_hash()},
+                  {"triangles", scene.triangles.size()},
+                  {"materials", scene.materials.size()},
+                  {"lights", scene.lights.size()},
+                  {"camera", scene.camera ? "scene" : "default framing"},
+                  {"frames", animation.frames},
+                  {"time", time}};
+    if (!bounds.empty()) {
+      j["scene"]["bounds"] = {{"lo", {bounds.lo.x, bounds.lo.y, bounds.lo.z}},
+                              {"hi", {bounds.hi.x, bounds.hi.y, bounds.hi.z}}};
+    }
+    nlohmann::json split_levels = nlohmann::json::object();
+    for (std::uint64_t size : {1024u, 2048u, 4096u, 8192u, 16384u}) {
+      split_levels[std::to_string(size)] = split_level_for_high_size(s.nodes_per_level, size, node_size);
+    }
+    j["kdtree"] = {{"nodes", s.nodes},
+                   {"interior", s.interior},
+                   {"leaves", s.leaves},
+                   {"empty_leaves", s.empty_leaves},
+                   {"depth", s.depth},
+                   {"depth_limit", s.depth_limit},
+                   {"nodes_per_level", s.nodes_per_level},
+                   {"mean_leaf_size", s.mean_leaf_size},
+                   {"mean_nonempty_leaf_size", s.mean_nonempty_leaf_size},
+                   {"primitive_references", s.primitive_references},
+                   {"sah_cost", s.sah_cost},
+                   {"build_seconds", s.build_seconds},
+                   {"node_size", node_size},
+                   {"split_level_for_high_size", split_levels}};
+    nlohmann::json rays = nlohmann::json::object();
+    for (int k = 0; k < kRayKindCount; ++k) {
+      rays[std::string(ray_kind_name(static_cast<RayKind>(k)))] =
+          plan.cast[k] ? nlohmann::json("cast") : nlohmann::json("left out: " + plan.why_not[k]);
+    }
+    j["rays"] = rays;
+    j["rays_max_depth"] = max_depth;
+
+    if (format == "json") {
+      std::fputs((j.dump(2) + "\n").c_str(), stdout);
+      return 0;
+    }
+    fmt::print("scene {}: {} triangles, {} materials, {} lights, {} frame(s), camera: {}\n",
+               source->name(), scene.triangles.size(), scene.materials.size(), scene.lights.size(),
+               animation.frames, scene.camera ? "from the scene" : "default framing");
+    if (!bounds.empty()) {
+      fmt::print("  bounds: ({:g}, {:g}, {:g}) - ({:g}, {:g}, {:g})\n", bounds.lo.x, bounds.lo.y,
+                 bounds.lo.z, bounds.hi.x, bounds.hi.y, bounds.hi.z);
+    }
+    fmt::print("kd-tree: {} nodes ({} interior, {} leaves, {} empty), depth {} (limit {})\n", s.nodes,
+               s.interior, s.leaves, s.empty_leaves, s.depth, s.depth_limit);
+    fmt::print("  mean leaf size {:.2f} ({:.2f} over non-empty leaves), SAH cost {:.2f}, built in {:.3f} s\n",
+               s.mean_leaf_size, s.mean_nonempty_leaf_size, s.sah_cost, s.build_seconds);
+    fmt::print("  nodes per level: {}\n", fmt::join(s.nodes_per_level, " "));
+    fmt::print("  split level K for a high-level cache of 1K/2K/4K/8K/16K at {} bytes a node: {}/{}/{}/{}/{}\n",
+               node_size, split_levels["1024"].get<int>(), split_levels["2048"].get<int>(),
+               split_levels["4096"].get<int>(), split_levels["8192"].get<int>(),
+               split_levels["16384"].get<int>());
+    fmt::print("rays (max depth {}):\n", max_depth);
+    for (int k = 0; k < kRayKindCount; ++k) {
+      fmt::print("  {:<10} {}\n", ray_kind_name(static_cast<RayKind>(k)),
+                 plan.cast[k] ? "cast" : "left out: " + plan.why_not[k]);
+    }
+    return 0;
+  } catch (const formats::UsageError& e) {
+    std::fprintf(stderr, "tracer info: %s\n", e.what());
+    return 2;
+  } catch (const SceneError& e) {
+    std::fprintf(stderr, "tracer info: %s\n", e.what());
+    return 1;
+  }
 }
 
 }  // namespace nodetrace::tracer::cli

@@ -1,12 +1,146 @@
+// tracer render [SCENE] -o TRACE: render with the Whitted ray tracer and
+// write every kd-tree node fetch as a level-tagged trace.
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+#include <unistd.h>
+
+#include <chrono>
 #include <cstdio>
+#include <optional>
+#include <string>
 
 #include "commands.hpp"
+#include "nodetrace/formats/error.hpp"
+#include "nodetrace/tracer/scene_loader.hpp"
+#include "nodetrace/tracer/trace_emit.hpp"
+#include "render_options.hpp"
 
 namespace nodetrace::tracer::cli {
 
-int render_command(int, char**) {
-  std::fputs("tracer render: not implemented yet\n", stderr);
-  return 2;
+namespace {
+
+formats::RecordForm form_from_path(const std::string& path) {
+  auto ends_with = [&](std::string_view suffix) {
+    return path.size() >= suffix.size() && path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  if (ends_with(".xdin.zst") || ends_with(".xdin")) return formats::RecordForm::ExtendedDin;
+  if (ends_with(".bin.zst") || ends_with(".bin")) return formats::RecordForm::Binary;
+  return formats::RecordForm::Din;
+}
+
+void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
+                   const std::string& scene_name, double build_seconds) {
+  const RenderStats& t = result.total;
+  const auto& first = result.frames.front();
+  std::fprintf(stderr, "tracer: %s, %dx%d, max depth %d, %zu frame(s), layout %s (split level %u)\n",
+               scene_name.c_str(), options.render.width, options.render.height,
+               options.render.max_depth, result.frames.size(),
+               std::string(layout_name(options.layout)).c_str(), first.split_level);
+  std::fprintf(stderr,
+               "  kd-tree: %llu triangles, %llu nodes, %llu leaves (%llu empty), depth %u, built in %.2f s\n",
+               static_cast<unsigned long long>(first.triangles),
+               static_cast<unsigned long long>(first.tree.nodes),
+               static_cast<unsigned long long>(first.tree.leaves),
+               static_cast<unsigned long long>(first.tree.empty_leaves), first.tree.depth,
+               build_seconds);
+  std::string kinds;
+  for (int k = 0; k < kRayKindCount; ++k) {
+    if (!kinds.empty()) kinds += ", ";
+    kinds += fmt::format("{} {}", ray_kind_name(static_cast<RayKind>(k)), t.rays[k]);
+    if (!result.plan.cast[k]) kinds += " (" + result.plan.why_not[k] + ")";
+  }
+  std::fprintf(stderr, "  rays: %s; total %llu\n", kinds.c_str(),
+               static_cast<unsigned long long>(t.total_rays()));
+  const double rays = std::max<double>(1.0, double(t.total_rays()));
+  std::fprintf(stderr,
+               "  node fetches: %llu (%.2f per ray), leaves visited: %llu, triangles tested: %llu\n",
+               static_cast<unsigned long long>(t.node_fetches), double(t.node_fetches) / rays,
+               static_cast<unsigned long long>(t.leaf_visits),
+               static_cast<unsigned long long>(t.triangle_tests));
+  std::fprintf(stderr, "  render: %.2f s, %.2f M rays/s; %llu records\n", t.seconds,
+               t.seconds > 0 ? double(t.total_rays()) / t.seconds / 1e6 : 0.0,
+               static_cast<unsigned long long>(t.records));
+}
+
+}  // namespace
+
+int render_command(int argc, char** argv) {
+  CLI::App app{"Render a scene with a Whitted ray tracer over a SAH kd-tree and write every\n"
+               "kd-tree node fetch (address, node level) as a trace.",
+               "tracer render"};
+  std::string scene_spec, output, records_name, image, streams = "nodes";
+  bool quiet = false;
+  app.add_option("scene", scene_spec,
+                 "an .obj or .aff file, or a built-in scene's name (NAME or NAME:SIZE); "
+                 "default: the default built-in scene");
+  app.add_option("-o,--output", output,
+                 "trace file (.din.zst, .xdin.zst, .din, .xdin, .bin) or - for standard output; "
+                 "without it nothing is written (render only)");
+  app.add_option("--records", records_name, "record form: din, xdin or binary (default: from the file name)")
+      ->check(CLI::IsMember({"din", "xdin", "binary"}));
+  app.add_option("--image", image, "also write the first frame as a PNG");
+  app.add_option("--streams", streams,
+                 "records to write, comma-separated: nodes, lists (leaf primitive lists, tag p), "
+                 "triangles (tag t)")
+      ->capture_default_str();
+  app.add_flag("-q,--quiet", quiet, "no summary on standard error");
+  SceneCommandOptions scene_options;
+  add_scene_options(app, scene_options);
+  RenderCommandOptions render_options;
+  add_render_options(app, render_options);
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    TraceJobOptions options = make_job_options(render_options, scene_options);
+    options.output = output;
+    options.image = image;
+    if (!records_name.empty()) {
+      options.form = *formats::parse_form_name(records_name);
+    } else if (!output.empty()) {
+      options.form = form_from_path(output);
+    }
+    options.render.streams = parse_streams(streams);
+    if (output.empty()) options.render.record = false;
+    if (output == "-" && isatty(STDOUT_FILENO)) {
+      throw formats::UsageError("refusing to write a trace to a terminal; redirect standard output");
+    }
+    const std::string spec = scene_spec.empty() ? default_scene_name() : scene_spec;
+    const auto source = open_scene(spec);
+
+    const bool show_progress = !quiet && isatty(STDERR_FILENO);
+    int last_percent = -1;
+    Renderer::Progress progress;
+    if (show_progress) {
+      progress = [&](double fraction) {
+        const int percent = static_cast<int>(fraction * 100);
+        if (percent != last_percent) {
+          last_percent = percent;
+          std::fprintf(stderr, "\rrendering %s: %3d%%", source->name().c_str(), percent);
+          std::fflush(stderr);
+        }
+      };
+    }
+    const TraceJobResult result = run_trace_job(*source, options, progress);
+    if (show_progress) std::fputs("\r\033[K", stderr);
+    if (!quiet) {
+      double build_seconds = 0;
+      for (const auto& f : result.frames) build_seconds += f.tree.build_seconds;
+      print_summary(result, options, source->name(), build_seconds);
+    }
+    return 0;
+  } catch (const formats::UsageError& e) {
+    std::fprintf(stderr, "tracer render: %s\n", e.what());
+    return 2;
+  } catch (const SceneError& e) {
+    std::fprintf(stderr, "tracer render: %s\n", e.what());
+    return 1;
+  } catch (const formats::FormatError& e) {
+    std::fprintf(stderr, "tracer render: %s\n", e.what());
+    return 1;
+  } catch (const formats::IoError& e) {
+    std::fprintf(stderr, "tracer render: %s\n", e.what());
+    return 1;
+  }
 }
 
 }  // namespace nodetrace::tracer::cli

@@ -1,0 +1,200 @@
+// Command-line options shared by `tracer render` and `tracer info`: frame
+// selection, kd-tree build, layout and render settings, and their parsing.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nodetrace/formats/error.hpp"
+#include "nodetrace/tracer/trace_emit.hpp"
+
+namespace nodetrace::tracer::cli {
+
+// "4096", "4k", "16K", "1m": bytes. Throws UsageError naming the option.
+inline std::uint64_t parse_byte_size(const std::string& text, const std::string& option) {
+  std::size_t used = 0;
+  std::uint64_t value = 0;
+  try {
+    value = std::stoull(text, &used, 10);
+  } catch (const std::exception&) {
+    throw formats::UsageError(option + ": expected a size such as 4096, 4k or 1m, got '" + text + "'");
+  }
+  const std::string suffix = text.substr(used);
+  if (suffix == "k" || suffix == "K" || suffix == "kb" || suffix == "KB") return value << 10;
+  if (suffix == "m" || suffix == "M" || suffix == "mb" || suffix == "MB") return value << 20;
+  if (suffix.empty() || suffix == "b" || suffix == "B") return value;
+  throw formats::UsageError(option + ": expected a size such as 4096, 4k or 1m, got '" + text + "'");
+}
+
+// Decimal, or hexadecimal with 0x.
+inline std::uint64_t parse_address(const std::string& text, const std::string& option) {
+  std::size_t used = 0;
+  std::uint64_t value = 0;
+  try {
+    value = std::stoull(text, &used, 0);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || text[0] == '-') {
+    throw formats::UsageError(option + ": expected an address such as 4096 or 0x1000, got '" + text + "'");
+  }
+  return value;
+}
+
+inline StreamSelection parse_streams(const std::string& text) {
+  StreamSelection s{false, false, false};
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const auto comma = text.find(',', start);
+    const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    if (item == "nodes") {
+      s.nodes = true;
+    } else if (item == "lists") {
+      s.lists = true;
+    } else if (item == "triangles") {
+      s.triangles = true;
+    } else {
+      throw formats::UsageError("--streams: unknown stream '" + item + "' (expected nodes, lists, triangles)");
+    }
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return s;
+}
+
+struct SceneCommandOptions {
+  std::optional<std::uint64_t> frame;
+  std::optional<double> time;
+  std::string frames;  // "A-B"
+  float traversal_cost = KdBuildOptions{}.traversal_cost;
+  float intersection_cost = KdBuildOptions{}.intersection_cost;
+  float empty_bonus = KdBuildOptions{}.empty_bonus;
+  int tree_depth = 0;
+};
+
+inline void add_scene_options(CLI::App& app, SceneCommandOptions& o) {
+  auto* frame = app.add_option("--frame", o.frame, "animation frame to render (default 0)");
+  auto* time = app.add_option("--time", o.time, "scene time to render instead of a frame");
+  auto* frames = app.add_option("--frames", o.frames, "a run of animation frames A-B, one trace");
+  frame->excludes(time)->excludes(frames);
+  time->excludes(frames);
+  app.add_option("--traversal-cost", o.traversal_cost, "SAH cost of a traversal step")->capture_default_str();
+  app.add_option("--intersection-cost", o.intersection_cost, "SAH cost of a triangle test")->capture_default_str();
+  app.add_option("--empty-bonus", o.empty_bonus, "SAH bonus for cutting off empty space (0..1)")
+      ->check(CLI::Range(0.0f, 1.0f))
+      ->capture_default_str();
+  app.add_option("--tree-depth", o.tree_depth, "deepest kd-tree level (default 8 + 1.3 log2 N)")
+      ->check(CLI::Range(1, kMaxLevelLimit));
+}
+
+struct RenderCommandOptions {
+  int width = 800, height = 600, max_depth = 10, tile_size = 8;
+  std::string pixel_order = "scanline";
+  std::vector<float> eye, look_at, up;
+  std::optional<float> fov;
+  unsigned threads = 0;
+  std::string layout;
+  std::optional<std::uint32_t> split_level;
+  std::string high_size, node_base = "0";
+  std::uint32_t node_size = 8;
+};
+
+inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
+  app.add_option("--width", o.width, "image width")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--height", o.height, "image height")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--max-depth", o.max_depth, "ray tree depth (primary rays are depth 1)")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  app.add_option("--pixel-order", o.pixel_order, "scanline, tiled or morton")
+      ->check(CLI::IsMember({"scanline", "tiled", "morton"}))
+      ->capture_default_str();
+  app.add_option("--tile-size", o.tile_size, "tile side for --pixel-order tiled")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--eye", o.eye, "camera position X Y Z")->expected(3);
+  app.add_option("--look-at", o.look_at, "point the camera looks at X Y Z")->expected(3);
+  app.add_option("--up", o.up, "camera up direction X Y Z")->expected(3);
+  app.add_option("--fov", o.fov, "vertical field of view in degrees")->check(CLI::Range(0.01f, 179.0f));
+  app.add_option("--threads", o.threads, "rendering threads (default: one per core); the output does not depend on it");
+  app.add_option("--layout", o.layout,
+                 "tree layout: dfl, bfl, hybrid or veb (default: hybrid when --split-level or "
+                 "--high-size is given, else dfl)")
+      ->check(CLI::IsMember({"dfl", "bfl", "hybrid", "veb"}));
+  auto* split = app.add_option("--split-level", o.split_level, "hybrid layout: levels < K in BFL");
+  auto* high = app.add_option("--high-size", o.high_size,
+                              "hybrid layout: K = the most levels whose nodes fit a high-level cache of SIZE bytes (e.g. 4k)");
+  split->excludes(high);
+  app.add_option("--node-base", o.node_base, "address of layout slot 0")->capture_default_str();
+  app.add_option("--node-size", o.node_size, "bytes per kd-tree node")->check(CLI::PositiveNumber)->capture_default_str();
+}
+
+inline KdBuildOptions make_build_options(const SceneCommandOptions& s) {
+  KdBuildOptions build;
+  build.traversal_cost = s.traversal_cost;
+  build.intersection_cost = s.intersection_cost;
+  build.empty_bonus = s.empty_bonus;
+  build.max_depth = s.tree_depth;
+  return build;
+}
+
+// Frame range from --frame / --time / --frames into the job options.
+inline void apply_frames(const SceneCommandOptions& s, TraceJobOptions& options) {
+  if (s.frame) options.first_frame = options.last_frame = *s.frame;
+  if (s.time) options.time = *s.time;
+  if (!s.frames.empty()) {
+    const auto dash = s.frames.find('-');
+    try {
+      if (dash == std::string::npos) throw std::invalid_argument("no dash");
+      std::size_t used_a = 0, used_b = 0;
+      const std::string a = s.frames.substr(0, dash), b = s.frames.substr(dash + 1);
+      options.first_frame = std::stoull(a, &used_a);
+      options.last_frame = std::stoull(b, &used_b);
+      if (used_a != a.size() || used_b != b.size()) throw std::invalid_argument("trailing text");
+    } catch (const std::exception&) {
+      throw formats::UsageError("--frames: expected A-B such as 0-9, got '" + s.frames + "'");
+    }
+  }
+}
+
+inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const SceneCommandOptions& s) {
+  TraceJobOptions options;
+  options.build = make_build_options(s);
+  apply_frames(s, options);
+  RenderOptions& render = options.render;
+  render.width = r.width;
+  render.height = r.height;
+  render.max_depth = r.max_depth;
+  render.pixel_order = *parse_pixel_order(r.pixel_order);
+  render.tile_size = r.tile_size;
+  render.threads = r.threads;
+  render.addresses.node_size = r.node_size;
+  render.addresses.node_base = parse_address(r.node_base, "--node-base");
+  if (!r.eye.empty() || !r.look_at.empty() || !r.up.empty() || r.fov) {
+    if (r.eye.empty() || r.look_at.empty()) {
+      throw formats::UsageError("a camera needs both --eye and --look-at (--up and --fov are optional)");
+    }
+    Camera camera;
+    camera.eye = {r.eye[0], r.eye[1], r.eye[2]};
+    camera.look_at = {r.look_at[0], r.look_at[1], r.look_at[2]};
+    if (!r.up.empty()) camera.up = {r.up[0], r.up[1], r.up[2]};
+    if (r.fov) camera.fov_y_degrees = *r.fov;
+    render.camera = camera;
+  }
+  options.split_level = r.split_level;
+  if (!r.high_size.empty()) options.high_size = parse_byte_size(r.high_size, "--high-size");
+  if (!r.layout.empty()) {
+    options.layout = *parse_layout_name(r.layout);
+  } else if (options.split_level || options.high_size) {
+    options.layout = LayoutKind::Hybrid;
+  }
+  if (options.layout != LayoutKind::Hybrid && (options.split_level || options.high_size)) {
+    throw formats::UsageError("--split-level and --high-size apply to --layout hybrid only");
+  }
+  return options;
+}
+
+}  // namespace nodetrace::tracer::cli
