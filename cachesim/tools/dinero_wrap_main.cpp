@@ -58,7 +58,7 @@ int run_subcommand(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
-    return app.exit(error);
+    return app.exit(error) == 0 ? 0 : 2;  // CLI11 has its own codes; ours: 2
   }
   return guarded("run", [&] {
     wrap::WrapOptions options;
@@ -108,7 +108,7 @@ int exec_subcommand(int argc, char** argv) {
   try {
     app.parse(separator, argv);
   } catch (const CLI::ParseError& error) {
-    return app.exit(error);
+    return app.exit(error) == 0 ? 0 : 2;  // CLI11 has its own codes; ours: 2
   }
   return guarded("exec", [&] {
     wrap::WrapOptions options;

@@ -25,7 +25,7 @@ int run_command(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
-    return app.exit(error);
+    return app.exit(error) == 0 ? 0 : 2;  // CLI11 has its own codes; ours: 2
   }
   try {
     const SweepOptions options = sweep_options(line);

@@ -1,0 +1,179 @@
+// `cachesim run` end to end: containers with animation-frame markers, K = auto,
+// several traces, standard input, exit codes, and equality with `cachesim
+// dinero` for single caches.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include "nodetrace/cachesim/wrap.hpp"
+#include "nodetrace/formats/writer.hpp"
+#include "test_support.hpp"
+
+namespace nodetrace::cachesim {
+namespace {
+
+using testing::program;
+using testing::run_command;
+
+std::string quoted(const std::filesystem::path& path) { return fmt::format("'{}'", path.string()); }
+
+std::string cachesim() { return quoted(program("cachesim")); }
+
+// A two-frame container: a complete tree of 4 levels in BFL order at 0x1000
+// (15 nodes), each frame visiting it root to leaf for 200 rays.
+void write_two_frame_container(const std::filesystem::path& path, std::uint32_t layout_split) {
+  formats::WriterOptions options;
+  options.form = formats::RecordForm::Din;
+  options.records_per_frame = 256;
+  nlohmann::json header = {{"layout", {{"name", "bfl"}, {"split_level", layout_split},
+                                       {"node_size", 8}, {"node_base", 4096}}}};
+  auto writer = formats::TraceWriter::create(path.string(), header, options);
+  for (std::uint64_t frame = 0; frame < 2; ++frame) {
+    formats::FrameMarker marker;
+    marker.frame = frame;
+    marker.nodes_per_level = {1, 2, 4, 8};
+    marker.nodes = 15;
+    marker.leaves = 8;
+    marker.depth = 4;
+    writer->begin_frame(marker);
+    for (std::uint64_t ray = 0; ray < 200; ++ray) {
+      std::uint64_t slot = 0;
+      for (formats::Tag level = 0; level < 4; ++level) {
+        formats::Record record;
+        record.address = 0x1000 + slot * 8;
+        record.size = 8;
+        record.tag = level;
+        writer->write(record);
+        slot = 2 * slot + 1 + ((ray >> level) & 1);
+      }
+      // Some far-away low-level data so the low cache misses.
+      formats::Record far;
+      far.address = 0x100000 + ((ray * 72) % 4096);
+      far.tag = 5;
+      writer->write(far);
+    }
+  }
+  writer->finish();
+}
+
+TEST(SweepCommand, AutoSplitLevelFromContainerMarkersAndLayoutNote) {
+  testing::TempDir dir;
+  write_two_frame_container(dir / "tree.din.zst", 3);
+  // High cache 32 bytes: levels 0, 1 (3 nodes, 24 bytes) fit, level 2 does not: K = 2.
+  const auto result = run_command(cachesim() + " run " + quoted(dir / "tree.din.zst") +
+                                  " --size 64 --scheme split --split-level auto --format csv");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find(",split,64,8,1,lru,retain,32,32,2,2000,2000,"), std::string::npos)
+      << result.out;
+  // 3 high blocks loaded in each of the 2 frames.
+  EXPECT_NE(result.out.find(",800,0,6,1200,"), std::string::npos) << result.out;
+  EXPECT_NE(result.err.find("split level 2 (auto) differs from the layout's split_level 3"),
+            std::string::npos)
+      << result.err;
+}
+
+TEST(SweepCommand, FitsErrorNamesTheSizes) {
+  testing::TempDir dir;
+  write_two_frame_container(dir / "tree.din.zst", 3);
+  const auto result = run_command(cachesim() + " run " + quoted(dir / "tree.din.zst") +
+                                  " --size 32 --scheme split --split-level 4");
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("16-byte high cache"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("do not fit"), std::string::npos) << result.err;
+}
+
+TEST(SweepCommand, UntaggedTraceForSplitSuggestsTagsAreLevels) {
+  NODETRACE_SHARED_OR_SKIP(shared);
+  const auto result =
+      run_command(cachesim() + " run " + quoted(shared / "dinero-golden" / "kd-bfl-s1.din.zst") +
+                  " --scheme split --split-level 6");
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("--tags-are-levels"), std::string::npos) << result.err;
+}
+
+TEST(SweepCommand, SeveralTracesInArgumentOrderAndStdin) {
+  NODETRACE_SHARED_OR_SKIP(shared);
+  const auto kd = shared / "dinero-golden" / "kd-bfl-s1.din.zst";
+  const auto mm = shared / "dinero-golden" / "mm32.din.zst";
+  const auto result = run_command(cachesim() + " run " + quoted(mm) + " - " + quoted(kd) +
+                                      " --size 8k --format csv",
+                                  testing::read_file(kd));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::string expected_kd = ",single,8192,8,1,lru,,,,,200000,200000,39930,0.199650,,,,,\n";
+  const auto mm_at = result.out.find(mm.string() + ",single");
+  const auto stdin_at = result.out.find("\n-," + expected_kd.substr(1));
+  const auto kd_at = result.out.find(kd.string() + expected_kd);
+  EXPECT_NE(mm_at, std::string::npos) << result.out;
+  EXPECT_NE(stdin_at, std::string::npos) << result.out;
+  EXPECT_NE(kd_at, std::string::npos) << result.out;
+  EXPECT_LT(mm_at, stdin_at);
+  EXPECT_LT(stdin_at, kd_at);
+}
+
+TEST(SweepCommand, SingleEqualsCachesimDinero) {
+  NODETRACE_SHARED_OR_SKIP(shared);
+  struct Case {
+    std::string trace;
+    std::string informat;
+    std::string size, block, assoc, policy;
+  };
+  const std::vector<Case> cases{
+      {"mm32.din.zst", "d", "8192", "16", "4", "lru"},
+      {"mm32.din.zst", "d", "1024", "16", "1", "lru"},
+      {"mm32.din.zst", "d", "2048", "4", "1", "lru"},
+      {"mm32.xdin.zst", "D", "16384", "64", "8", "fifo"},
+      {"mm32.xdin.zst", "D", "1024", "4", "1", "lru"},
+      {"kd-bfl-s1.din.zst", "d", "8192", "8", "4", "fifo"},
+  };
+  for (const Case& c : cases) {
+    const auto trace = shared / "dinero-golden" / c.trace;
+    const auto dinero = run_command(
+        fmt::format("zstd -dc {} | {} dinero -informat {} -l1-usize {} -l1-ubsize {} "
+                    "-l1-uassoc {} -l1-urepl {}",
+                    quoted(trace), cachesim(), c.informat, c.size, c.block, c.assoc,
+                    c.policy[0]));
+    ASSERT_EQ(dinero.exit_code, 0) << dinero.err;
+    const auto stats = wrap::parse_dinero_output(dinero.out);
+    const auto run = run_command(fmt::format("{} run {} --size {} --block {} --assoc {} "
+                                             "--policy {} --format csv",
+                                             cachesim(), quoted(trace), c.size, c.block, c.assoc,
+                                             c.policy));
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const std::string expected =
+        fmt::format(",{},{},", stats[0].demand_fetches, stats[0].demand_misses);
+    EXPECT_NE(run.out.find(expected), std::string::npos)
+        << c.trace << " " << c.size << ": " << run.out << " vs " << expected;
+  }
+}
+
+TEST(SweepCommand, JsonAndPerLevelTables) {
+  testing::TempDir dir;
+  write_two_frame_container(dir / "tree.din.zst", 2);
+  const auto result = run_command(cachesim() + " run " + quoted(dir / "tree.din.zst") +
+                                  " --size 64 --scheme split --split-level 2 --per-level "
+                                  "--format json");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto json = nlohmann::json::parse(result.out);
+  ASSERT_EQ(json["results"].size(), 1u);
+  EXPECT_EQ(json["results"][0]["split_level"], 2);
+  EXPECT_EQ(json["results"][0]["high_loads"], 6);
+  EXPECT_TRUE(json["results"][0]["miss_ratio"].is_number());
+  ASSERT_EQ(json["levels"].size(), 5u);  // levels 0, 1, 2, 3, 5
+  EXPECT_EQ(json["levels"][0]["refs"], 400);
+  EXPECT_EQ(json["levels"][0]["misses"], 0);
+  EXPECT_EQ(json["levels"][4]["level"], 5);
+  EXPECT_TRUE(result.err.empty()) << result.err;  // layout says 2: no note
+}
+
+TEST(SweepCommand, BadUsageExitsTwo) {
+  EXPECT_EQ(run_command(cachesim() + " run").exit_code, 2);
+  EXPECT_EQ(run_command(cachesim() + " run x --size 3k").exit_code, 2);
+  EXPECT_EQ(run_command(cachesim() + " run x --policy nope").exit_code, 2);
+  const auto missing = run_command(cachesim() + " run /nonexistent/t.din");
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("/nonexistent/t.din"), std::string::npos);
+  EXPECT_EQ(run_command(cachesim() + " run --help").exit_code, 0);
+}
+
+}  // namespace
+}  // namespace nodetrace::cachesim
