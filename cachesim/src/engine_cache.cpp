@@ -19,6 +19,7 @@ Cache::Cache(const CacheConfig& config)
       lg2_sub_block_(log2_exact(config.effective_sub_block_size())),
       block_mask_((std::uint64_t{1} << lg2_block_) - 1),
       sub_block_mask_((std::uint64_t{1} << lg2_sub_block_) - 1),
+      whole_blocks_(lg2_sub_block_ == lg2_block_),
       random_(config.random_seed) {
   const std::uint64_t sets = config.size / (std::uint64_t{config.block_size} * config.assoc);
   sets_ = static_cast<std::uint32_t>(sets);
@@ -277,18 +278,21 @@ void Cache::drain_pending() {
   }
 }
 
-void Cache::ref(const Ref& m) {
-  if (m.type == kCopyBack) {
-    copy_back(m);
-  } else if (m.type == kInvalidate) {
-    invalidate(m);
-  } else {
-    demand_ref(m);
-  }
-}
-
 void Cache::demand_ref(Ref m) {
   const std::uint64_t block = block_of(m.address);
+  // Fast path: a read, instruction fetch or misc reference within one block
+  // that hits the most recent block of its set changes nothing but a count.
+  if (m.type != kWrite && !config_.classify_misses && m.size != 0 &&
+      block == block_of(m.address + m.size - 1)) {
+    const Node& top = nodes_[stacks_[set_of(m.address)].top];
+    if (top.block == block && top.valid != 0) {
+      const std::uint32_t bits = whole_blocks_ ? 1u : sub_block_bits(m);
+      if ((top.valid & bits) == bits) {
+        ++stats.fetches[m.type];
+        return;
+      }
+    }
+  }
   // A reference crossing a block boundary: simulate the part in this block
   // now and queue the rest, as a new reference to this same cache.
   if (block != block_of(m.address + m.size - 1)) {

@@ -40,7 +40,15 @@ class Cache {
  public:
   explicit Cache(const CacheConfig& config);
 
-  void ref(const Ref& m);
+  void ref(const Ref& m) {
+    if (m.type < kCopyBack) {
+      demand_ref(m);
+    } else if (m.type == kCopyBack) {
+      copy_back(m);
+    } else {
+      invalidate(m);
+    }
+  }
 
   Cache* downstream = nullptr;  // nullptr: memory
   Stats stats;
@@ -95,6 +103,7 @@ class Cache {
   int lg2_sub_block_;
   std::uint64_t block_mask_;
   std::uint64_t sub_block_mask_;
+  bool whole_blocks_;  // no sub-blocks: a reference within a block touches bit 0 only
   std::uint64_t set_mask_;
   std::uint32_t sets_;
   std::uint32_t full_set_;  // the fully associative shadow's stack (== sets_), if classifying
