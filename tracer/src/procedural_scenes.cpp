@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <initializer_list>
 #include <map>
 #include <mutex>
 #include <numbers>
@@ -274,6 +275,36 @@ Scene generate(const Generator& generator, int size) {
   return scene;
 }
 
+// Name, size and everything generated, so a change to a generator changes
+// the hash recorded in trace headers.
+std::uint64_t content_hash(const Scene& scene, int size) {
+  std::uint64_t hash = fnv1a64("nodetrace-builtin:" + scene.name + ":" + std::to_string(size));
+  auto feed_floats = [&](std::initializer_list<float> values) {
+    for (const float value : values) {
+      hash = fnv1a64(std::string_view(reinterpret_cast<const char*>(&value), sizeof value), hash);
+    }
+  };
+  for (const auto& t : scene.triangles) {
+    feed_floats({t.v0.x, t.v0.y, t.v0.z, t.v1.x, t.v1.y, t.v1.z, t.v2.x, t.v2.y, t.v2.z,
+                 static_cast<float>(t.material)});
+  }
+  for (const auto& m : scene.materials) {
+    feed_floats({m.diffuse.x, m.diffuse.y, m.diffuse.z, m.specular.x, m.specular.y, m.specular.z, m.shininess,
+                 m.reflectance, m.transmittance, m.ior});
+  }
+  for (const auto& light : scene.lights) {
+    feed_floats({light.position.x, light.position.y, light.position.z, light.color.x, light.color.y, light.color.z});
+  }
+  if (scene.camera) {
+    const Camera& c = *scene.camera;
+    feed_floats({c.eye.x, c.eye.y, c.eye.z, c.look_at.x, c.look_at.y, c.look_at.z, c.up.x, c.up.y, c.up.z,
+                 c.fov_y_degrees});
+  }
+  feed_floats({scene.background.x, scene.background.y, scene.background.z, scene.ambient.x, scene.ambient.y,
+               scene.ambient.z});
+  return hash;
+}
+
 }  // namespace
 
 std::unique_ptr<SceneSource> open_builtin(const std::string& name, int size) {
@@ -284,8 +315,9 @@ std::unique_ptr<SceneSource> open_builtin(const std::string& name, int size) {
       throw SceneError("scene '" + name + "': size " + std::to_string(size) + " out of range " +
                        std::to_string(generator.min_size) + ".." + std::to_string(generator.max_size));
     }
-    const std::string identity = "nodetrace-builtin-v1:" + name + ":" + std::to_string(size);
-    return std::make_unique<StaticSceneSource>(generate(generator, size), format_hash(fnv1a64(identity)));
+    Scene scene = generate(generator, size);
+    std::string hash = format_hash(content_hash(scene, size));
+    return std::make_unique<StaticSceneSource>(std::move(scene), std::move(hash));
   }
   throw SceneError("no built-in scene named '" + name + "'");
 }

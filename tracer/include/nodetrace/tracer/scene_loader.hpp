@@ -40,6 +40,19 @@ struct SceneLoadOptions {
 // `spec` is a path ending in .obj or .aff, or a built-in scene's name
 // (optionally "name:size"). Throws SceneError for bad input, and for a spec
 // that is neither a readable file nor a built-in name.
+//
+// AFF (BART): v b am l f fm p pp tp tpp m s c i xs x k a, `#`/`%` comments.
+// `f` maps NFF-style (diffuse = colour * Kd, Ks is both highlight and mirror
+// weight); `fm` gives ambient (Material::ambient), diffuse and specular
+// colours, the mirror weight being the mean specular. Spheres are 320-triangle
+// icospheres, cones 24-sided open frusta. `x name` and `l name ...` follow
+// the `k name` keyframes (transl, rot as quaternion squad, scale; KB splines
+// with tension, continuity, bias); `k camera` moves the eye (transl) and
+// turns the default view (-z, y up) by `rot`. Texture images are never read.
+// Keys after a track runs backwards in time (as in Robot1.aff) are ignored.
+// OBJ: camera nullopt; two point lights outside the bounds (key and fill).
+// Content hash: FNV-1a 64 of every file read (includes, MTL), or of a
+// built-in scene's name, size and generated content.
 std::unique_ptr<SceneSource> open_scene(const std::string& spec,
                                         const SceneLoadOptions& options = {});
 
