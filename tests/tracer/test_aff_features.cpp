@@ -235,6 +235,31 @@ TEST(AffFeatures, KeyframedTransformsHitTheirKeysExactly) {
   expect_near(source->at_time(9).triangles[0].v0, {5, 6, 2});
 }
 
+TEST(AffFeatures, SplineBetweenKeysFollowsKochanekBartels) {
+  // Keys 0, 1, 3 at times 0, 1, 2. With tension, continuity and bias 0 the
+  // tangents are Catmull-Rom's (end keys reuse their one difference): at
+  // t = 0.5 the Hermite blend gives 0.125 * 1 + 0.5 * 1 - 0.125 * 1.5.
+  TempDir dir;
+  const Scene smooth = load_text(dir, R"(
+x path { p 3  0 0 0  0 0 0.1  0.1 0 0 }
+k path { transl 3  0 0 0 0 0 0 0  1 1 0 0 0 0 0  2 3 0 0 0 0 0 }
+)", 0.5);
+  EXPECT_NEAR(smooth.triangles[0].v0.x, 0.4375f, 1e-5f);
+  // Tension 1 flattens every tangent: the blend is the smoothstep h01 = 0.5.
+  const Scene tense = load_text(dir, R"(
+x path { p 3  0 0 0  0 0 0.1  0.1 0 0 }
+k path { transl 3  0 0 0 0 1 0 0  1 1 0 0 1 0 0  2 3 0 0 1 0 0 }
+)", 0.5);
+  EXPECT_NEAR(tense.triangles[0].v0.x, 0.5f, 1e-5f);
+  // Bias 1 at the second key takes its incoming tangent from the previous
+  // difference only: 0.125 * 1 + 0.5 * 1 - 0.125 * 1 = 0.5.
+  const Scene biased = load_text(dir, R"(
+x path { p 3  0 0 0  0 0 0.1  0.1 0 0 }
+k path { transl 3  0 0 0 0 0 0 0  1 1 0 0 0 0 1  2 3 0 0 0 0 0 }
+)", 0.5);
+  EXPECT_NEAR(biased.triangles[0].v0.x, 0.5f, 1e-5f);
+}
+
 TEST(AffFeatures, IncludesAreRelativeToTheIncludingFileAndHashed) {
   TempDir dir;
   std::filesystem::create_directories(dir / "parts" / "leaves");

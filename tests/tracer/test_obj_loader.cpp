@@ -32,6 +32,10 @@ newmtl smoke
 Kd 0.3 0.3 0.3
 d 0.25
 illum 2
+newmtl tinted
+Kd 0.3 0.3 0.3
+Tr 0.4
+illum 2
 )";
 
 constexpr const char* kModel = R"(mtllib models.mtl
@@ -51,6 +55,8 @@ usemtl glass
 f 1 2 7
 usemtl smoke
 f 1 6 7
+usemtl tinted
+f 2 6 7
 )";
 
 TEST(ObjLoader, MaterialsMapToWhittedParameters) {
@@ -61,7 +67,7 @@ TEST(ObjLoader, MaterialsMapToWhittedParameters) {
   EXPECT_EQ(source->name(), "model.obj");
   EXPECT_EQ(source->animation().frames, 1u);
   const Scene scene = source->at_time(0);
-  ASSERT_EQ(scene.triangles.size(), 5u);  // the quad becomes two triangles
+  ASSERT_EQ(scene.triangles.size(), 6u);  // the quad becomes two triangles
   ASSERT_GE(scene.materials.size(), 4u);
   const auto& matte = scene.materials[scene.triangles[0].material];
   EXPECT_EQ(matte.name, "matte");
@@ -80,6 +86,7 @@ TEST(ObjLoader, MaterialsMapToWhittedParameters) {
   const auto& smoke = scene.materials[scene.triangles[4].material];
   EXPECT_FLOAT_EQ(smoke.transmittance, 0.75f);
   EXPECT_EQ(smoke.reflectance, 0);
+  EXPECT_NEAR(scene.materials[scene.triangles[5].material].transmittance, 0.4f, 1e-6f);  // Tr
 
   // No camera in OBJ; a default light pair outside the bounds.
   EXPECT_FALSE(scene.camera.has_value());
