@@ -138,20 +138,25 @@ class Input {
 // What a worker hands back for one data frame or text chunk.
 struct Chunk {
   std::vector<Record> records;
-  std::string bytes;  // the decompressed record bytes (containers: hashed in order)
+  detail::ByteBuffer bytes;  // the decompressed record bytes (containers: hashed in order)
   bool bad_record = false;
   detail::RecordError record_error;
   std::string frame_error;  // damage found before parsing
 };
 
-Chunk parse_chunk(std::string bytes, detail::ParseSettings settings, bool keep_bytes) {
+struct Stock {
+  detail::Recycler<detail::ByteBuffer> bytes{16};
+  detail::Recycler<std::vector<Record>> records{16};
+};
+
+Chunk parse_chunk(const std::string& bytes, detail::ParseSettings settings, Stock& stock) {
   Chunk chunk;
+  chunk.records = stock.records.take();
   chunk.bad_record = !detail::parse_records(bytes, settings, chunk.records, chunk.record_error);
-  if (keep_bytes) chunk.bytes = std::move(bytes);
   return chunk;
 }
 
-Chunk decode_data_frame(std::string frame, detail::ParseSettings settings) {
+Chunk decode_data_frame(const std::string& frame, detail::ParseSettings settings, Stock& stock) {
   Chunk chunk;
   ZSTD_frameHeader header{};
   const std::size_t status = ZSTD_getFrameHeader(&header, frame.data(), frame.size());
@@ -168,7 +173,8 @@ Chunk decode_data_frame(std::string frame, detail::ParseSettings settings) {
     chunk.frame_error = "damaged zstd frame (content size does not match its blocks)";
     return chunk;
   }
-  std::string bytes(header.frameContentSize, '\0');
+  detail::ByteBuffer bytes = stock.bytes.take();
+  bytes.resize(header.frameContentSize);
   thread_local std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> context(ZSTD_createDCtx(), &ZSTD_freeDCtx);
   const std::size_t size = ZSTD_decompressDCtx(context.get(), bytes.data(), bytes.size(), frame.data(), frame.size());
   if (ZSTD_isError(size)) {
@@ -180,13 +186,14 @@ Chunk decode_data_frame(std::string frame, detail::ParseSettings settings) {
     return chunk;
   }
   if (!bytes.empty()) {
-    const bool whole = settings.form == RecordForm::Binary ? bytes.size() % 8 == 0 : bytes.back() == '\n';
+    const bool whole = settings.form == RecordForm::Binary ? bytes.size() % 8 == 0 : bytes.data()[bytes.size() - 1] == '\n';
     if (!whole) {
       chunk.frame_error = "data frame does not end at a record boundary";
       return chunk;
     }
   }
-  chunk.bad_record = !detail::parse_records(bytes, settings, chunk.records, chunk.record_error);
+  chunk.records = stock.records.take();
+  chunk.bad_record = !detail::parse_records(bytes.view(), settings, chunk.records, chunk.record_error);
   chunk.bytes = std::move(bytes);
   return chunk;
 }
@@ -223,6 +230,7 @@ class Reader final : public TraceReader {
   }
 
   bool next(RecordBatch& batch) override {
+    if (batch.records.capacity() > 0) stock_->records.give(std::move(batch.records));
     batch.records.clear();
     batch.marker.reset();
     for (;;) {
@@ -444,8 +452,8 @@ class Reader final : public TraceReader {
       unit.entry.checksum = size >= 4 ? load_le32(input_.data() + size - 4) : 0;
       std::string frame(input_.data(), size);
       consume_hashed(size);
-      unit.chunk = pool_->submit([frame = std::move(frame), settings = settings_]() mutable {
-        return decode_data_frame(std::move(frame), settings);
+      unit.chunk = pool_->submit([frame = std::move(frame), settings = settings_, stock = stock_] {
+        return decode_data_frame(frame, settings, *stock);
       });
       units_.push_back(std::move(unit));
       return;
@@ -560,7 +568,7 @@ class Reader final : public TraceReader {
       if (carry_.size() > kMaxLineBytes) {
         Unit unit;
         std::promise<Chunk> result;
-        Chunk bad = parse_chunk(std::move(chunk), settings_, false);
+        Chunk bad = parse_chunk(chunk, settings_, *stock_);
         if (!bad.bad_record) {
           bad.bad_record = true;
           bad.record_error = {bad.records.size(), "line longer than 1 MiB"};
@@ -575,13 +583,13 @@ class Reader final : public TraceReader {
     }
     record_bytes_ += chunk.size();
     Unit unit;
-    unit.chunk = pool_->submit([chunk = std::move(chunk), settings = settings_]() mutable {
-      return parse_chunk(std::move(chunk), settings, false);
+    unit.chunk = pool_->submit([chunk = std::move(chunk), settings = settings_, stock = stock_] {
+      return parse_chunk(chunk, settings, *stock);
     });
     units_.push_back(std::move(unit));
   }
 
-  void check_data_frame(const Unit& unit, const Chunk& chunk) {
+  void check_data_frame(const Unit& unit, Chunk& chunk) {
     const std::string where = fmt::format("data frame {} at byte {}", unit.data_frame + 1, unit.entry.offset);
     if (!chunk.frame_error.empty()) fail(fmt::format("{}: {}", where, chunk.frame_error));
     FrameIndexEntry seen = unit.entry;
@@ -591,6 +599,7 @@ class Reader final : public TraceReader {
     record_bytes_ += chunk.bytes.size();
     if (chunk.bad_record) return;
     if (hashes_valid_) XXH64_update(record_hash_.get(), chunk.bytes.data(), chunk.bytes.size());
+    stock_->bytes.give(std::move(chunk.bytes));
     if (trailer_) check_index_entry(seen, unit.data_frame, where);
     seen_.push_back(seen);
   }
@@ -668,6 +677,7 @@ class Reader final : public TraceReader {
   TraceHeader header_;
   std::optional<TraceTrailer> trailer_;
   unsigned threads_ = 1;
+  std::shared_ptr<Stock> stock_ = std::make_shared<Stock>();
   std::unique_ptr<detail::ThreadPool> pool_;
   std::deque<Unit> units_;
   std::optional<FrameMarker> pending_marker_;

@@ -364,7 +364,7 @@ char* put_tag(char* out, Tag tag) {
 }  // namespace
 
 void format_records(std::span<const Record> records, RecordForm form, unsigned address_digits,
-                    std::uint64_t first_record, std::string& out) {
+                    std::uint64_t first_record, ByteBuffer& out) {
   if (form == RecordForm::Binary) {
     const std::size_t start = out.size();
     out.resize(start + records.size() * 8);
@@ -392,7 +392,7 @@ void format_records(std::span<const Record> records, RecordForm form, unsigned a
   // Longest line: type, 16 address digits, 8 size digits, 5 tag digits, blanks, newline.
   constexpr std::size_t kMaxLine = 1 + 1 + 16 + 1 + 8 + 1 + 5 + 1;
   const std::size_t start = out.size();
-  out.resize(start + records.size() * kMaxLine);
+  out.reserve(start + records.size() * kMaxLine);
   char* p = out.data() + start;
   for (const Record& record : records) {
     const auto type = static_cast<unsigned>(record.type);

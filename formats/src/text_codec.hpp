@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "buffers.hpp"
 #include "nodetrace/formats/record.hpp"
 
 namespace nodetrace::formats::detail {
@@ -42,6 +43,6 @@ RecordForm detect_text_form(std::string_view first_bytes);
 // in that form (e.g. an address above 32 bits in binary); `first_record` is
 // its 0-based number in the trace, for the message.
 void format_records(std::span<const Record> records, RecordForm form, unsigned address_digits,
-                    std::uint64_t first_record, std::string& out);
+                    std::uint64_t first_record, ByteBuffer& out);
 
 }  // namespace nodetrace::formats::detail

@@ -31,16 +31,22 @@ constexpr const char* kTypeNames[kAccessTypeCount] = {"read", "write", "instruct
                                                       "misc", "copy_back", "invalidate"};
 
 struct Encoded {
-  std::string text;        // the record bytes
-  std::string compressed;  // the zstd frame (containers)
-  std::uint64_t records = 0;
+  detail::ByteBuffer text;        // the record bytes
+  detail::ByteBuffer compressed;  // the zstd frame (containers)
+  std::vector<Record> records;    // handed back for reuse
+};
+
+struct Stock {
+  detail::Recycler<detail::ByteBuffer> bytes{16};
+  detail::Recycler<std::vector<Record>> records{8};
 };
 
 Encoded encode(std::vector<Record> records, RecordForm form, unsigned digits, std::uint64_t first_record,
-               bool compress, int level) {
+               bool compress, int level, Stock& stock) {
   Encoded encoded;
-  encoded.records = records.size();
+  encoded.text = stock.bytes.take();
   detail::format_records(records, form, digits, first_record, encoded.text);
+  encoded.records = std::move(records);
   if (compress) {
     struct Deleter {
       void operator()(ZSTD_CCtx* context) const { ZSTD_freeCCtx(context); }
@@ -50,6 +56,7 @@ Encoded encode(std::vector<Record> records, RecordForm form, unsigned digits, st
     ZSTD_CCtx_setParameter(context.get(), ZSTD_c_compressionLevel, level);
     ZSTD_CCtx_setParameter(context.get(), ZSTD_c_checksumFlag, 1);
     ZSTD_CCtx_setParameter(context.get(), ZSTD_c_contentSizeFlag, 1);
+    encoded.compressed = stock.bytes.take();
     encoded.compressed.resize(ZSTD_compressBound(encoded.text.size()));
     const std::size_t size = ZSTD_compress2(context.get(), encoded.compressed.data(), encoded.compressed.size(),
                                             encoded.text.data(), encoded.text.size());
@@ -195,6 +202,7 @@ class Writer final : public TraceWriter {
     std::future<Encoded> job;
     std::string ready;  // bytes already made (a marker)
     std::uint64_t first_record = 0;
+    std::uint64_t record_count = 0;
     std::uint64_t animation_frame = 0;
   };
 
@@ -222,14 +230,15 @@ class Writer final : public TraceWriter {
     if (pending_.empty()) return;
     Item item;
     item.first_record = records_total_ - pending_.size();
+    item.record_count = pending_.size();
     item.animation_frame = markers_ == 0 ? 0 : markers_ - 1;
-    std::vector<Record> records;
+    std::vector<Record> records = stock_->records.take();
     records.swap(pending_);
     pending_.reserve(std::min<std::uint64_t>(options_.records_per_frame, 1u << 20));
     item.job = pool_->submit([records = std::move(records), form = options_.form, digits = options_.address_digits,
-                              first = item.first_record, compress = container_,
-                              level = options_.zstd_level]() mutable {
-      return encode(std::move(records), form, digits, first, compress, level);
+                              first = item.first_record, compress = container_, level = options_.zstd_level,
+                              stock = stock_]() mutable {
+      return encode(std::move(records), form, digits, first, compress, level, *stock);
     });
     queue_.push_back(std::move(item));
     drain(false);
@@ -254,19 +263,23 @@ class Writer final : public TraceWriter {
       }
       XXH64_update(record_hash_.get(), encoded.text.data(), encoded.text.size());
       record_bytes_ += encoded.text.size();
+      stock_->records.give(std::move(encoded.records));
       if (!container_) {
-        emit(encoded.text, false);
+        emit(encoded.text.view(), false);
+        stock_->bytes.give(std::move(encoded.text));
         continue;
       }
+      stock_->bytes.give(std::move(encoded.text));
       FrameIndexEntry entry;
       entry.offset = offset_;
       entry.compressed_size = encoded.compressed.size();
       entry.first_record = item.first_record;
-      entry.record_count = encoded.records;
+      entry.record_count = item.record_count;
       entry.animation_frame = item.animation_frame;
       entry.checksum = detail::load_le32(encoded.compressed.data() + encoded.compressed.size() - 4);
       index_.push_back(entry);
-      emit(encoded.compressed, true);
+      emit(encoded.compressed.view(), true);
+      stock_->bytes.give(std::move(encoded.compressed));
     }
   }
 
@@ -296,6 +309,7 @@ class Writer final : public TraceWriter {
   bool finished_ = false;
   int fd_ = -1;
   std::string temp_path_;
+  std::shared_ptr<Stock> stock_ = std::make_shared<Stock>();
   std::unique_ptr<detail::ThreadPool> pool_;
   std::deque<Item> queue_;
   std::vector<Record> pending_;
