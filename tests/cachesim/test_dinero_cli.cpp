@@ -146,6 +146,43 @@ TEST(DineroOutput, MaxCountIsReportedAsDineroDoes) {
   EXPECT_TRUE(h.max_count_exceeded());
 }
 
+TEST(DineroOutput, StatIntervalPrintsIntermediateTablesAndCountsAreSummarised) {
+  const DineroOptions o = parse_dinero_options({"-l1-usize", "1k", "-l1-ubsize", "16", "-stat-interval", "2",
+                                                "-skipcount", "1", "-flushcount", "3k"});
+  const std::string preamble = dinero_preamble(o);
+  EXPECT_NE(preamble.find("-skipcount 1\n-flushcount 3072\n-maxcount 0\n-stat-interval 2\n"), std::string::npos)
+      << preamble;
+  // Five references, one skipped: tables after the 2nd and 4th simulated
+  // ones, then the final one.
+  std::string text;
+  {
+    struct Reader : formats::TraceReader {
+      std::string name = "<test>";
+      formats::TraceHeader head;
+      std::optional<formats::TraceTrailer> tail;
+      bool done = false;
+      const std::string& source_name() const override { return name; }
+      const formats::TraceHeader& header() const override { return head; }
+      formats::RecordForm form() const override { return formats::RecordForm::ExtendedDin; }
+      bool tags_are_levels() const override { return false; }
+      bool next(formats::RecordBatch& batch) override {
+        if (done) return false;
+        batch.records.assign(5, ref(formats::AccessType::Read, 0));
+        done = true;
+        return true;
+      }
+      const std::optional<formats::TraceTrailer>& trailer() const override { return tail; }
+      void seek_to_record(std::uint64_t) override {}
+    } reader;
+    std::ostringstream out, warnings;
+    run_dinero(o, reader, out, warnings);
+    text = out.str();
+  }
+  std::size_t tables = 0;
+  for (auto at = text.find("l1-ucache\n"); at != std::string::npos; at = text.find("l1-ucache\n", at + 1)) ++tables;
+  EXPECT_EQ(tables, 3u) << text;
+}
+
 // --- `cachesim dinero` as a program ---------------------------------------
 
 std::string cachesim() { return testing::program("cachesim").string(); }

@@ -203,6 +203,47 @@ TEST(Engine, WriteBacksReachTheNextLevel) {
   EXPECT_EQ(h.stats(2, CacheKind::Unified).fetches[kWrite], 1u);  // the write-back
 }
 
+TEST(Engine, AMissFetchReachesTheNextLevelBeforeItsWriteThrough) {
+  // L1 write-through with write-allocate: a 4-byte write miss to an 8-byte
+  // block queues a write-through and then a fetch of the block; Dinero sends
+  // the last queued first, so the one-block L2 misses on the fetch (a read)
+  // and the write-through then hits.
+  HierarchyConfig config;
+  LevelConfig l1, l2;
+  l1.unified = cache(16, 8, 1);
+  l1.unified->write_back = WriteBack::Never;
+  l2.unified = cache(8, 8, 1);
+  config.levels = {l1, l2};
+  Hierarchy h(config);
+  h.access(write(0));
+  const Stats& s2 = h.stats(2, CacheKind::Unified);
+  EXPECT_EQ(s2.fetches[kRead], 1u);
+  EXPECT_EQ(s2.fetches[kWrite], 1u);
+  EXPECT_EQ(s2.misses[kRead], 1u);
+  EXPECT_EQ(s2.misses[kWrite], 0u);
+}
+
+TEST(Engine, DirtySubBlocksAreWrittenBackInContiguousRuns) {
+  // One 16-byte block of four sub-blocks. Writes to sub-blocks 0 and 2 need
+  // no fetch and dirty them; evicting the block writes two runs of 4 bytes.
+  HierarchyConfig config;
+  LevelConfig l1, l2;
+  l1.unified = cache(16, 16, 1);
+  l1.unified->sub_block_size = 4;
+  l2.unified = cache(256, 16, 1);
+  config.levels = {l1, l2};
+  Hierarchy h(config);
+  h.access(write(0));
+  h.access(write(8));
+  h.access(read(64));
+  const Stats& s1 = h.stats(1, CacheKind::Unified);
+  EXPECT_EQ(s1.misses[kWrite], 2u);
+  EXPECT_EQ(s1.block_misses[kWrite], 1u);
+  EXPECT_EQ(s1.bytes_to_memory, 8u);
+  EXPECT_EQ(s1.bytes_from_memory, 4u);  // only the read's sub-block
+  EXPECT_EQ(h.stats(2, CacheKind::Unified).fetches[kWrite], 2u);
+}
+
 TEST(Engine, SeparateInstructionAndDataCaches) {
   // Instruction fetches go to the i-cache; with only a d-cache they go
   // straight to memory and the d-cache never sees them.
