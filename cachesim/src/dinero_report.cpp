@@ -206,8 +206,10 @@ void run_dinero(const DineroOptions& options, formats::TraceReader& reader, std:
   out << "\n---Simulation begins.\n";
   formats::RecordBatch batch;
   bool stopped = false;
+  // A container's header names its record form, which decides din's rounding.
+  const formats::RecordForm form = reader.form();
   while (!stopped && reader.next(batch)) {
-    const std::size_t consumed = hierarchy.access_batch(batch.records, options.form);
+    const std::size_t consumed = hierarchy.access_batch(batch.records, form);
     stopped = consumed < batch.records.size();
   }
   if (hierarchy.max_count_exceeded()) {
