@@ -415,7 +415,7 @@ class Reader final : public TraceReader {
   }
 
   void fill_pipeline() {
-    const std::size_t limit = 2 * static_cast<std::size_t>(threads_) + 2;
+    const std::size_t limit = static_cast<std::size_t>(threads_) + 2;
     while (!input_done_ && units_.size() < limit) {
       switch (mode_) {
         case Mode::Container: read_container_unit(); break;

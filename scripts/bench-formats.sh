@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# Speed of the trace formats (a benchmark, not a test): prints medians of
+# several runs and ratios against zstd measured in the same run.
+#
+#   scripts/bench-formats.sh [--records N] [--runs R] [--build-dir DIR]
+#
+# 1. write: formats_bench generates N level-tagged node fetches into a din
+#    container (records formatted, frames compressed on both cores at the
+#    default level); target >= 30 M records/s, and a container no larger than
+#    `zstd -3` of the same text.
+# 2. read: a full decode of that container into the record model (every
+#    record parsed, checksums and hashes checked) against `zstd -dc FILE
+#    >/dev/null`; target: no slower.
+# Wall-clock figures depend on what else runs on the machine: the script
+# prints the load average next to them, and CPU seconds (user+sys) too.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+records=50000000
+runs=5
+build_dir=build-bench
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --records) records="$2"; shift 2 ;;
+    --runs) runs="$2"; shift 2 ;;
+    --build-dir) build_dir="$2"; shift 2 ;;
+    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+    *) echo "bench-formats.sh: unknown option $1" >&2; exit 2 ;;
+  esac
+done
+
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DNODETRACE_BUILD_TESTS=OFF >/dev/null
+cmake --build "$build_dir" -j2 --target formats_bench tracetool >/dev/null
+bench="$build_dir/bin/formats_bench"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+trace="$work/bench.din.zst"
+
+TIMEFORMAT='%R %U %S'
+# Runs a command, appends "wall cpu" to the file $1.
+timed() {
+  local out="$1"; shift
+  local times
+  times=$( { time "$@" >/dev/null 2>&1; } 2>&1 )
+  echo "$times" | awk '{ printf "%s %.3f\n", $1, $2 + $3 }' >>"$out"
+}
+median() { sort -n | awk '{ v[NR] = $1 } END { if (NR % 2) print v[(NR + 1) / 2]; else printf "%.4f\n", (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+column_median() { awk -v c="$2" '{ print $c }' "$1" | median; }
+
+echo "formats benchmark: $records records, $runs runs, $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+
+: >"$work/write"
+for _ in $(seq "$runs"); do
+  rm -f "$trace"
+  timed "$work/write" "$bench" generate "$records" "$trace"
+done
+container_bytes=$(stat -c %s "$trace")
+zstd3_bytes=$(zstd -dc "$trace" | zstd -3 -T1 -q -c | wc -c)
+text_bytes=$(zstd -dc "$trace" | wc -c)
+
+: >"$work/read"
+: >"$work/zstd"
+for _ in $(seq "$runs"); do
+  timed "$work/zstd" zstd -dc "$trace"
+  timed "$work/read" "$bench" read "$trace"
+done
+"$build_dir/bin/tracetool" verify "$trace" >/dev/null
+
+write_wall=$(column_median "$work/write" 1)
+read_wall=$(column_median "$work/read" 1)
+zstd_wall=$(column_median "$work/zstd" 1)
+awk -v n="$records" -v ww="$write_wall" -v wc="$(column_median "$work/write" 2)" \
+    -v rw="$read_wall" -v rc="$(column_median "$work/read" 2)" \
+    -v zw="$zstd_wall" -v zc="$(column_median "$work/zstd" 2)" \
+    -v cb="$container_bytes" -v zb="$zstd3_bytes" -v tb="$text_bytes" 'BEGIN {
+  printf "write  (generate + format + compress, default level): median %.3f s wall, %.3f s cpu = %.1f M records/s (target >= 30)\n", ww, wc, n / ww / 1e6
+  printf "size   container %d bytes vs zstd -3 of the same text %d bytes: ratio %.4f (target <= 1); text %d bytes, %.3f bytes/record\n", cb, zb, cb / zb, tb, cb / n
+  printf "read   full decode: median %.3f s wall, %.3f s cpu = %.1f M records/s\n", rw, rc, n / rw / 1e6
+  printf "zstd   zstd -dc >/dev/null: median %.3f s wall, %.3f s cpu = %.1f M records/s\n", zw, zc, n / zw / 1e6
+  printf "ratio  read wall / zstd -dc wall = %.3f (target <= 1)\n", rw / zw
+}'
+echo "load average at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
