@@ -8,6 +8,8 @@
 
 #include "nodetrace/cachesim/dinero.hpp"
 #include "nodetrace/formats/error.hpp"
+#include "nodetrace/formats/reader.hpp"
+#include "nodetrace/formats/writer.hpp"
 #include "test_support.hpp"
 
 namespace nodetrace::cachesim {
@@ -181,6 +183,26 @@ TEST(DineroOutput, StatIntervalPrintsIntermediateTablesAndCountsAreSummarised) {
   std::size_t tables = 0;
   for (auto at = text.find("l1-ucache\n"); at != std::string::npos; at = text.find("l1-ucache\n", at + 1)) ++tables;
   EXPECT_EQ(tables, 3u) << text;
+}
+
+TEST(DineroOutput, AContainersRecordFormDecidesDinRounding) {
+  // A din container read with -informat D: its header says din, so address 6
+  // is rounded to 4 and the reference stays in one 8-byte block.
+  testing::TempDir dir;
+  const std::string path = (dir / "t.zst").string();
+  formats::WriterOptions writer_options;
+  writer_options.form = formats::RecordForm::Din;
+  writer_options.tags_are_levels = false;
+  auto writer = formats::TraceWriter::create(path, nlohmann::json::object(), writer_options);
+  writer->write(ref(formats::AccessType::Read, 6));
+  writer->finish();
+  writer.reset();
+  const DineroOptions o = parse_dinero_options({"-l1-usize", "1k", "-l1-ubsize", "8", "-informat", "D", path});
+  auto reader = formats::TraceReader::open(o.trace_path, {});
+  std::ostringstream out, warnings;
+  run_dinero(o, *reader, out, warnings);
+  EXPECT_NE(out.str().find(" Multi-block refs                 0\n"), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find(" Demand Fetches\t\t           1\t"), std::string::npos) << out.str();
 }
 
 // --- `cachesim dinero` as a program ---------------------------------------
