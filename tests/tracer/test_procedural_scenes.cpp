@@ -77,6 +77,11 @@ TEST(ProceduralScenes, EveryScenesHasMirrorsGlassLightsAndACamera) {
     EXPECT_TRUE(mirror) << info.name;
     EXPECT_TRUE(glass) << info.name;
     EXPECT_GE(scene.lights.size(), 2u) << info.name;
+    // Smooth unit normals, one per corner.
+    ASSERT_EQ(scene.vertex_normals.size(), 3 * scene.triangles.size()) << info.name;
+    for (std::size_t i = 0; i < scene.vertex_normals.size(); i += 97) {
+      EXPECT_NEAR(length(scene.vertex_normals[i]), 1.0f, 1e-4f) << info.name;
+    }
     ASSERT_TRUE(scene.camera.has_value()) << info.name;
     // The camera looks at the scene: its target is inside the bounds.
     const auto box = scene.bounds();

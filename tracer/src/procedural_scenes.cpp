@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <initializer_list>
 #include <map>
@@ -268,8 +269,56 @@ constexpr std::array<Generator, 3> kGenerators{{
      forest},
 }};
 
-Scene generate(const Generator& generator, int size) {
+// Smooth vertex normals: each corner averages the (area-weighted) normals of
+// the triangles sharing its exact position whose facing is within 60 degrees
+// of its own, so spheres, leaves and terrain shade round while creases stay
+// sharp.
+void add_smooth_normals(Scene& scene) {
+  const std::size_t count = scene.triangles.size();
+  std::vector<Vec3> face(count);
+  // Corners sorted by the bits of their position: equal positions are adjacent.
+  struct Corner {
+    std::array<std::uint32_t, 3> bits;
+    std::uint32_t index;  // 3 * triangle + corner
+  };
+  std::vector<Corner> corners(3 * count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const Triangle& t = scene.triangles[i];
+    face[i] = cross(t.v1 - t.v0, t.v2 - t.v0);  // length = twice the area
+    int k = 0;
+    for (const Vec3* v : {&t.v0, &t.v1, &t.v2}) {
+      Corner& c = corners[3 * i + k];
+      std::memcpy(c.bits.data(), v, sizeof c.bits);
+      c.index = static_cast<std::uint32_t>(3 * i + k++);
+    }
+  }
+  std::sort(corners.begin(), corners.end(),
+            [](const Corner& a, const Corner& b) { return a.bits != b.bits ? a.bits < b.bits : a.index < b.index; });
+  const float crease_cosine = 0.5f;
+  scene.vertex_normals.resize(3 * count);
+  for (std::size_t begin = 0; begin < corners.size();) {
+    std::size_t end = begin + 1;
+    while (end < corners.size() && corners[end].bits == corners[begin].bits) ++end;
+    for (std::size_t a = begin; a < end; ++a) {
+      const Vec3& own_face = face[corners[a].index / 3];
+      const float own_length = length(own_face);
+      const Vec3 own = own_length > 0 ? own_face / own_length : Vec3{0, 1, 0};
+      Vec3 sum{0, 0, 0};
+      for (std::size_t b = begin; b < end; ++b) {
+        const Vec3& other = face[corners[b].index / 3];
+        const float other_length = length(other);
+        if (other_length > 0 && dot(other, own) >= crease_cosine * other_length) sum += other;
+      }
+      const float sum_length = length(sum);
+      scene.vertex_normals[corners[a].index] = sum_length > 0 ? sum / sum_length : own;
+    }
+    begin = end;
+  }
+}
+
+Scene generate(const Generator& generator, int size, bool with_normals = true) {
   Scene scene = generator.make(size);
+  if (with_normals) add_smooth_normals(scene);
   scene.name = generator.name;
   scene.ambient = {0.12f, 0.12f, 0.12f};
   return scene;
@@ -343,9 +392,9 @@ std::vector<BuiltinSceneInfo> builtin_scenes() {
     for (const auto& generator : detail::kGenerators) {
       BuiltinSceneInfo info{generator.name, generator.description, generator.default_size, 0, generator.min_size,
                             generator.max_size};
-      info.triangles = detail::generate(generator, generator.default_size).triangles.size();
-      info.min_triangles = detail::generate(generator, generator.min_size).triangles.size();
-      info.max_triangles = detail::generate(generator, generator.max_size).triangles.size();
+      info.triangles = detail::generate(generator, generator.default_size, false).triangles.size();
+      info.min_triangles = detail::generate(generator, generator.min_size, false).triangles.size();
+      info.max_triangles = detail::generate(generator, generator.max_size, false).triangles.size();
       infos.push_back(std::move(info));
     }
   });
