@@ -10,7 +10,6 @@
 #include <map>
 #include <numbers>
 #include <optional>
-#include <set>
 #include <string>
 #include <string_view>
 #include <unordered_map>

@@ -7,9 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <functional>
 #include <initializer_list>
-#include <map>
 #include <mutex>
 #include <numbers>
 #include <string>
