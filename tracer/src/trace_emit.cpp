@@ -1,5 +1,7 @@
 #include "nodetrace/tracer/trace_emit.hpp"
 
+#include <charconv>
+#include <cstdlib>
 #include <memory>
 
 #include "nodetrace/formats/error.hpp"
@@ -9,6 +11,15 @@
 namespace nodetrace::tracer {
 
 namespace {
+
+// A float as the double with the same shortest decimal form (0.2f -> 0.2, not
+// 0.20000000298023224), so headers read as they were typed.
+double shortest(float value) {
+  char text[32];
+  const auto [end, error] = std::to_chars(text, text + sizeof text, value);
+  (void)error;
+  return std::strtod(std::string(text, end).c_str(), nullptr);
+}
 
 nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
                            const TraceJobOptions& options, std::uint32_t split_level,
@@ -29,10 +40,10 @@ nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
   if (options.time) render["time"] = *options.time;
   if (r.camera) {
     const Camera& c = *r.camera;
-    render["camera"] = {{"eye", {c.eye.x, c.eye.y, c.eye.z}},
-                        {"look_at", {c.look_at.x, c.look_at.y, c.look_at.z}},
-                        {"up", {c.up.x, c.up.y, c.up.z}},
-                        {"fov", c.fov_y_degrees}};
+    render["camera"] = {{"eye", {shortest(c.eye.x), shortest(c.eye.y), shortest(c.eye.z)}},
+                        {"look_at", {shortest(c.look_at.x), shortest(c.look_at.y), shortest(c.look_at.z)}},
+                        {"up", {shortest(c.up.x), shortest(c.up.y), shortest(c.up.z)}},
+                        {"fov", shortest(c.fov_y_degrees)}};
   }
   header["render"] = render;
   nlohmann::json layout = {{"name", layout_name(options.layout)},
@@ -43,9 +54,9 @@ nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
     layout["high_size"] = *options.high_size;
   }
   header["layout"] = layout;
-  header["kdtree"] = {{"traversal_cost", options.build.traversal_cost},
-                      {"intersection_cost", options.build.intersection_cost},
-                      {"empty_bonus", options.build.empty_bonus},
+  header["kdtree"] = {{"traversal_cost", shortest(options.build.traversal_cost)},
+                      {"intersection_cost", shortest(options.build.intersection_cost)},
+                      {"empty_bonus", shortest(options.build.empty_bonus)},
                       {"max_depth", options.build.max_depth}};
   nlohmann::json cast = nlohmann::json::array();
   nlohmann::json left_out = nlohmann::json::object();
@@ -138,6 +149,7 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
         formats::WriterOptions writer_options;
         writer_options.form = options.form;
         writer_options.threads = r.threads;
+        writer_options.zstd_level = options.zstd_level;
         // Wider addresses only when some stream can reach past 32 bits.
         const std::uint64_t node_end =
             r.addresses.node_base + 4 * tree.stats().nodes * std::uint64_t{r.addresses.node_size};

@@ -57,7 +57,7 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
                static_cast<unsigned long long>(t.node_fetches), double(t.node_fetches) / rays,
                static_cast<unsigned long long>(t.leaf_visits),
                static_cast<unsigned long long>(t.triangle_tests));
-  std::fprintf(stderr, "  render: %.2f s, %.2f M rays/s; %llu records\n", t.seconds,
+  std::fprintf(stderr, "  render: %.3f s, %.3f M rays/s; %llu records\n", t.seconds,
                t.seconds > 0 ? double(t.total_rays()) / t.seconds / 1e6 : 0.0,
                static_cast<unsigned long long>(t.records));
 }
@@ -70,6 +70,7 @@ int render_command(int argc, char** argv) {
                "tracer render"};
   std::string scene_spec, output, records_name, image, streams = "nodes";
   bool quiet = false;
+  int zstd_level = 3;
   app.add_option("scene", scene_spec,
                  "an .obj or .aff file, or a built-in scene's name (NAME or NAME:SIZE); "
                  "default: the default built-in scene");
@@ -83,6 +84,9 @@ int render_command(int argc, char** argv) {
                  "records to write, comma-separated: nodes, lists (leaf primitive lists, tag p), "
                  "triangles (tag t)")
       ->capture_default_str();
+  app.add_option("--zstd-level", zstd_level, "zstd level of the trace's data frames")
+      ->check(CLI::Range(1, 19))
+      ->capture_default_str();
   app.add_flag("-q,--quiet", quiet, "no summary on standard error");
   SceneCommandOptions scene_options;
   add_scene_options(app, scene_options);
@@ -94,6 +98,7 @@ int render_command(int argc, char** argv) {
     TraceJobOptions options = make_job_options(render_options, scene_options);
     options.output = output;
     options.image = image;
+    options.zstd_level = zstd_level;
     if (!records_name.empty()) {
       options.form = *formats::parse_form_name(records_name);
     } else if (!output.empty()) {

@@ -30,6 +30,7 @@ struct TraceJobOptions {
   std::optional<double> time;
   std::string output;  // trace path, "-" for stdout; empty: no trace
   formats::RecordForm form = formats::RecordForm::Din;
+  int zstd_level = 3;  // compression level of the container's data frames
   std::string image;  // PNG of the first frame; empty: none
 };
 

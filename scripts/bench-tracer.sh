@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# Tracer speed: rays per second rendering only, the cost of writing the trace
+# as the ratio (render + trace) / render only (target: at most 2.0), and
+# compressed bytes per record, for each built-in scene and the two BART
+# scenes. Medians of --runs runs; each run is one `tracer render`.
+#   scripts/bench-tracer.sh [--build-dir build] [--runs 3] [--width 400 --height 300]
+#                           [--max-depth 10] [--threads N] [--scenes "a b c"]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+build_dir=build runs=3 width=400 height=300 max_depth=10 threads=0 scenes=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --build-dir) build_dir="$2"; shift 2 ;;
+    --runs) runs="$2"; shift 2 ;;
+    --width) width="$2"; shift 2 ;;
+    --height) height="$2"; shift 2 ;;
+    --max-depth) max_depth="$2"; shift 2 ;;
+    --threads) threads="$2"; shift 2 ;;
+    --scenes) scenes="$2"; shift 2 ;;
+    -h|--help) sed -n '2,8p' "$0"; exit 0 ;;
+    *) echo "bench-tracer.sh: unknown option $1" >&2; exit 2 ;;
+  esac
+done
+tracer="$build_dir/bin/tracer"
+[ -x "$tracer" ] || { echo "bench-tracer.sh: $tracer not found; build first (scripts/setup.sh)" >&2; exit 2; }
+
+shared="$(cd .. && pwd)/shared/scenes/bart"
+if [ -z "$scenes" ]; then
+  scenes="$("$tracer" scenes | awk 'NR > 1 && NF > 1 && $1 ~ /^[a-z]/ && $2 ~ /^[0-9]+$/ {print $1}' | tr '\n' ' ')"
+  for bart in robots/Robot.aff kitchen/kitchen.aff; do
+    if [ -f "$shared/$bart" ]; then
+      scenes="$scenes $shared/$bart"
+    else
+      echo "bench-tracer.sh: $shared/$bart absent: skipped" >&2
+    fi
+  done
+fi
+
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+thread_args=()
+[ "$threads" != 0 ] && thread_args=(--threads "$threads")
+
+median() { sort -g | awk '{v[NR] = $1} END {if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+# Seconds of the render loop from tracer's summary line "render: X s, ...".
+render_seconds() { sed -n 's/^  render: \([0-9.]*\) s.*/\1/p' "$1"; }
+
+load="$(cut -d' ' -f1 /proc/loadavg)"
+echo "bench-tracer: ${width}x${height}, max depth $max_depth, $runs run(s) each, $(nproc) cores, load average $load"
+awk -v load="$load" -v cores="$(nproc)" 'BEGIN { if (load + 0 > cores * 0.5) print "bench-tracer: the machine is busy (load " load " on " cores " cores): absolute figures are low; the ratios are measured under the same load" }'
+printf '%-14s %9s %8s %11s %10s %10s %9s %7s %10s\n' scene triangles build_s rays render_s Mrays_s traced_s ratio B/record
+for scene in $scenes; do
+  name="$(basename "$scene")"
+  plain=() traced=()
+  for ((run = 0; run < runs; run++)); do
+    "$tracer" render "$scene" --width "$width" --height "$height" --max-depth "$max_depth" \
+      "${thread_args[@]}" 2> "$work/plain.txt"
+    plain+=("$(render_seconds "$work/plain.txt")")
+    "$tracer" render "$scene" --width "$width" --height "$height" --max-depth "$max_depth" \
+      "${thread_args[@]}" -o "$work/trace.din.zst" 2> "$work/traced.txt"
+    traced+=("$(render_seconds "$work/traced.txt")")
+  done
+  render_s="$(printf '%s\n' "${plain[@]}" | median)"
+  traced_s="$(printf '%s\n' "${traced[@]}" | median)"
+  triangles="$(sed -n 's/^  kd-tree: \([0-9]*\) triangles.*/\1/p' "$work/plain.txt")"
+  build_s="$(sed -n 's/.*built in \([0-9.]*\) s.*/\1/p' "$work/plain.txt")"
+  rays="$(sed -n 's/^  rays: .*; total \([0-9]*\)$/\1/p' "$work/plain.txt")"
+  records="$(sed -n 's/^  render: .*; \([0-9]*\) records$/\1/p' "$work/traced.txt")"
+  bytes="$(stat -c %s "$work/trace.din.zst")"
+  awk -v n="$name" -v t="$triangles" -v b="$build_s" -v r="$rays" -v p="$render_s" -v q="$traced_s" \
+      -v rec="$records" -v by="$bytes" 'BEGIN {
+    printf "%-14s %9d %8.2f %11d %10.2f %10.3f %9.2f %7.2f %10.3f\n", n, t, b, r, p, r / p / 1e6, q, q / p, by / rec }'
+done
+echo "ratio = (render + trace) / render only, render-loop seconds (target <= 2.0); B/record = compressed din bytes per record"
