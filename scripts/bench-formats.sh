@@ -29,7 +29,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DNODETRACE_BUILD_TESTS=OFF >/dev/null
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build_dir" -j2 --target formats_bench tracetool >/dev/null
 bench="$build_dir/bin/formats_bench"
 work=$(mktemp -d)

@@ -262,6 +262,33 @@ TEST_F(Container, AddedTotalsReachTheTrailer) {
   EXPECT_EQ(reader->trailer()->totals.at("records"), 5);
 }
 
+TEST_F(Container, WideAddressesAndHeaderChecks) {
+  WriterOptions wide = options_for(RecordForm::Din);
+  wide.address_digits = 16;
+  const std::vector<Record> records = {{0x123456789abcull, 4, AccessType::Read, 3}, {0x10, 4, AccessType::Write, 4}};
+  write_trace(path("w.din.zst"), records, wide);
+  EXPECT_EQ(read_all(path("w.din.zst")).records, records);
+  const auto text = run_command("zstd -dc '" + path("w.din.zst") + "'");
+  EXPECT_EQ(text.out, "0 0000123456789abc 03\n1 0000000000000010 04\n");
+
+  // A header from a future version, and a header that is not ours.
+  const std::string future = R"({"container":{"name":"nodetrace-trace","version":2},"records":"din"})";
+  std::string bytes("\x50\x2a\x4d\x18", 4);
+  bytes += std::string(1, static_cast<char>(future.size())) + std::string(3, '\0') + future;
+  write_file(path("f.din.zst"), bytes);
+  EXPECT_NE(read_error(path("f.din.zst")).find("container version 2 is not one this reader knows"), std::string::npos)
+      << read_error(path("f.din.zst"));
+  const std::string other = R"({"records":"din"})";
+  bytes = std::string("\x50\x2a\x4d\x18", 4) + std::string(1, static_cast<char>(other.size())) +
+          std::string(3, '\0') + other;
+  write_file(path("o.din.zst"), bytes);
+  EXPECT_NE(read_error(path("o.din.zst")).find("header does not name the container"), std::string::npos);
+  // Two containers glued together: a second header.
+  const std::string one = read_file(path("w.din.zst"));
+  write_file(path("two.din.zst"), one + one);
+  EXPECT_NE(read_error(path("two.din.zst")), "");
+}
+
 // A small container with a header, markers, several data frames and a trailer.
 std::string small_container(const std::string& file) {
   write_trace(file, sample_records(1200), options_for(RecordForm::Din, 200), {{"scene", "fuzz"}},
