@@ -254,6 +254,11 @@ void Cache::invalidate(const Ref& m) {
 }
 
 void Cache::drain_pending() {
+  // A reference made from this loop to this same cache (the rest of a split
+  // reference) leaves its own queued references to this loop: the order is
+  // the same LIFO order, without recursion as deep as the pieces are many.
+  if (draining_) return;
+  draining_ = true;
   while (!pending_.empty()) {
     Ref m = pending_.back();
     pending_.pop_back();
@@ -276,6 +281,7 @@ void Cache::drain_pending() {
     }
     if (downstream != nullptr) downstream->ref(m);
   }
+  draining_ = false;
 }
 
 void Cache::demand_ref(Ref m) {

@@ -114,6 +114,7 @@ class Cache {
   std::unordered_map<std::uint64_t, std::uint32_t> shadow_index_;  // same for the shadow
   std::unordered_map<std::uint64_t, std::uint32_t> seen_;  // infinite cache: block -> sub-block bits
   std::vector<Ref> pending_;
+  bool draining_ = false;
   std::mt19937_64 random_;
 };
 
