@@ -144,6 +144,14 @@ TEST(Engine, MultiBlockReferencesCountOneFetchPerBlock) {
   EXPECT_EQ(s.multi_block_refs, 1u);
 }
 
+TEST(Engine, ALongReferenceIsOneFetchPerBlock) {
+  // 0xFFFF bytes from 0 over 4-byte blocks: 16384 blocks, 16383 splits.
+  const Stats s = run(single_level(cache(1024, 4, 1)), {read(0, 0xFFFF)});
+  EXPECT_EQ(s.fetches[kRead], 16384u);
+  EXPECT_EQ(s.multi_block_refs, 16383u);
+  EXPECT_EQ(s.bytes_from_memory, 65536u);
+}
+
 TEST(Engine, DinRoundingKeepsAReferenceInOneBlock) {
   // Read through the din view, address 6 becomes 4 with size 4: one block.
   Hierarchy h(single_level(cache(64, 8, 1)));
