@@ -76,6 +76,10 @@ int dinero_command(int argc, char** argv) {
     std::cout.flush();
     std::fprintf(stderr, "cachesim dinero: %s\n", e.what());
     return 1;
+  } catch (const std::exception& e) {
+    std::cout.flush();
+    std::fprintf(stderr, "cachesim dinero: %s\n", e.what());
+    return 1;
   }
   return 0;
 }
