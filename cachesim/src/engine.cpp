@@ -59,7 +59,11 @@ void validate_cache(const CacheConfig& c, const std::string& name) {
     fail(fmt::format("size {} is not a multiple of block size {} x associativity {}", c.size,
                      c.block_size, c.assoc));
   }
-  if (blocks > 0xFFFFFFFEu / 2) fail(fmt::format("{} blocks are too many to simulate", blocks));
+  // Each block costs a few dozen bytes of simulator memory (twice with ccc).
+  constexpr std::uint64_t kMaxBlocks = std::uint64_t{1} << 26;
+  if (blocks > kMaxBlocks) {
+    fail(fmt::format("{} blocks are more than this simulator holds (at most {})", blocks, kMaxBlocks));
+  }
 }
 
 }  // namespace
