@@ -10,6 +10,7 @@
 #include <exception>
 #include <limits>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 
 namespace nodetrace::tracer {
@@ -162,19 +163,32 @@ Vec3 offset_ray_origin(const Vec3& point, const Vec3& normal) {
   return result;
 }
 
-std::optional<Hit> intersect_triangle(const Ray& ray, const Triangle& triangle, float t_max) {
-  const Vec3& d = ray.direction;
-  const Vec3 ad{std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)};
-  int kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
-  int kx = (kz + 1) % 3, ky = (kx + 1) % 3;
-  if (d[kz] < 0) std::swap(kx, ky);  // keep the winding
-  const float sx = d[kx] / d[kz], sy = d[ky] / d[kz], sz = 1.0f / d[kz];
+namespace {
 
-  const Vec3 a = triangle.v0 - ray.origin, b = triangle.v1 - ray.origin,
-             c = triangle.v2 - ray.origin;
-  const float ax = a[kx] - sx * a[kz], ay = a[ky] - sy * a[kz];
-  const float bx = b[kx] - sx * b[kz], by = b[ky] - sy * b[kz];
-  const float cx = c[kx] - sx * c[kz], cy = c[ky] - sy * c[kz];
+// The per-ray part of the watertight test: the axis the ray runs along most
+// (kz) and the shear that turns the ray into the +z axis.
+struct ShearedRay {
+  Vec3 origin;
+  int kx, ky, kz;
+  float sx, sy, sz;
+  explicit ShearedRay(const Ray& ray) : origin(ray.origin) {
+    const Vec3& d = ray.direction;
+    const Vec3 ad{std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)};
+    kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
+    kx = (kz + 1) % 3;
+    ky = (kx + 1) % 3;
+    if (d[kz] < 0) std::swap(kx, ky);  // keep the winding
+    sx = d[kx] / d[kz];
+    sy = d[ky] / d[kz];
+    sz = 1.0f / d[kz];
+  }
+};
+
+bool intersect_sheared(const ShearedRay& r, const Triangle& triangle, float t_max, Hit& hit) {
+  const Vec3 a = triangle.v0 - r.origin, b = triangle.v1 - r.origin, c = triangle.v2 - r.origin;
+  const float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
+  const float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
+  const float cx = c[r.kx] - r.sx * c[r.kz], cy = c[r.ky] - r.sy * c[r.kz];
   float u = cx * by - cy * bx;
   float v = ax * cy - ay * cx;
   float w = bx * ay - by * ax;
@@ -184,22 +198,29 @@ std::optional<Hit> intersect_triangle(const Ray& ray, const Triangle& triangle, 
     v = static_cast<float>(double(ax) * cy - double(ay) * cx);
     w = static_cast<float>(double(bx) * ay - double(by) * ax);
   }
-  if ((u < 0 || v < 0 || w < 0) && (u > 0 || v > 0 || w > 0)) return std::nullopt;
+  if ((u < 0 || v < 0 || w < 0) && (u > 0 || v > 0 || w > 0)) return false;
   const float det = u + v + w;
-  if (det == 0.0f) return std::nullopt;
-  const float az = sz * a[kz], bz = sz * b[kz], cz = sz * c[kz];
+  if (det == 0.0f) return false;
+  const float az = r.sz * a[r.kz], bz = r.sz * b[r.kz], cz = r.sz * c[r.kz];
   const float t_scaled = u * az + v * bz + w * cz;
   if (det > 0 ? (t_scaled <= 0 || t_scaled >= t_max * det)
               : (t_scaled >= 0 || t_scaled <= t_max * det)) {
-    return std::nullopt;
+    return false;
   }
   const float inverse = 1.0f / det;
-  Hit hit;
   hit.t = t_scaled * inverse;
   // u weighs v0, v weighs v1, w weighs v2 in this formulation.
   hit.u = v * inverse;
   hit.v = w * inverse;
-  return hit;
+  return true;
+}
+
+}  // namespace
+
+std::optional<Hit> intersect_triangle(const Ray& ray, const Triangle& triangle, float t_max) {
+  Hit hit;
+  if (intersect_sheared(ShearedRay(ray), triangle, t_max, hit)) return hit;
+  return std::nullopt;
 }
 
 namespace {
@@ -244,10 +265,24 @@ Renderer::Renderer(const Scene& scene, const KdTree& tree, const Layout& layout,
     : scene_(scene), tree_(tree), options_(options), plan_(plan_ray_kinds(scene, options.max_depth)) {
   camera_ = options.camera ? *options.camera : scene.camera ? *scene.camera : default_camera(tree.bounds());
   const auto& slots = layout.slot_of_node;
-  node_address_.resize(tree.nodes().size());
-  for (std::size_t i = 0; i < node_address_.size(); ++i) {
-    node_address_[i] = options.addresses.node_base +
-                       std::uint64_t{slots.at(i)} * options.addresses.node_size;
+  const auto& nodes = tree.nodes();
+  if (slots.size() != nodes.size()) throw std::invalid_argument("layout does not match the kd-tree");
+  node_records_.resize(nodes.size());
+  compact_.resize(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const KdNode& n = nodes[i];
+    node_records_[i] = {options.addresses.node_base + std::uint64_t{slots[i]} * options.addresses.node_size,
+                        options.addresses.node_size, formats::AccessType::Read,
+                        static_cast<formats::Tag>(n.level)};
+    if (n.is_leaf()) {
+      compact_[i].first = n.first;
+      compact_[i].bits = (n.count << 2) | KdNode::kLeafAxis;
+    } else {
+      // Traversal finds the left child next to its parent (pre-order).
+      if (n.left != i + 1) throw std::invalid_argument("kd-tree nodes are not in pre-order");
+      compact_[i].split = n.split;
+      compact_[i].bits = (n.right << 2) | n.axis;
+    }
   }
   face_normals_.reserve(scene.triangles.size());
   for (const auto& t : scene.triangles) {
@@ -260,20 +295,21 @@ Renderer::Renderer(const Scene& scene, const KdTree& tree, const Layout& layout,
 template <bool AnyHit>
 bool Renderer::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records,
                         RenderStats* stats) const {
-  const auto& nodes = tree_.nodes();
-  if (nodes.empty() || tree_.bounds().empty()) return false;
+  if (compact_.empty() || tree_.bounds().empty()) return false;
   const Vec3 inverse{1.0f / ray.direction.x, 1.0f / ray.direction.y, 1.0f / ray.direction.z};
   float t_min = 0, t_far = t_max;
   if (!intersect_box(tree_.bounds(), ray.origin, inverse, t_min, t_far)) return false;
 
+  const ShearedRay sheared(ray);
   const auto& primitives = tree_.primitives();
   const auto& streams = options_.streams;
   const auto& map = options_.addresses;
+  const bool record_nodes = records && streams.nodes;
   struct Pending {
     std::uint32_t node;
     float t_min, t_max;
   };
-  Pending stack[128];
+  Pending stack[kMaxLevelLimit + 2];
   int top = 0;
   std::uint32_t node_index = 0;
   float best = t_max;
@@ -281,19 +317,17 @@ bool Renderer::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Recor
   std::uint64_t fetches = 0, leaves = 0, tests = 0;
 
   while (true) {
-    const KdNode& node = nodes[node_index];
+    const CompactNode node = compact_[node_index];
     ++fetches;
-    if (records && streams.nodes) {
-      records->push_back({node_address_[node_index], map.node_size, formats::AccessType::Read,
-                          static_cast<formats::Tag>(node.level)});
-    }
-    if (!node.is_leaf()) {
-      const int axis = node.axis;
-      const float o = ray.origin[axis];
-      const float t_split = (node.split - o) * inverse[axis];
-      const bool below_first = o < node.split || (o == node.split && ray.direction[axis] <= 0);
-      const std::uint32_t first = below_first ? node.left : node.right;
-      const std::uint32_t second = below_first ? node.right : node.left;
+    if (record_nodes) records->push_back(node_records_[node_index]);
+    const std::uint32_t axis = node.bits & 3u;
+    if (axis != KdNode::kLeafAxis) {
+      const float o = ray.origin[static_cast<int>(axis)];
+      const float t_split = (node.split - o) * inverse[static_cast<int>(axis)];
+      const bool below_first = o < node.split || (o == node.split && ray.direction[static_cast<int>(axis)] <= 0);
+      const std::uint32_t left = node_index + 1, right = node.bits >> 2;
+      const std::uint32_t first = below_first ? left : right;
+      const std::uint32_t second = below_first ? right : left;
       if (t_split > t_far || t_split <= 0) {
         node_index = first;
       } else if (t_split < t_min) {
@@ -306,7 +340,8 @@ bool Renderer::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Recor
       continue;
     }
     ++leaves;
-    for (std::uint32_t i = 0; i < node.count; ++i) {
+    const std::uint32_t count = node.bits >> 2;
+    for (std::uint32_t i = 0; i < count; ++i) {
       const std::uint32_t slot = node.first + i;
       const std::uint32_t id = primitives[slot];
       if (records && streams.lists) {
@@ -319,9 +354,8 @@ bool Renderer::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Recor
                             map.triangle_size, formats::AccessType::Read, formats::kTagTriangle});
       }
       ++tests;
-      if (auto h = intersect_triangle(ray, scene_.triangles[id], best)) {
-        best = h->t;
-        hit = *h;
+      if (intersect_sheared(sheared, scene_.triangles[id], best, hit)) {
+        best = hit.t;
         hit.triangle = id;
         found = true;
         if constexpr (AnyHit) break;

@@ -141,7 +141,18 @@ class Renderer {
   RenderOptions options_;
   RayKindPlan plan_;
   Camera camera_;
-  std::vector<std::uint64_t> node_address_;  // by node index
+  // What traversal reads of a node, 8 bytes: interior nodes keep the split
+  // and (right child << 2 | axis), the left child being next in pre-order;
+  // leaves keep the first primitive and (count << 2 | 3).
+  struct CompactNode {
+    union {
+      float split;
+      std::uint32_t first;
+    };
+    std::uint32_t bits;
+  };
+  std::vector<CompactNode> compact_;
+  std::vector<formats::Record> node_records_;  // the fetch record of each node
   std::vector<Vec3> face_normals_;           // unit geometric normals
 };
 
