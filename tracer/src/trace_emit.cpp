@@ -69,6 +69,8 @@ nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
     }
   }
   header["rays"] = {{"cast", cast}, {"left_out", left_out}};
+  // A light behind the surface lights nothing there, so it gets no ray.
+  if (plan.casts(RayKind::Shadow)) header["rays"]["shadow"] = "one per light in front of the surface hit";
   nlohmann::json streams = nlohmann::json::array();
   if (r.streams.nodes) streams.push_back("nodes");
   if (r.streams.lists) streams.push_back("lists");
