@@ -4,6 +4,8 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <future>
+#include <memory>
 #include <limits>
 #include <utility>
 
@@ -270,9 +272,8 @@ class KdTreeBuilder {
     std::vector<std::uint32_t>().swap(ids);
     merge_into(left_events, new_left);
     merge_into(right_events, new_right);
-    // Triangle ids stay ascending in every list (leaves list them in order).
-    std::sort(left_ids.begin(), left_ids.end());
-    std::sort(right_ids.begin(), right_ids.end());
+    // Triangle ids stay ascending in every list (filtered in order), so
+    // leaves list them in order.
 
     if (root_area_ > 0) sah_cost_ += options_.traversal_cost * surface_area(box) / root_area_;
     {
@@ -282,13 +283,53 @@ class KdTreeBuilder {
     }
     new_left.clear();
     new_right.clear();
-    const std::uint32_t left = build_node(std::move(left_events), std::move(left_ids), left_box, level + 1);
-    const std::uint32_t right =
-        build_node(std::move(right_events), std::move(right_ids), right_box, level + 1);
+    std::uint32_t left, right;
+    if (level < kParallelLevels) {
+      // The right subtree is built by its own builder on another thread while
+      // this one builds the left; it is then appended in pre-order. The split
+      // into tasks is fixed, so the tree does not depend on the thread count.
+      auto fragment = std::async(std::launch::async, [this, events = std::move(right_events),
+                                                      ids = std::move(right_ids), right_box,
+                                                      level]() mutable {
+        auto part = std::make_unique<KdTree>();
+        KdTreeBuilder builder(triangles_, options_, *part);
+        builder.max_depth_ = max_depth_;
+        builder.root_area_ = root_area_;
+        builder.build_node(std::move(events), std::move(ids), right_box, level + 1);
+        return std::make_pair(std::move(part), builder.sah_cost_);
+      });
+      left = build_node(std::move(left_events), std::move(left_ids), left_box, level + 1);
+      auto [part, cost] = fragment.get();
+      right = append(*part);
+      sah_cost_ += cost;
+    } else {
+      left = build_node(std::move(left_events), std::move(left_ids), left_box, level + 1);
+      right = build_node(std::move(right_events), std::move(right_ids), right_box, level + 1);
+    }
     tree_.nodes_[index].left = left;
     tree_.nodes_[index].right = right;
     return index;
   }
+
+  // Appends a subtree built apart; returns the index of its root.
+  std::uint32_t append(const KdTree& part) {
+    const auto node_offset = static_cast<std::uint32_t>(tree_.nodes_.size());
+    const auto primitive_offset = static_cast<std::uint32_t>(tree_.primitives_.size());
+    for (KdNode node : part.nodes_) {
+      if (node.is_leaf()) {
+        node.first += primitive_offset;
+      } else {
+        node.left += node_offset;
+        node.right += node_offset;
+      }
+      tree_.nodes_.push_back(node);
+    }
+    tree_.primitives_.insert(tree_.primitives_.end(), part.primitives_.begin(), part.primitives_.end());
+    return node_offset;
+  }
+
+  // Levels whose right subtrees are built on their own threads (up to 7 tasks).
+  static constexpr int kParallelLevels = 3;
 
   static void merge_into(std::vector<Event>& sorted, std::vector<Event>& extra) {
     if (extra.empty()) return;
