@@ -199,7 +199,8 @@ class ConfigSimulator {
   virtual ~ConfigSimulator() = default;
   virtual void begin_frame(std::uint64_t animation_frame) = 0;
   // `first_record`: 0-based number of records[0] in the trace (for errors).
-  virtual void feed(const Record* records, std::size_t count, std::uint64_t first_record) = 0;
+  virtual void feed(const Record* records, std::size_t count, std::uint64_t first_record,
+                    const PreparedBatch& prepared) = 0;
   virtual ResultRow result() const = 0;
   virtual void append_level_rows(std::vector<LevelRow>& rows) const = 0;
 };
@@ -282,83 +283,59 @@ class Simulator final : public ConfigSimulator {
       : config_(config),
         context_(context),
         split_level_(split_level),
-        low_(NodeCacheGeometry{kSplit ? config.low_size : config.size, config.block, config.assoc,
-                               config.policy}),
-        high_(NodeCacheGeometry{kSplit && !kRetain ? config.high_size : config.block, config.block,
-                                kSplit && !kRetain ? config.high_assoc : 1, config.policy},
-              0x5eed + 1),
-        retained_(kRetain ? config.high_size / config.block : 0) {}
+        retained_(kRetain ? config.high_size / config.block : 0) {
+    const NodeCacheGeometry low{kSplit ? config.low_size : config.size, config.block, config.assoc,
+                                config.policy};
+    block_shift_ = static_cast<unsigned>(std::countr_zero(config.block));
+    // Direct-mapped caches (and the retain filter) live in one flat table:
+    // low sets first, then the high part, so the fast loop picks either with
+    // arithmetic instead of a branch on the record's level.
+    std::uint64_t low_sets = 0;
+    if (low.assoc == 1) {
+      low_sets = low.size / low.block;
+    } else {
+      low_cache_.emplace(low);
+    }
+    std::uint64_t high_sets = 0;
+    if constexpr (kRetain) {
+      high_sets = std::bit_ceil(std::max<std::uint64_t>(64, 4 * (config.high_size / config.block)));
+    } else if constexpr (kSplit) {
+      const NodeCacheGeometry high{config.high_size, config.block, config.high_assoc,
+                                   config.policy};
+      if (high.assoc == 1) {
+        high_sets = high.size / high.block;
+      } else {
+        high_cache_.emplace(high, 0x5eed + 1);
+      }
+    }
+    low_direct_ = low_sets > 0;
+    high_direct_ = kRetain || high_sets > 0;
+    low_mask_ = low_sets > 0 ? low_sets - 1 : 0;
+    high_mask_ = high_sets > 0 ? high_sets - 1 : 0;
+    high_offset_ = low_sets;
+    table_.assign(std::max<std::uint64_t>(1, low_sets + high_sets), NodeCache::kInvalid);
+  }
 
   void begin_frame(std::uint64_t animation_frame) override {
     animation_frame_ = animation_frame;
-    if constexpr (kRetain) retained_.clear();
+    if constexpr (kRetain) {
+      retained_.clear();
+      std::fill(table_.begin() + static_cast<std::ptrdiff_t>(high_offset_), table_.end(),
+                NodeCache::kInvalid);
+    }
   }
 
-  void feed(const Record* records, std::size_t count, std::uint64_t first_record) override {
-    const unsigned shift = low_.block_shift();
-    Counters c = counters_;
-    for (std::size_t i = 0; i < count; ++i) {
-      const Record& record = records[i];
-      const Tag tag = record.tag;
-      if (is_other_stream(tag)) continue;
-      std::uint64_t first_block;
-      std::uint64_t last_block;
-      if constexpr (kAlignedDin) {
-        first_block = record.address >> shift;
-        last_block = first_block;
+  void feed(const Record* records, std::size_t count, std::uint64_t first_record,
+            const PreparedBatch& prepared) override {
+    if (!kPerLevel && prepared.demand_only && prepared.span_bits < config_.block) {
+      if (low_direct_ && (!kSplit || high_direct_)) {
+        feed_flat(prepared, first_record);
       } else {
-        const Record view = formats::dinero_view(record, context_.form);
-        first_block = view.address >> shift;
-        const std::uint64_t span = view.size == 0 ? 0 : view.size - 1;
-        last_block = (view.address + span) >> shift;
-        if (last_block < first_block) last_block = first_block;  // wraps past 2^64
+        feed_blocks(prepared, first_record);
       }
-      ++c.refs;
-      bool high = false;
-      if constexpr (kSplit) high = tag < split_level_;
-      if (high) {
-        ++c.high_refs;
-      } else {
-        ++c.low_refs;
-      }
-      if constexpr (kPerLevel) count_level_ref(tag);
-      const AccessType type = record.type;
-      for (std::uint64_t block = first_block;; ++block) {
-        if (type <= AccessType::Misc) {
-          ++c.fetches;
-          bool miss;
-          if (high) {
-            if constexpr (kRetain) {
-              miss = false;
-              if (retained_.insert(block)) {
-                ++c.high_loads;
-                if (retained_.count() > retained_.capacity()) {
-                  throw_does_not_fit(first_record + i + 1);
-                }
-                miss = config_.count_loads;
-              }
-            } else {
-              miss = high_.access(block);
-            }
-            c.high_misses += miss;
-          } else {
-            miss = low_.access(block);
-            c.low_misses += miss;
-          }
-          if constexpr (kPerLevel) {
-            if (miss) count_level_miss(tag);
-          }
-        } else if (type == AccessType::Invalidate) {
-          if (!high) {
-            low_.invalidate(block);
-          } else if constexpr (!kRetain) {
-            high_.invalidate(block);
-          }
-        }
-        if (block == last_block) break;
-      }
+      return;
     }
-    counters_ = c;
+    feed_generic(records, count, first_record);
   }
 
   ResultRow result() const override {
@@ -390,6 +367,180 @@ class Simulator final : public ConfigSimulator {
   }
 
  private:
+  // Fast path, every cache direct mapped: one demand fetch of one block per
+  // record, no branch but the rare first touch of a retained block.
+  void feed_flat(const PreparedBatch& prepared, std::uint64_t first_record) {
+    const std::size_t count = prepared.addresses.size();
+    const std::uint64_t* const addresses = prepared.addresses.data();
+    const Tag* const tags = prepared.tags.data();
+    const unsigned shift = block_shift_;
+    std::uint64_t* const table = table_.data();
+    const std::uint64_t low_mask = low_mask_;
+    const std::uint64_t mask_difference = low_mask_ ^ high_mask_;
+    const std::uint64_t high_offset = high_offset_;
+    const std::uint64_t split_level = split_level_;
+    std::uint64_t high_refs = 0;
+    std::uint64_t high_misses = 0;
+    std::uint64_t low_misses = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint64_t block = addresses[i] >> shift;
+      std::uint64_t high = 0;
+      if constexpr (kSplit) high = tags[i] < split_level;
+      const std::uint64_t select = std::uint64_t{0} - high;  // all ones when high
+      const std::uint64_t index =
+          (block & (low_mask ^ (mask_difference & select))) + (high_offset & select);
+      const std::uint64_t differ = table[index] != block;
+      table[index] = block;
+      high_refs += high;
+      low_misses += differ & (high ^ 1);
+      if constexpr (kRetain) {
+        std::uint64_t first_touch = differ & high;
+        // Hides that both are 0 / 1, or GCC branches on `high` first (a
+        // misprediction for every change of level).
+        asm("" : "+r"(first_touch));
+        if (first_touch != 0) [[unlikely]] {
+          if (retain_insert(block, first_record + i + 1)) high_misses += config_.count_loads;
+        }
+      } else {
+        high_misses += differ & high;
+      }
+    }
+    count_fast(count, high_refs, high_misses, low_misses);
+  }
+
+  // Fast path with a set-associative cache: one block per record.
+  void feed_blocks(const PreparedBatch& prepared, std::uint64_t first_record) {
+    const std::size_t count = prepared.addresses.size();
+    const std::uint64_t* const addresses = prepared.addresses.data();
+    const Tag* const tags = prepared.tags.data();
+    const unsigned shift = block_shift_;
+    std::uint64_t high_refs = 0;
+    std::uint64_t high_misses = 0;
+    std::uint64_t low_misses = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint64_t block = addresses[i] >> shift;
+      bool high = false;
+      if constexpr (kSplit) high = tags[i] < split_level_;
+      if (high) {
+        ++high_refs;
+        high_misses += high_access(block, first_record + i + 1);
+      } else {
+        low_misses += low_access(block);
+      }
+    }
+    count_fast(count, high_refs, high_misses, low_misses);
+  }
+
+  void count_fast(std::uint64_t count, std::uint64_t high_refs, std::uint64_t high_misses,
+                  std::uint64_t low_misses) {
+    counters_.refs += count;
+    counters_.fetches += count;
+    counters_.high_refs += high_refs;
+    counters_.low_refs += count - high_refs;
+    counters_.high_misses += high_misses;
+    counters_.low_misses += low_misses;
+  }
+
+  bool low_access(std::uint64_t block) {
+    if (!low_direct_) return low_cache_->access(block);
+    std::uint64_t& slot = table_[block & low_mask_];
+    const bool miss = slot != block;
+    slot = block;
+    return miss;
+  }
+
+  // A high-level fetch; returns whether it counts as a miss.
+  bool high_access(std::uint64_t block, std::uint64_t record_number) {
+    if constexpr (kRetain) {
+      std::uint64_t& filter = table_[high_offset_ + (block & high_mask_)];
+      if (filter == block) return false;
+      filter = block;
+      return retain_insert(block, record_number) && config_.count_loads;
+    } else {
+      if (!high_direct_) return high_cache_->access(block);
+      std::uint64_t& slot = table_[high_offset_ + (block & high_mask_)];
+      const bool miss = slot != block;
+      slot = block;
+      return miss;
+    }
+  }
+
+  // A block missing from the retain filter: true when it is a new load.
+  [[gnu::noinline]] bool retain_insert(std::uint64_t block, std::uint64_t record_number) {
+    if (!retained_.insert(block)) return false;
+    ++counters_.high_loads;
+    if (retained_.count() > retained_.capacity()) throw_does_not_fit(record_number);
+    return true;
+  }
+
+  void invalidate(bool high, std::uint64_t block) {
+    if (!high) {
+      if (!low_direct_) {
+        low_cache_->invalidate(block);
+      } else if (std::uint64_t& slot = table_[block & low_mask_]; slot == block) {
+        slot = NodeCache::kInvalid;
+      }
+    } else if constexpr (!kRetain) {
+      if (!high_direct_) {
+        high_cache_->invalidate(block);
+      } else if (std::uint64_t& slot = table_[high_offset_ + (block & high_mask_)];
+                 slot == block) {
+        slot = NodeCache::kInvalid;
+      }
+    }
+  }
+
+  // Any record: types, spans, other streams, per-level counts.
+  void feed_generic(const Record* records, std::size_t count, std::uint64_t first_record) {
+    const unsigned shift = block_shift_;
+    for (std::size_t i = 0; i < count; ++i) {
+      const Record& record = records[i];
+      const Tag tag = record.tag;
+      if (is_other_stream(tag)) continue;
+      std::uint64_t first_block;
+      std::uint64_t last_block;
+      if constexpr (kAlignedDin) {
+        first_block = record.address >> shift;
+        last_block = first_block;
+      } else {
+        const Record view = formats::dinero_view(record, context_.form);
+        first_block = view.address >> shift;
+        const std::uint64_t span = view.size == 0 ? 0 : view.size - 1;
+        last_block = (view.address + span) >> shift;
+        if (last_block < first_block) last_block = first_block;  // wraps past 2^64
+      }
+      ++counters_.refs;
+      bool high = false;
+      if constexpr (kSplit) high = tag < split_level_;
+      if (high) {
+        ++counters_.high_refs;
+      } else {
+        ++counters_.low_refs;
+      }
+      if constexpr (kPerLevel) count_level_ref(tag);
+      const AccessType type = record.type;
+      for (std::uint64_t block = first_block;; ++block) {
+        if (type <= AccessType::Misc) {
+          ++counters_.fetches;
+          bool miss;
+          if (high) {
+            miss = high_access(block, first_record + i + 1);
+            counters_.high_misses += miss;
+          } else {
+            miss = low_access(block);
+            counters_.low_misses += miss;
+          }
+          if constexpr (kPerLevel) {
+            if (miss) count_level_miss(tag);
+          }
+        } else if (type == AccessType::Invalidate) {
+          invalidate(high, block);
+        }
+        if (block == last_block) break;
+      }
+    }
+  }
+
   void count_level_ref(Tag tag) {
     if (tag >= level_refs_.size()) {
       level_refs_.resize(tag + 1u, 0);
@@ -413,8 +564,17 @@ class Simulator final : public ConfigSimulator {
   NodeCacheConfig config_;
   const TraceContext& context_;
   std::uint32_t split_level_;
-  NodeCache low_;
-  NodeCache high_;  // split under `cache` only (a 1-block dummy otherwise)
+  unsigned block_shift_ = 0;
+  // Direct-mapped low cache, then the direct-mapped high cache or the retain
+  // filter (blocks already loaded this frame, found with one compare).
+  std::vector<std::uint64_t> table_;
+  bool low_direct_ = false;
+  bool high_direct_ = false;
+  std::uint64_t low_mask_ = 0;
+  std::uint64_t high_mask_ = 0;
+  std::uint64_t high_offset_ = 0;
+  std::optional<NodeCache> low_cache_;   // set-associative low (or single) cache
+  std::optional<NodeCache> high_cache_;  // set-associative high cache under `cache`
   RetainedBlocks retained_;
   std::uint64_t animation_frame_ = 0;
   Counters counters_;
@@ -528,22 +688,56 @@ void Sweep::feed(const formats::RecordBatch& batch) {
   }
   const Record* const records = batch.records.data();
   const std::size_t count = batch.records.size();
-  // Checked once here rather than in every configuration's loop.
-  std::uint64_t other = 0;
-  for (std::size_t i = 0; i < count; ++i) {
-    const Tag tag = records[i].tag;
-    if (formats::is_level(tag)) continue;
-    if (is_other_stream(tag)) {
-      ++other;
-    } else if (needs_levels_) {
-      throw FormatError(fmt::format(
-          "{}: record {}: no node-level tag, but the split scheme and --per-level route every "
-          "record by its level (expected `LABEL ADDRESS LEVEL`)",
-          context_.source_name, batch.first_record + i + 1));
+  // In chunks small enough to stay in the processor's cache while every
+  // configuration reads them.
+  constexpr std::size_t kChunk = 4096;
+  for (std::size_t begin = 0; begin < count; begin += kChunk) {
+    const std::size_t chunk = std::min(kChunk, count - begin);
+    const std::uint64_t first_record = batch.first_record + begin;
+    prepare(records + begin, chunk, first_record);
+    for (auto& simulator : simulators_) {
+      simulator->feed(records + begin, chunk, first_record, prepared_);
     }
   }
-  other_stream_records_ += other;
-  for (auto& simulator : simulators_) simulator->feed(records, count, batch.first_record);
+}
+
+void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t first_record) {
+  prepared_.addresses.resize(count);
+  prepared_.tags.resize(count);
+  std::uint64_t* const addresses = prepared_.addresses.data();
+  Tag* const tags = prepared_.tags.data();
+  std::uint64_t span_bits = 0;
+  bool demand_only = true;
+  bool all_levels = true;
+  const bool din = context_.form == formats::RecordForm::Din;
+  for (std::size_t i = 0; i < count; ++i) {
+    const Record& record = records[i];
+    const std::uint64_t address = din ? record.address & ~std::uint64_t{3} : record.address;
+    const std::uint64_t size = din ? 4 : std::max<std::uint32_t>(record.size, 1);
+    addresses[i] = address;
+    tags[i] = record.tag;
+    span_bits |= address ^ (address + size - 1);
+    demand_only &= record.type <= AccessType::Misc;
+    all_levels &= formats::is_level(record.tag);
+  }
+  if (!all_levels) {
+    // Other streams (counted apart), or untagged records where levels are needed.
+    for (std::size_t i = 0; i < count; ++i) {
+      const Tag tag = records[i].tag;
+      if (formats::is_level(tag)) continue;
+      if (is_other_stream(tag)) {
+        ++other_stream_records_;
+        demand_only = false;
+      } else if (needs_levels_) {
+        throw FormatError(fmt::format(
+            "{}: record {}: no node-level tag, but the split scheme and --per-level route every "
+            "record by its level (expected `LABEL ADDRESS LEVEL`)",
+            context_.source_name, first_record + i + 1));
+      }
+    }
+  }
+  prepared_.span_bits = span_bits;
+  prepared_.demand_only = demand_only;
 }
 
 TraceResult Sweep::finish() {

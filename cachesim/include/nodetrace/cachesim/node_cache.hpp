@@ -53,6 +53,12 @@ class NodeCache {
     return access_associative(block);
   }
 
+  // For callers' own direct-mapped fast loops: the tag of set s is
+  // direct_tags()[s & set_mask()] (one way per set only).
+  bool direct_mapped() const { return assoc_ == 1; }
+  std::uint64_t* direct_tags() { return tags_.data(); }
+  std::uint64_t set_mask() const { return set_mask_; }
+
   // Removes `block` if resident (Dinero IV's invalidate records).
   void invalidate(std::uint64_t block);
   void flush();

@@ -129,6 +129,18 @@ std::optional<std::string> split_level_note(const NodeCacheConfig& config,
 
 class ConfigSimulator;
 
+// A batch as the configurations' fast paths read it, prepared once for all.
+struct PreparedBatch {
+  std::vector<std::uint64_t> addresses;  // as Dinero IV simulates them
+  std::vector<formats::Tag> tags;
+  // Every record is a demand fetch (read, write, instruction, misc) of a
+  // node (no p / t records).
+  bool demand_only = false;
+  // OR over the records of first byte ^ last byte: blocks larger than this
+  // hold every record whole (one fetch per record).
+  std::uint64_t span_bits = 0;
+};
+
 // Simulates every configuration over batches fed in trace order.
 class Sweep {
  public:
@@ -144,6 +156,8 @@ class Sweep {
 
  private:
   void start(const formats::RecordBatch& first_batch);
+  // Fills prepared_ (and counts p / t records; throws for untagged ones).
+  void prepare(const formats::Record* records, std::size_t count, std::uint64_t first_record);
 
   std::vector<NodeCacheConfig> configs_;
   TraceContext context_;
@@ -153,6 +167,7 @@ class Sweep {
   std::uint64_t animation_frame_ = 0;
   std::uint64_t other_stream_records_ = 0;
   std::vector<std::unique_ptr<ConfigSimulator>> simulators_;
+  PreparedBatch prepared_;
   std::vector<std::string> notes_;
 };
 
