@@ -72,4 +72,4 @@ for scene in $scenes; do
       -v rec="$records" -v by="$bytes" 'BEGIN {
     printf "%-14s %9d %8.2f %11d %10.2f %10.3f %9.2f %7.2f %10.3f\n", n, t, b, r, p, r / p / 1e6, q, q / p, by / rec }'
 done
-echo "ratio = (render + trace) / render only, render-loop seconds (target <= 2.0); B/record = compressed din bytes per record"
+echo "ratio = (render + trace) / render only, render-loop seconds (target <= 2.0); B/record = compressed din bytes per record (tracer default zstd level)"

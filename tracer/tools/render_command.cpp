@@ -70,7 +70,9 @@ int render_command(int argc, char** argv) {
                "tracer render"};
   std::string scene_spec, output, records_name, image, streams = "nodes";
   bool quiet = false;
-  int zstd_level = 3;
+  // Level 1 costs a quarter less CPU than 3 for about 5% more bytes on node
+  // traces, and compression is most of the cost of writing a trace.
+  int zstd_level = 1;
   app.add_option("scene", scene_spec,
                  "an .obj or .aff file, or a built-in scene's name (NAME or NAME:SIZE); "
                  "default: the default built-in scene");
@@ -84,7 +86,7 @@ int render_command(int argc, char** argv) {
                  "records to write, comma-separated: nodes, lists (leaf primitive lists, tag p), "
                  "triangles (tag t)")
       ->capture_default_str();
-  app.add_option("--zstd-level", zstd_level, "zstd level of the trace's data frames")
+  app.add_option("--zstd-level", zstd_level, "zstd level of the trace's data frames (higher: smaller and slower)")
       ->check(CLI::Range(1, 19))
       ->capture_default_str();
   app.add_flag("-q,--quiet", quiet, "no summary on standard error");
