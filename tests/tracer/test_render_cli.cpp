@@ -159,6 +159,19 @@ TEST(RenderCliTest, BadUsageExitsTwoAndBadSceneOne) {
   EXPECT_FALSE(std::filesystem::exists(dir / "x.din.zst"));
 }
 
+TEST(RenderCliTest, ImageIsAPngAndRenderOnlyWritesNoTrace) {
+  TempDir dir;
+  const auto png = dir / "i.png";
+  const auto r = run_command(tracer() + " render " + kScene + " --width 24 --height 18 --time 0 --pixel-order tiled --image " +
+                             png.string() + " --eye 0 5 20 --look-at 0 0 0 --fov 50");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string bytes = nodetrace::testing::read_file(png);
+  ASSERT_GT(bytes.size(), 8u);
+  EXPECT_EQ(bytes.substr(1, 3), "PNG");
+  EXPECT_NE(r.err.find("0 records"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "i.png.tmp"));
+}
+
 TEST(RenderCliTest, InfoReportsTreeAndRayKinds) {
   const auto r = run_command(tracer() + " info " + kScene + " --format json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
