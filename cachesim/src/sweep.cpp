@@ -329,9 +329,9 @@ class Simulator final : public ConfigSimulator {
             const PreparedBatch& prepared) override {
     if (!kPerLevel && prepared.demand_only && prepared.span_bits < config_.block) {
       if (low_direct_ && (!kSplit || high_direct_)) {
-        feed_flat(prepared, first_record);
+        feed_flat(records, count, first_record);
       } else {
-        feed_blocks(prepared, first_record);
+        feed_blocks(records, count, first_record);
       }
       return;
     }
@@ -369,10 +369,8 @@ class Simulator final : public ConfigSimulator {
  private:
   // Fast path, every cache direct mapped: one demand fetch of one block per
   // record, no branch but the rare first touch of a retained block.
-  void feed_flat(const PreparedBatch& prepared, std::uint64_t first_record) {
-    const std::size_t count = prepared.addresses.size();
-    const std::uint64_t* const addresses = prepared.addresses.data();
-    const Tag* const tags = prepared.tags.data();
+  // Din addresses need no rounding here: blocks are at least 4 bytes.
+  void feed_flat(const Record* records, std::size_t count, std::uint64_t first_record) {
     const unsigned shift = block_shift_;
     std::uint64_t* const table = table_.data();
     const std::uint64_t low_mask = low_mask_;
@@ -383,9 +381,9 @@ class Simulator final : public ConfigSimulator {
     std::uint64_t high_misses = 0;
     std::uint64_t low_misses = 0;
     for (std::size_t i = 0; i < count; ++i) {
-      const std::uint64_t block = addresses[i] >> shift;
+      const std::uint64_t block = records[i].address >> shift;
       std::uint64_t high = 0;
-      if constexpr (kSplit) high = tags[i] < split_level;
+      if constexpr (kSplit) high = records[i].tag < split_level;
       const std::uint64_t select = std::uint64_t{0} - high;  // all ones when high
       const std::uint64_t index =
           (block & (low_mask ^ (mask_difference & select))) + (high_offset & select);
@@ -409,18 +407,16 @@ class Simulator final : public ConfigSimulator {
   }
 
   // Fast path with a set-associative cache: one block per record.
-  void feed_blocks(const PreparedBatch& prepared, std::uint64_t first_record) {
-    const std::size_t count = prepared.addresses.size();
-    const std::uint64_t* const addresses = prepared.addresses.data();
-    const Tag* const tags = prepared.tags.data();
+  // Din addresses need no rounding here: blocks are at least 4 bytes.
+  void feed_blocks(const Record* records, std::size_t count, std::uint64_t first_record) {
     const unsigned shift = block_shift_;
     std::uint64_t high_refs = 0;
     std::uint64_t high_misses = 0;
     std::uint64_t low_misses = 0;
     for (std::size_t i = 0; i < count; ++i) {
-      const std::uint64_t block = addresses[i] >> shift;
+      const std::uint64_t block = records[i].address >> shift;
       bool high = false;
-      if constexpr (kSplit) high = tags[i] < split_level_;
+      if constexpr (kSplit) high = records[i].tag < split_level_;
       if (high) {
         ++high_refs;
         high_misses += high_access(block, first_record + i + 1);
@@ -702,10 +698,6 @@ void Sweep::feed(const formats::RecordBatch& batch) {
 }
 
 void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t first_record) {
-  prepared_.addresses.resize(count);
-  prepared_.tags.resize(count);
-  std::uint64_t* const addresses = prepared_.addresses.data();
-  Tag* const tags = prepared_.tags.data();
   std::uint64_t span_bits = 0;
   bool demand_only = true;
   bool all_levels = true;
@@ -714,8 +706,6 @@ void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t firs
     const Record& record = records[i];
     const std::uint64_t address = din ? record.address & ~std::uint64_t{3} : record.address;
     const std::uint64_t size = din ? 4 : std::max<std::uint32_t>(record.size, 1);
-    addresses[i] = address;
-    tags[i] = record.tag;
     span_bits |= address ^ (address + size - 1);
     demand_only &= record.type <= AccessType::Misc;
     all_levels &= formats::is_level(record.tag);

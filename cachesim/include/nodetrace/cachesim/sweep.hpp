@@ -129,15 +129,14 @@ std::optional<std::string> split_level_note(const NodeCacheConfig& config,
 
 class ConfigSimulator;
 
-// A batch as the configurations' fast paths read it, prepared once for all.
+// What the configurations' fast paths need to know of a chunk of records,
+// found once for all of them.
 struct PreparedBatch {
-  std::vector<std::uint64_t> addresses;  // as Dinero IV simulates them
-  std::vector<formats::Tag> tags;
   // Every record is a demand fetch (read, write, instruction, misc) of a
   // node (no p / t records).
   bool demand_only = false;
-  // OR over the records of first byte ^ last byte: blocks larger than this
-  // hold every record whole (one fetch per record).
+  // OR over the records (as Dinero IV simulates them) of first byte ^ last
+  // byte: blocks larger than this hold every record whole (one fetch each).
   std::uint64_t span_bits = 0;
 };
 
