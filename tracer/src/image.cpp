@@ -14,10 +14,10 @@ namespace nodetrace::tracer {
 
 namespace {
 
-std::uint8_t to_srgb8(float linear) {
-  const float c = std::clamp(linear, 0.0f, 1.0f);
-  const float s = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-  return static_cast<std::uint8_t>(std::lround(s * 255.0f));
+// Colours are written as computed, clamped, with no gamma curve: scene files of
+// the Whitted era (NFF, AFF) choose their colours for direct display.
+std::uint8_t to_byte(float value) {
+  return static_cast<std::uint8_t>(std::lround(std::clamp(value, 0.0f, 1.0f) * 255.0f));
 }
 
 }  // namespace
@@ -40,9 +40,9 @@ void write_png(const Image& image, const std::string& path) {
     for (int y = 0; y < image.height; ++y) {
       for (int x = 0; x < image.width; ++x) {
         const Vec3& c = image.pixels[static_cast<std::size_t>(y) * image.width + x];
-        row[3 * x] = to_srgb8(c.x);
-        row[3 * x + 1] = to_srgb8(c.y);
-        row[3 * x + 2] = to_srgb8(c.z);
+        row[3 * x] = to_byte(c.x);
+        row[3 * x + 1] = to_byte(c.y);
+        row[3 * x + 2] = to_byte(c.z);
       }
       png_write_row(png, row.data());
     }

@@ -284,6 +284,9 @@ Renderer::Renderer(const Scene& scene, const KdTree& tree, const Layout& layout,
       compact_[i].bits = (n.right << 2) | n.axis;
     }
   }
+  // NFF / SPD convention (which AFF inherits): each of N lights has
+  // intensity 1 / sqrt(N). Pixels only; the rays cast do not depend on it.
+  light_scale_ = scene.lights.size() > 1 ? 1.0f / std::sqrt(float(scene.lights.size())) : 1.0f;
   face_normals_.reserve(scene.triangles.size());
   for (const auto& t : scene.triangles) {
     const Vec3 n = cross(t.v1 - t.v0, t.v2 - t.v0);
@@ -438,7 +441,7 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
                                      material.specular.z > 0)) {
         specular = std::pow(std::max(0.0f, dot(reflect(-l, normal), view)), material.shininess);
       }
-      color += light.color * (material.diffuse * diffuse + material.specular * specular);
+      color += light.color * light_scale_ * (material.diffuse * diffuse + material.specular * specular);
     }
   }
   if (depth >= options_.max_depth) return color;

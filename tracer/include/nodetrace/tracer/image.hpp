@@ -10,10 +10,10 @@ namespace nodetrace::tracer {
 
 struct Image {
   int width = 0, height = 0;
-  std::vector<Vec3> pixels;  // linear RGB, row-major from the top row
+  std::vector<Vec3> pixels;  // RGB, row-major from the top row
 };
 
-// 8-bit sRGB PNG written to a temporary name and renamed into place. Throws
+// 8-bit RGB PNG (values clamped to 0..1, no gamma curve) written to a temporary name and renamed into place. Throws
 // formats::IoError when the file cannot be written.
 void write_png(const Image& image, const std::string& path);
 

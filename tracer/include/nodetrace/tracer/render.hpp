@@ -154,6 +154,7 @@ class Renderer {
   std::vector<CompactNode> compact_;
   std::vector<formats::Record> node_records_;  // the fetch record of each node
   std::vector<Vec3> face_normals_;           // unit geometric normals
+  float light_scale_ = 1;
 };
 
 }  // namespace nodetrace::tracer
