@@ -241,6 +241,15 @@ class KdTreeBuilder {
 
     std::vector<Event> left_events, right_events, new_left, new_right;
     std::vector<std::uint32_t> left_ids, right_ids;
+    {
+      std::size_t left_count = 0, right_count = 0;
+      for (const Event& e : events) {
+        left_count += side_[e.triangle] == kLeftOnly;
+        right_count += side_[e.triangle] == kRightOnly;
+      }
+      left_events.reserve(left_count);
+      right_events.reserve(right_count);
+    }
     for (const Event& e : events) {
       if (side_[e.triangle] == kLeftOnly) {
         left_events.push_back(e);
@@ -334,9 +343,9 @@ class KdTreeBuilder {
   static void merge_into(std::vector<Event>& sorted, std::vector<Event>& extra) {
     if (extra.empty()) return;
     std::sort(extra.begin(), extra.end(), event_less);
-    const auto middle = static_cast<std::ptrdiff_t>(sorted.size());
-    sorted.insert(sorted.end(), extra.begin(), extra.end());
-    std::inplace_merge(sorted.begin(), sorted.begin() + middle, sorted.end(), event_less);
+    std::vector<Event> merged(sorted.size() + extra.size());
+    std::merge(sorted.begin(), sorted.end(), extra.begin(), extra.end(), merged.begin(), event_less);
+    sorted.swap(merged);
   }
 
   std::span<const Triangle> triangles_;
