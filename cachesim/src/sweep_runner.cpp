@@ -16,7 +16,7 @@ TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheC
 
   // A few batches circulate between the reader (fills free ones) and the
   // worker (simulates full ones and hands them back).
-  constexpr std::size_t kBatches = 4;
+  constexpr std::size_t kBatches = 3;
   std::vector<formats::RecordBatch> batches(kBatches);
   std::deque<std::size_t> free_batches;
   std::deque<std::size_t> full_batches;

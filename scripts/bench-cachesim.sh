@@ -1,0 +1,128 @@
+#!/usr/bin/env bash
+# Speed of `cachesim run` on a level-tagged din container of >= 50 M records,
+# against `zstd -dc` of the same file measured in the same run (medians):
+#   - zstd -dc FILE >/dev/null                      (the reference)
+#   - one configuration (8k, block 8, direct mapped, single)
+#   - the Table 1 grid (4k,8k,16k x single,split) in one pass; ratio grid / one
+#   - peak RSS for 50 M records and for 500 M records (a pipe from a generator)
+#   - where dineroIV is on PATH, the same configuration by Dinero IV
+#
+#   scripts/bench-cachesim.sh [--build-dir DIR] [--repeat N] [--trace FILE] [--no-500m]
+#
+# Without --trace it makes (once) DIR/bench/kd50m.din.zst: the golden kd trace
+# of ../shared/dinero-golden repeated 250 times, converted by tracetool into a
+# container. Other engineers share the machine's cores: the load average is
+# printed before and after, and figures taken under load are marked so.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+build_dir=build
+repeat=5
+trace=
+big=1
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --build-dir) build_dir=$2; shift 2 ;;
+    --repeat) repeat=$2; shift 2 ;;
+    --trace) trace=$2; shift 2 ;;
+    --no-500m) big=0; shift ;;
+    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
+    *) echo "bench-cachesim.sh: unknown option $1" >&2; exit 2 ;;
+  esac
+done
+
+cachesim=$build_dir/bin/cachesim
+tracetool=$build_dir/bin/tracetool
+for program in "$cachesim" "$tracetool"; do
+  if [ ! -x "$program" ]; then
+    echo "bench-cachesim.sh: $program is not built (cmake --build $build_dir --target cachesim tracetool)" >&2
+    exit 2
+  fi
+done
+golden=../shared/dinero-golden/kd-bfl-s1.din.zst
+if [ -z "$trace" ]; then
+  trace=$build_dir/bench/kd50m.din.zst
+  if [ ! -s "$trace" ]; then
+    if [ ! -r "$golden" ]; then
+      echo "bench-cachesim.sh: no --trace and no $golden to make one from" >&2
+      exit 2
+    fi
+    mkdir -p "$build_dir/bench"
+    echo "making $trace (250 x the golden kd trace, 50 M records) ..." >&2
+    one=$(mktemp)
+    zstd -q -dc "$golden" >"$one"
+    for _ in $(seq 250); do cat "$one"; done |
+      "$tracetool" convert --tags-are-levels - "$trace.tmp.zst"
+    rm -f "$one"
+    mv "$trace.tmp.zst" "$trace"
+  fi
+fi
+records=$("$tracetool" info "$trace" | awk '$1 == "records" && $2 ~ /^[0-9]+$/ { print $2; exit }')
+
+# Seconds taken by a command (wall clock), output discarded.
+seconds() {
+  local start end
+  start=$(date +%s%N)
+  "$@" >/dev/null
+  end=$(date +%s%N)
+  awk -v a="$start" -v b="$end" 'BEGIN { printf "%.3f\n", (b - a) / 1e9 }'
+}
+median() { sort -n | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f\n", a / b }'; }
+rate() { awk -v n="$records" -v t="$1" 'BEGIN { printf "%.1f\n", n / t / 1e6 }'; }
+
+one_config=(run "$trace" --size 8k --block 8 --assoc 1 --scheme single --format csv)
+grid=(run "$trace" --size 4k,8k,16k --block 8 --assoc 1 --scheme single,split --split-level 6
+  --format csv)
+
+load_before=$(cut -d' ' -f1 /proc/loadavg)
+zstd_times=() one_times=() grid_times=()
+for _ in $(seq "$repeat"); do
+  zstd_times+=("$(seconds zstd -q -dc "$trace")")
+  one_times+=("$(seconds "$cachesim" "${one_config[@]}")")
+  grid_times+=("$(seconds "$cachesim" "${grid[@]}")")
+done
+zstd_median=$(printf '%s\n' "${zstd_times[@]}" | median)
+one_median=$(printf '%s\n' "${one_times[@]}" | median)
+grid_median=$(printf '%s\n' "${grid_times[@]}" | median)
+load_after=$(cut -d' ' -f1 /proc/loadavg)
+
+peak_rss_kb() { /usr/bin/time -v "$@" 2>&1 >/dev/null | awk -F': ' '/Maximum resident/ { print $2 }'; }
+rss_50m=$(peak_rss_kb "$cachesim" "${grid[@]}")
+
+echo "trace: $trace ($records records)"
+echo "cores: $(nproc); load average before $load_before, after $load_after"
+if awk -v a="$load_before" -v b="$load_after" -v n="$(nproc)" 'BEGIN { exit !(a > n / 2 || b > n / 2) }'; then
+  echo "NOTE: measured under load from other processes: figures are pessimistic and noisy"
+fi
+echo "medians of $repeat runs (wall clock):"
+printf '  %-44s %7s s  %6s M records/s\n' "zstd -dc FILE >/dev/null" "$zstd_median" "$(rate "$zstd_median")"
+printf '  %-44s %7s s  %6s M records/s  (%s x zstd -dc)\n' "one configuration (8k single)" \
+  "$one_median" "$(rate "$one_median")" "$(ratio "$one_median" "$zstd_median")"
+printf '  %-44s %7s s  %6s M records/s  (%s x one configuration)\n' \
+  "Table 1 grid (4k,8k,16k x single,split)" "$grid_median" "$(rate "$grid_median")" \
+  "$(ratio "$grid_median" "$one_median")"
+echo "peak RSS of the grid:"
+printf '  %-44s %7s KB\n' "$records records (container)" "$rss_50m"
+if [ "$big" = 1 ] && [ -r "$golden" ]; then
+  # 500 M records through a pipe: only memory is measured.
+  one=$(mktemp)
+  zstd -q -dc "$golden" >"$one"
+  rss_500m=$(/usr/bin/time -v bash -c "for _ in \$(seq 2500); do cat '$one'; done |
+    '$cachesim' run - --tags-are-levels --size 4k,8k,16k --scheme single,split --split-level 6 \
+    --format csv" 2>&1 >/dev/null | awk -F': ' '/Maximum resident/ { print $2 }')
+  rm -f "$one"
+  printf '  %-44s %7s KB  (includes the generator shell)\n' "500000000 records (text pipe)" "$rss_500m"
+fi
+if command -v dineroIV >/dev/null; then
+  dinero_times=()
+  for _ in $(seq "$repeat"); do
+    dinero_times+=("$(seconds bash -c "zstd -q -dc '$trace' | dineroIV -informat d -l1-usize 8k \
+      -l1-ubsize 8 -l1-uassoc 1")")
+  done
+  dinero_median=$(printf '%s\n' "${dinero_times[@]}" | median)
+  printf '  %-44s %7s s  (cachesim one configuration is %s x faster)\n' \
+    "zstd -dc | dineroIV (8k single)" "$dinero_median" "$(ratio "$dinero_median" "$one_median")"
+else
+  echo "dineroIV is not on PATH: no comparison with Dinero IV"
+fi
