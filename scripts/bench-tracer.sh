@@ -73,3 +73,11 @@ for scene in $scenes; do
     printf "%-14s %9d %8.2f %11d %10.2f %10.3f %9.2f %7.2f %10.3f\n", n, t, b, r, p, r / p / 1e6, q, q / p, by / rec }'
 done
 echo "ratio = (render + trace) / render only, render-loop seconds (target <= 2.0); B/record = compressed din bytes per record (tracer default zstd level)"
+
+# The kd-tree build on about 250K triangles (the forest built-in at size 5).
+builds=()
+for ((run = 0; run < runs; run++)); do
+  builds+=("$("$tracer" info forest:5 --format json | sed -n 's/.*"build_seconds": \([0-9.e+-]*\),*/\1/p')")
+done
+triangles="$("$tracer" info forest:5 --format json | sed -n 's/^    "triangles": \([0-9]*\),*/\1/p')"
+echo "kd-tree build, forest:5 ($triangles triangles): median $(printf '%s\n' "${builds[@]}" | median) s wall over $runs run(s)"
