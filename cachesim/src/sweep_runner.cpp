@@ -11,7 +11,8 @@
 namespace nodetrace::cachesim {
 
 TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheConfig>& configs,
-                      const std::string& trace_column, bool per_level) {
+                      const std::string& trace_column, bool per_level,
+                      const SweepProgress& progress) {
   Sweep sweep(configs, trace_context(reader, trace_column), per_level);
 
   // A few batches circulate between the reader (fills free ones) and the
@@ -66,6 +67,8 @@ TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheC
         free_batches.pop_front();
       }
       const bool more = reader.next(batches[index]);
+      const std::uint64_t records_read =
+          more ? batches[index].first_record + batches[index].records.size() : 0;
       {
         std::lock_guard lock(mutex);
         if (more) {
@@ -76,6 +79,7 @@ TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheC
       }
       changed.notify_all();
       if (!more) break;
+      if (progress) progress(records_read);
     }
   } catch (...) {
     reader_error = std::current_exception();

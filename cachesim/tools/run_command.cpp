@@ -3,6 +3,9 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <unistd.h>
+
+#include <chrono>
 #include <cstdio>
 
 #include "commands.hpp"
@@ -33,9 +36,25 @@ int run_command(int argc, char** argv) {
     std::vector<ResultRow> rows;
     std::vector<LevelRow> levels;
     std::vector<std::string> notes;
+    // Long runs show progress when standard error is a terminal.
+    const bool show_progress = ::isatty(STDERR_FILENO) != 0;
+    std::string current_trace;
+    auto last_shown = std::chrono::steady_clock::now();
+    SweepProgress progress;
+    if (show_progress) {
+      progress = [&](std::uint64_t records_read) {
+        const auto now = std::chrono::steady_clock::now();
+        if (now - last_shown < std::chrono::milliseconds(250)) return;
+        last_shown = now;
+        std::fprintf(stderr, "\r%s: %llu M records", current_trace.c_str(),
+                     static_cast<unsigned long long>(records_read / 1000000));
+      };
+    }
     for (const std::string& trace : line.traces) {
+      current_trace = trace;
       auto reader = formats::TraceReader::open(trace, reader_options(line));
-      TraceResult result = run_sweep(*reader, configs, trace, options.per_level);
+      TraceResult result = run_sweep(*reader, configs, trace, options.per_level, progress);
+      if (show_progress) std::fputs("\r\033[K", stderr);
       rows.insert(rows.end(), result.rows.begin(), result.rows.end());
       levels.insert(levels.end(), result.level_rows.begin(), result.level_rows.end());
       notes.insert(notes.end(), result.notes.begin(), result.notes.end());

@@ -34,6 +34,7 @@ struct RunCommandLine {
   bool per_level = false;
   std::string format = "table";
   std::string informat;  // plain traces: din, xdin, binary
+  unsigned threads = 0;  // decoding threads; 0 = one per core
 };
 
 inline void add_run_options(CLI::App& app, RunCommandLine& line) {
@@ -79,6 +80,8 @@ inline void add_run_options(CLI::App& app, RunCommandLine& line) {
   app.add_option("--informat", line.informat,
                  "Record form of plain traces: din, xdin or binary (default: detected)")
       ->check(CLI::IsMember({"din", "xdin", "binary"}));
+  app.add_option("--threads", line.threads, "Trace decoding threads (0: one per core)")
+      ->capture_default_str();
 }
 
 template <typename T, typename Parse>
@@ -135,6 +138,7 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
 inline formats::ReaderOptions reader_options(const RunCommandLine& line) {
   formats::ReaderOptions options;
   options.tags_are_levels = line.tags_are_levels;
+  options.threads = line.threads;
   if (!line.informat.empty()) options.form = formats::parse_form_name(line.informat);
   return options;
 }

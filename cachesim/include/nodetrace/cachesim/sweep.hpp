@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -170,9 +171,14 @@ class Sweep {
   std::vector<std::string> notes_;
 };
 
+// Called on the calling thread after each batch is read with the number of
+// records read so far (for progress displays).
+using SweepProgress = std::function<void(std::uint64_t records_read)>;
+
 // Reads the whole trace once and simulates every configuration, decoding on
 // the calling thread while a worker thread simulates.
 TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheConfig>& configs,
-                      const std::string& trace_column, bool per_level);
+                      const std::string& trace_column, bool per_level,
+                      const SweepProgress& progress = {});
 
 }  // namespace nodetrace::cachesim
