@@ -264,6 +264,7 @@ Renderer::Renderer(const Scene& scene, const KdTree& tree, const Layout& layout,
                    const RenderOptions& options)
     : scene_(scene), tree_(tree), options_(options), plan_(plan_ray_kinds(scene, options.max_depth)) {
   camera_ = options.camera ? *options.camera : scene.camera ? *scene.camera : default_camera(tree.bounds());
+  if (options.fov_y_degrees) camera_.fov_y_degrees = *options.fov_y_degrees;
   const auto& slots = layout.slot_of_node;
   const auto& nodes = tree.nodes();
   if (slots.size() != nodes.size()) throw std::invalid_argument("layout does not match the kd-tree");

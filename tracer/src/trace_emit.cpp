@@ -45,6 +45,7 @@ nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
                         {"up", {shortest(c.up.x), shortest(c.up.y), shortest(c.up.z)}},
                         {"fov", shortest(c.fov_y_degrees)}};
   }
+  if (r.fov_y_degrees) render["fov"] = shortest(*r.fov_y_degrees);
   header["render"] = render;
   nlohmann::json layout = {{"name", layout_name(options.layout)},
                            {"split_level", split_level},

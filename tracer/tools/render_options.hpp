@@ -99,7 +99,7 @@ struct RenderCommandOptions {
   unsigned threads = 0;
   std::string layout;
   std::optional<std::uint32_t> split_level;
-  std::string high_size, node_base = "0";
+  std::string high_size, node_base = "0", list_base, triangle_base;
   std::uint32_t node_size = 8;
 };
 
@@ -129,6 +129,8 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
                               "hybrid layout: K = the most levels whose nodes fit a high-level cache of SIZE bytes (e.g. 4k)");
   split->excludes(high);
   app.add_option("--node-base", o.node_base, "address of layout slot 0")->capture_default_str();
+  app.add_option("--list-base", o.list_base, "address of the leaf primitive lists (--streams lists; default 0x40000000)");
+  app.add_option("--triangle-base", o.triangle_base, "address of the triangles (--streams triangles; default 0x80000000)");
   app.add_option("--node-size", o.node_size, "bytes per kd-tree node")->check(CLI::PositiveNumber)->capture_default_str();
 }
 
@@ -173,7 +175,12 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
   render.threads = r.threads;
   render.addresses.node_size = r.node_size;
   render.addresses.node_base = parse_address(r.node_base, "--node-base");
-  if (!r.eye.empty() || !r.look_at.empty() || !r.up.empty() || r.fov) {
+  if (!r.list_base.empty()) render.addresses.list_base = parse_address(r.list_base, "--list-base");
+  if (!r.triangle_base.empty()) {
+    render.addresses.triangle_base = parse_address(r.triangle_base, "--triangle-base");
+  }
+  render.fov_y_degrees = r.fov;
+  if (!r.eye.empty() || !r.look_at.empty() || !r.up.empty()) {
     if (r.eye.empty() || r.look_at.empty()) {
       throw formats::UsageError("a camera needs both --eye and --look-at (--up and --fov are optional)");
     }
@@ -181,7 +188,6 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
     camera.eye = {r.eye[0], r.eye[1], r.eye[2]};
     camera.look_at = {r.look_at[0], r.look_at[1], r.look_at[2]};
     if (!r.up.empty()) camera.up = {r.up[0], r.up[1], r.up[2]};
-    if (r.fov) camera.fov_y_degrees = *r.fov;
     render.camera = camera;
   }
   options.split_level = r.split_level;

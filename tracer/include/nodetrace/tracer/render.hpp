@@ -64,6 +64,7 @@ struct RenderOptions {
   PixelOrder pixel_order = PixelOrder::Scanline;
   int tile_size = 8;
   std::optional<Camera> camera;  // overrides the scene's camera
+  std::optional<float> fov_y_degrees;  // overrides the field of view of the camera used
   unsigned threads = 0;          // 0: one per core
   bool record = true;            // false: render only (no records made)
   StreamSelection streams;
