@@ -157,6 +157,98 @@ TEST(NodeCache, EqualsTheEngineOnRandomStreams) {
   }
 }
 
+// The split scheme under `cache` is two independent caches: each equals the
+// engine fed only its levels. Batches of mixed records take the general path,
+// node-only batches the fast one, and --per-level always the general one.
+TEST(NodeCache, SplitCacheHalvesEqualTheEngineOnFilteredStreams) {
+  for (const bool mixed : {false, true}) {
+    const std::vector<Record> records = random_stream(mixed ? 21 : 22, 30000, mixed);
+    for (const std::uint32_t assoc : {1u, 2u, 0u}) {
+      for (const auto policy : {ReplacementPolicy::Lru, ReplacementPolicy::Fifo}) {
+        NodeCacheConfig config;
+        config.scheme = Scheme::Split;
+        config.high_policy = HighPolicy::Cache;
+        config.high_size = 1024;
+        config.low_size = 2048;
+        config.size = 3072;
+        config.block = 16;
+        config.assoc = assoc == 0 ? 2048 / 16 : assoc;
+        config.high_assoc = assoc == 0 ? 1024 / 16 : (assoc == 1 ? 2 : 1);
+        config.policy = policy;
+        config.split_level = 7;
+        std::vector<Record> high;
+        std::vector<Record> low;
+        for (const Record& record : records) (record.tag < 7 ? high : low).push_back(record);
+        const auto form = mixed ? formats::RecordForm::ExtendedDin : formats::RecordForm::Din;
+        std::uint64_t high_fetches = 0;
+        std::uint64_t low_fetches = 0;
+        const std::uint64_t high_misses = engine_misses(
+            high, {1024, 16, config.high_assoc, policy}, form, &high_fetches);
+        const std::uint64_t low_misses =
+            engine_misses(low, {2048, 16, config.assoc, policy}, form, &low_fetches);
+        for (const bool per_level : {false, true}) {
+          SCOPED_TRACE(::testing::Message() << "mixed " << mixed << " assoc " << config.assoc
+                                            << " policy " << policy_name(policy)
+                                            << " per_level " << per_level);
+          TraceContext context;
+          context.trace = "t";
+          context.form = form;
+          context.tags_are_levels = true;
+          Sweep sweep({config}, context, per_level);
+          formats::RecordBatch batch;
+          batch.records = records;
+          sweep.feed(batch);
+          const ResultRow row = sweep.finish().rows.at(0);
+          EXPECT_EQ(row.high_refs, high.size());
+          EXPECT_EQ(row.low_refs, low.size());
+          EXPECT_EQ(row.high_misses, high_misses);
+          EXPECT_EQ(row.low_misses, low_misses);
+          EXPECT_EQ(row.fetches, high_fetches + low_fetches);
+        }
+      }
+    }
+  }
+}
+
+// Retain on the fast path (node-only batches) and on the general path
+// (--per-level) gives the same loads and low misses.
+TEST(NodeCache, RetainFastAndGeneralPathsAgree) {
+  const std::vector<Record> records = random_stream(31, 50000, false);
+  for (const std::uint32_t assoc : {1u, 4u}) {
+    NodeCacheConfig config;
+    config.scheme = Scheme::Split;
+    config.high_policy = HighPolicy::Retain;
+    config.high_size = 32768;
+    config.low_size = 4096;
+    config.size = 36864;
+    config.block = 8;
+    config.assoc = assoc;
+    config.split_level = 10;
+    ResultRow rows[2];
+    for (const bool per_level : {false, true}) {
+      TraceContext context;
+      context.trace = "t";
+      context.tags_are_levels = true;
+      Sweep sweep({config}, context, per_level);
+      for (std::size_t begin = 0; begin < records.size(); begin += 7000) {
+        formats::RecordBatch batch;
+        batch.records.assign(records.begin() + static_cast<std::ptrdiff_t>(begin),
+                             records.begin() + static_cast<std::ptrdiff_t>(
+                                                   std::min(records.size(), begin + 7000)));
+        batch.first_record = begin;
+        if (begin % 14000 == 0) batch.marker = formats::FrameMarker{};  // new animation frame
+        sweep.feed(batch);
+      }
+      rows[per_level] = sweep.finish().rows.at(0);
+    }
+    EXPECT_GT(*rows[0].high_loads, 0u);
+    EXPECT_EQ(rows[0].high_loads, rows[1].high_loads);
+    EXPECT_EQ(rows[0].low_misses, rows[1].low_misses);
+    EXPECT_EQ(rows[0].high_refs, rows[1].high_refs);
+    EXPECT_GT(rows[0].low_misses, 0u);
+  }
+}
+
 // The golden kd trace's records, decompressed by the zstd program.
 std::vector<Record> golden_kd_records(const std::filesystem::path& shared) {
   const auto result = testing::run_command(
