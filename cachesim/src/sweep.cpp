@@ -698,18 +698,23 @@ void Sweep::feed(const formats::RecordBatch& batch) {
 }
 
 void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t first_record) {
-  std::uint64_t span_bits = 0;
-  bool demand_only = true;
-  bool all_levels = true;
-  const bool din = context_.form == formats::RecordForm::Din;
-  for (std::size_t i = 0; i < count; ++i) {
-    const Record& record = records[i];
-    const std::uint64_t address = din ? record.address & ~std::uint64_t{3} : record.address;
-    const std::uint64_t size = din ? 4 : std::max<std::uint32_t>(record.size, 1);
-    span_bits |= address ^ (address + size - 1);
-    demand_only &= record.type <= AccessType::Misc;
-    all_levels &= formats::is_level(record.tag);
+  // Din records are 4 bytes at a multiple of 4 as Dinero IV reads them.
+  std::uint64_t span_bits = 3;
+  if (context_.form != formats::RecordForm::Din) {
+    span_bits = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint64_t address = records[i].address;
+      span_bits |= address ^ (address + std::max<std::uint32_t>(records[i].size, 1) - 1);
+    }
   }
+  unsigned not_demand = 0;
+  unsigned not_level = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    not_demand |= static_cast<unsigned>(records[i].type > AccessType::Misc);
+    not_level |= static_cast<unsigned>(records[i].tag > formats::kMaxLevel);
+  }
+  bool demand_only = not_demand == 0;
+  const bool all_levels = not_level == 0;
   if (!all_levels) {
     // Other streams (counted apart), or untagged records where levels are needed.
     for (std::size_t i = 0; i < count; ++i) {
