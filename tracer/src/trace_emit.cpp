@@ -143,7 +143,9 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
     report.tree = tree.stats();
     report.split_level = choose_split_level(options, tree.stats());
     const Layout layout = make_layout(tree, options.layout, report.split_level);
-    const Renderer renderer(scene, tree, layout, r);
+    RenderOptions options_for_frame = r;
+    if (options.discard_records) options_for_frame.record = true;
+    const Renderer renderer(scene, tree, layout, options_for_frame);
 
     if (i == 0) {
       result.plan = renderer.ray_plan();
@@ -183,6 +185,7 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
     if (progress) frame_progress = [&](double f) { progress((done + f) / count); };
     Renderer::RecordSink sink;
     if (writer) sink = [&](std::span<const formats::Record> records) { writer->write(records); };
+    if (options.discard_records) sink = [](std::span<const formats::Record>) {};
     report.render = renderer.render(sink, want_image ? &image : nullptr, frame_progress);
     if (want_image) write_png(image, options.image);
     result.total += report.render;

@@ -89,6 +89,10 @@ int render_command(int argc, char** argv) {
   app.add_option("--zstd-level", zstd_level, "zstd level of the trace's data frames (higher: smaller and slower)")
       ->check(CLI::Range(1, 19))
       ->capture_default_str();
+  bool discard = false;
+  app.add_flag("--discard-records", discard,
+               "make every record but write none: the cost of recording alone (benchmarks)")
+      ->excludes("--output");
   app.add_flag("-q,--quiet", quiet, "no summary on standard error");
   SceneCommandOptions scene_options;
   add_scene_options(app, scene_options);
@@ -101,6 +105,7 @@ int render_command(int argc, char** argv) {
     options.output = output;
     options.image = image;
     options.zstd_level = zstd_level;
+    options.discard_records = discard;
     if (!records_name.empty()) {
       options.form = *formats::parse_form_name(records_name);
     } else if (!output.empty()) {

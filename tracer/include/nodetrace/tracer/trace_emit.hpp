@@ -29,6 +29,7 @@ struct TraceJobOptions {
   std::uint64_t first_frame = 0, last_frame = 0;
   std::optional<double> time;
   std::string output;  // trace path, "-" for stdout; empty: no trace
+  bool discard_records = false;  // make the records but write none (benchmarks)
   formats::RecordForm form = formats::RecordForm::Din;
   int zstd_level = 3;  // compression level of the container's data frames
   std::string image;  // PNG of the first frame; empty: none
