@@ -155,6 +155,9 @@ TEST(RenderCliTest, BadUsageExitsTwoAndBadSceneOne) {
   EXPECT_EQ(run_command(tracer() + " render " + kScene + " --frames 0-3" + out).exit_code, 2);
   EXPECT_EQ(run_command(tracer() + " render " + kScene + " --streams nodes,leaves" + out).exit_code, 2);
   EXPECT_EQ(run_command(tracer() + " render " + kScene + " --high-size 4q" + out).exit_code, 2);
+  EXPECT_EQ(run_command(tracer() + " render " + kScene + " --layout zigzag" + out).exit_code, 2);
+  EXPECT_EQ(run_command(tracer() + " render " + kScene + " --width 0" + out).exit_code, 2);
+  EXPECT_EQ(run_command(tracer() + " info").exit_code, 2);
   EXPECT_EQ(run_command(tracer() + " render " + (dir / "missing.obj").string() + out).exit_code, 1);
   EXPECT_FALSE(std::filesystem::exists(dir / "x.din.zst"));
 }

@@ -31,7 +31,11 @@ int info_command(int argc, char** argv) {
       ->capture_default_str();
   SceneCommandOptions scene_options;
   add_scene_options(app, scene_options);
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error) == 0 ? 0 : 2;  // CLI11 has its own codes; ours: 2
+  }
 
   try {
     if (!scene_options.frames.empty()) throw formats::UsageError("--frames: info describes one frame; use --frame");

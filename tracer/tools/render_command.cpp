@@ -98,7 +98,11 @@ int render_command(int argc, char** argv) {
   add_scene_options(app, scene_options);
   RenderCommandOptions render_options;
   add_render_options(app, render_options);
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error) == 0 ? 0 : 2;  // CLI11 has its own codes; ours: 2
+  }
 
   try {
     TraceJobOptions options = make_job_options(render_options, scene_options);
