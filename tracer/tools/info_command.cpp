@@ -124,6 +124,9 @@ int info_command(int argc, char** argv) {
   } catch (const SceneError& e) {
     std::fprintf(stderr, "tracer info: %s\n", e.what());
     return 1;
+  } catch (const std::exception& e) {  // anything else, e.g. out of memory
+    std::fprintf(stderr, "tracer info: %s\n", e.what());
+    return 1;
   }
 }
 

@@ -156,6 +156,9 @@ int render_command(int argc, char** argv) {
   } catch (const formats::IoError& e) {
     std::fprintf(stderr, "tracer render: %s\n", e.what());
     return 1;
+  } catch (const std::exception& e) {  // anything else, e.g. out of memory
+    std::fprintf(stderr, "tracer render: %s\n", e.what());
+    return 1;
   }
 }
 
