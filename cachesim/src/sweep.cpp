@@ -674,13 +674,46 @@ void Sweep::start(const formats::RecordBatch& first_batch) {
     }
     simulators_.push_back(make_simulator(config, split_level, context_, per_level_));
   }
+  // Parts of about equal cost (a split configuration does about twice the
+  // work of a single one), filled greedily, the costliest first.
+  const std::size_t part_count =
+      std::max<std::size_t>(1, std::min(requested_parts_, simulators_.size()));
+  parts_.assign(part_count, Part{});
+  std::vector<std::size_t> order(simulators_.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  auto cost = [&](std::size_t i) {
+    const NodeCacheConfig& config = configs_[i];
+    return (config.scheme == Scheme::Split ? 2u : 1u) * (config.assoc == 1 ? 1u : 4u);
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return cost(a) > cost(b); });
+  std::vector<unsigned> load(part_count, 0);
+  for (const std::size_t i : order) {
+    const std::size_t lightest =
+        static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+    parts_[lightest].simulators.push_back(i);
+    load[lightest] += cost(i);
+  }
+  for (Part& part : parts_) std::sort(part.simulators.begin(), part.simulators.end());
 }
 
 void Sweep::feed(const formats::RecordBatch& batch) {
+  begin_batch(batch);
+  for (std::size_t part = 0; part < parts_.size(); ++part) feed_part(batch, part);
+}
+
+void Sweep::set_parts(std::size_t parts) { requested_parts_ = std::max<std::size_t>(1, parts); }
+
+std::size_t Sweep::part_count() const { return parts_.size(); }
+
+void Sweep::begin_batch(const formats::RecordBatch& batch) {
   if (!started_) start(batch);
+}
+
+void Sweep::feed_part(const formats::RecordBatch& batch, std::size_t part_index) {
+  Part& part = parts_.at(part_index);
   if (batch.marker) {
-    animation_frame_ = batch.marker->frame;
-    for (auto& simulator : simulators_) simulator->begin_frame(animation_frame_);
+    for (const std::size_t s : part.simulators) simulators_[s]->begin_frame(batch.marker->frame);
   }
   const Record* const records = batch.records.data();
   const std::size_t count = batch.records.size();
@@ -690,14 +723,15 @@ void Sweep::feed(const formats::RecordBatch& batch) {
   for (std::size_t begin = 0; begin < count; begin += kChunk) {
     const std::size_t chunk = std::min(kChunk, count - begin);
     const std::uint64_t first_record = batch.first_record + begin;
-    prepare(records + begin, chunk, first_record);
-    for (auto& simulator : simulators_) {
-      simulator->feed(records + begin, chunk, first_record, prepared_);
+    prepare(records + begin, chunk, first_record, part);
+    for (const std::size_t s : part.simulators) {
+      simulators_[s]->feed(records + begin, chunk, first_record, part.prepared);
     }
   }
 }
 
-void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t first_record) {
+void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t first_record,
+                    Part& part) const {
   // Din records are 4 bytes at a multiple of 4 as Dinero IV reads them.
   std::uint64_t span_bits = 3;
   if (context_.form != formats::RecordForm::Din) {
@@ -721,7 +755,7 @@ void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t firs
       const Tag tag = records[i].tag;
       if (formats::is_level(tag)) continue;
       if (is_other_stream(tag)) {
-        ++other_stream_records_;
+        ++part.other_stream_records;
         demand_only = false;
       } else if (needs_levels_) {
         throw FormatError(fmt::format(
@@ -731,8 +765,8 @@ void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t firs
       }
     }
   }
-  prepared_.span_bits = span_bits;
-  prepared_.demand_only = demand_only;
+  part.prepared.span_bits = span_bits;
+  part.prepared.demand_only = demand_only;
 }
 
 TraceResult Sweep::finish() {
@@ -742,13 +776,15 @@ TraceResult Sweep::finish() {
     result.rows.push_back(simulator->result());
     if (per_level_) simulator->append_level_rows(result.level_rows);
   }
-  result.other_stream_records = other_stream_records_;
+  // Every part sees every record; part 0's count is the trace's.
+  const std::uint64_t other_stream_records = parts_.empty() ? 0 : parts_[0].other_stream_records;
+  result.other_stream_records = other_stream_records;
   result.notes = notes_;
-  if (other_stream_records_ > 0) {
+  if (other_stream_records > 0) {
     result.notes.push_back(fmt::format(
         "{}: {} records tagged p or t (primitive lists, triangles) counted apart, not simulated "
         "by the node caches",
-        context_.trace, other_stream_records_));
+        context_.trace, other_stream_records));
   }
   return result;
 }

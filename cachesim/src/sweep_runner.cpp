@@ -1,5 +1,7 @@
-// run_sweep: the reader decodes on the calling thread while one worker feeds
-// the batches to every configuration, so decoding and simulation overlap.
+// run_sweep: the reader decodes on the calling thread while worker threads
+// simulate, each its own part of the configurations, so decoding and
+// simulation overlap.
+#include <algorithm>
 #include <condition_variable>
 #include <deque>
 #include <exception>
@@ -14,46 +16,52 @@ TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheC
                       const std::string& trace_column, bool per_level,
                       const SweepProgress& progress) {
   Sweep sweep(configs, trace_context(reader, trace_column), per_level);
+  const std::size_t cores = std::max(1u, std::thread::hardware_concurrency());
+  // The reader decodes on one thread per core too: half the cores simulate
+  // (measured on 2 cores: a second simulating thread was no faster).
+  sweep.set_parts(std::min(std::max<std::size_t>(1, cores / 2), configs.size()));
 
-  // A few batches circulate between the reader (fills free ones) and the
-  // worker (simulates full ones and hands them back).
-  constexpr std::size_t kBatches = 3;
+  // Batches circulate between the reader (fills free ones) and the workers
+  // (each simulates its part of every full batch; the last one done frees it).
+  constexpr std::size_t kBatches = 2;  // one simulated while the next is read
   std::vector<formats::RecordBatch> batches(kBatches);
+  std::vector<std::size_t> parts_pending(kBatches, 0);
   std::deque<std::size_t> free_batches;
-  std::deque<std::size_t> full_batches;
   for (std::size_t i = 0; i < kBatches; ++i) free_batches.push_back(i);
+  std::vector<std::deque<std::size_t>> full_batches;  // per part, set once started
   std::mutex mutex;
   std::condition_variable changed;
   bool reading_done = false;
   bool stop = false;
   std::exception_ptr worker_error;
+  std::vector<std::thread> workers;
 
-  std::thread worker([&] {
+  auto work = [&](std::size_t part) {
     try {
       while (true) {
         std::size_t index;
         {
           std::unique_lock lock(mutex);
-          changed.wait(lock, [&] { return !full_batches.empty() || reading_done || stop; });
+          changed.wait(lock, [&] { return !full_batches[part].empty() || reading_done || stop; });
           if (stop) return;
-          if (full_batches.empty()) return;  // reading done, all simulated
-          index = full_batches.front();
-          full_batches.pop_front();
+          if (full_batches[part].empty()) return;  // reading done, all simulated
+          index = full_batches[part].front();
+          full_batches[part].pop_front();
         }
-        sweep.feed(batches[index]);
+        sweep.feed_part(batches[index], part);
         {
           std::lock_guard lock(mutex);
-          free_batches.push_back(index);
+          if (--parts_pending[index] == 0) free_batches.push_back(index);
         }
         changed.notify_all();
       }
     } catch (...) {
       std::lock_guard lock(mutex);
-      worker_error = std::current_exception();
+      if (!worker_error) worker_error = std::current_exception();
       stop = true;
       changed.notify_all();
     }
-  });
+  };
 
   std::exception_ptr reader_error;
   try {
@@ -67,18 +75,24 @@ TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheC
         free_batches.pop_front();
       }
       const bool more = reader.next(batches[index]);
+      if (!more) break;
       const std::uint64_t records_read =
-          more ? batches[index].first_record + batches[index].records.size() : 0;
-      {
-        std::lock_guard lock(mutex);
-        if (more) {
-          full_batches.push_back(index);
-        } else {
-          reading_done = true;
+          batches[index].first_record + batches[index].records.size();
+      // The first batch starts the sweep (K = auto reads its marker) before
+      // any worker runs.
+      sweep.begin_batch(batches[index]);
+      if (workers.empty()) {
+        full_batches.resize(sweep.part_count());
+        for (std::size_t part = 0; part < sweep.part_count(); ++part) {
+          workers.emplace_back(work, part);
         }
       }
+      {
+        std::lock_guard lock(mutex);
+        parts_pending[index] = full_batches.size();
+        for (auto& queue : full_batches) queue.push_back(index);
+      }
       changed.notify_all();
-      if (!more) break;
       if (progress) progress(records_read);
     }
   } catch (...) {
@@ -86,9 +100,13 @@ TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheC
     std::lock_guard lock(mutex);
     stop = true;
   }
+  {
+    std::lock_guard lock(mutex);
+    reading_done = true;
+  }
   changed.notify_all();
-  worker.join();
-  // The worker's error concerns earlier records than the reader's.
+  for (auto& worker : workers) worker.join();
+  // A worker's error concerns earlier records than the reader's.
   if (worker_error) std::rethrow_exception(worker_error);
   if (reader_error) std::rethrow_exception(reader_error);
   return sweep.finish();

@@ -263,6 +263,27 @@ TEST(Sweep, CopyBackAndInvalidateAreNotDemandFetches) {
   EXPECT_EQ(result.rows[0].misses, 2u);  // invalidated, so the last one misses
 }
 
+TEST(Sweep, PartsForThreadsGiveTheSameResults) {
+  const std::vector<NodeCacheConfig> configs{single(32), split(HighPolicy::Retain),
+                                             split(HighPolicy::Cache), single(64)};
+  std::vector<RecordBatch> batches{batch_of(traversal(), 0), batch_of(traversal(), 1)};
+  const TraceResult together = run(configs, batches);
+  Sweep sweep(configs, levels_context(), false);
+  sweep.set_parts(3);
+  for (const auto& batch : batches) {
+    sweep.begin_batch(batch);
+    EXPECT_EQ(sweep.part_count(), 3u);
+    for (std::size_t part = 3; part-- > 0;) sweep.feed_part(batch, part);
+  }
+  const TraceResult parted = sweep.finish();
+  ASSERT_EQ(parted.rows.size(), together.rows.size());
+  for (std::size_t i = 0; i < parted.rows.size(); ++i) {
+    EXPECT_EQ(parted.rows[i].config.size, together.rows[i].config.size);
+    EXPECT_EQ(parted.rows[i].misses, together.rows[i].misses) << i;
+    EXPECT_EQ(parted.rows[i].high_loads, together.rows[i].high_loads) << i;
+  }
+}
+
 TEST(Sweep, ExpandsEveryCombinationInReportOrder) {
   SweepOptions options;
   options.sizes = {4096, 8192, 16384};

@@ -154,20 +154,36 @@ class Sweep {
   void feed(const formats::RecordBatch& batch);
   TraceResult finish();
 
+  // Work split over threads: before the first batch, set_parts(n) divides
+  // the configurations into n parts of about equal cost. Then for each batch,
+  // in trace order: begin_batch(batch) on one thread, then feed_part(batch, p)
+  // for every part p, each part on one thread at a time (parts concurrently).
+  // Together they equal feed(batch).
+  void set_parts(std::size_t parts);
+  std::size_t part_count() const;
+  void begin_batch(const formats::RecordBatch& batch);
+  void feed_part(const formats::RecordBatch& batch, std::size_t part);
+
  private:
+  struct Part {
+    std::vector<std::size_t> simulators;
+    PreparedBatch prepared;
+    std::uint64_t other_stream_records = 0;
+  };
+
   void start(const formats::RecordBatch& first_batch);
-  // Fills prepared_ (and counts p / t records; throws for untagged ones).
-  void prepare(const formats::Record* records, std::size_t count, std::uint64_t first_record);
+  // Fills part.prepared (and counts p / t records; throws for untagged ones).
+  void prepare(const formats::Record* records, std::size_t count, std::uint64_t first_record,
+               Part& part) const;
 
   std::vector<NodeCacheConfig> configs_;
   TraceContext context_;
   bool per_level_ = false;
   bool needs_levels_ = false;
   bool started_ = false;
-  std::uint64_t animation_frame_ = 0;
-  std::uint64_t other_stream_records_ = 0;
+  std::size_t requested_parts_ = 1;
+  std::vector<Part> parts_;
   std::vector<std::unique_ptr<ConfigSimulator>> simulators_;
-  PreparedBatch prepared_;
   std::vector<std::string> notes_;
 };
 
@@ -176,7 +192,8 @@ class Sweep {
 using SweepProgress = std::function<void(std::uint64_t records_read)>;
 
 // Reads the whole trace once and simulates every configuration, decoding on
-// the calling thread while a worker thread simulates.
+// the calling thread while worker threads (half the cores, at most one per
+// configuration) simulate. Results do not depend on the number of threads.
 TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheConfig>& configs,
                       const std::string& trace_column, bool per_level,
                       const SweepProgress& progress = {});
