@@ -203,6 +203,19 @@ class ConfigSimulator {
                     const PreparedBatch& prepared) = 0;
   virtual ResultRow result() const = 0;
   virtual void append_level_rows(std::vector<LevelRow>& rows) const = 0;
+
+  // Configurations with equal group keys (same kind, block, split level, all
+  // direct mapped) can be simulated together by one loop over the records:
+  // the leader's feed_group(members) is then feed() of each member, on chunks
+  // of demand fetches of one block each (returns false for other chunks,
+  // which the members take one by one). Empty key: no grouping.
+  virtual std::string group_key() const { return {}; }
+  virtual bool feed_group(const std::vector<ConfigSimulator*>& members, const Record* records,
+                          std::size_t count, std::uint64_t first_record,
+                          const PreparedBatch& prepared) {
+    (void)members, (void)records, (void)count, (void)first_record, (void)prepared;
+    return false;
+  }
 };
 
 namespace {
@@ -313,7 +326,10 @@ class Simulator final : public ConfigSimulator {
     low_mask_ = low_sets > 0 ? low_sets - 1 : 0;
     high_mask_ = high_sets > 0 ? high_sets - 1 : 0;
     high_offset_ = low_sets;
-    table_.assign(std::max<std::uint64_t>(1, low_sets + high_sets), NodeCache::kInvalid);
+    // One more slot at the end: where a group's loop writes the low caches'
+    // updates for high-level records (never read as a cache line).
+    dummy_slot_ = low_sets + high_sets;
+    table_.assign(dummy_slot_ + 1, NodeCache::kInvalid);
   }
 
   void begin_frame(std::uint64_t animation_frame) override {
@@ -336,6 +352,31 @@ class Simulator final : public ConfigSimulator {
       return;
     }
     feed_generic(records, count, first_record);
+  }
+
+  std::string group_key() const override {
+    if constexpr (kPerLevel || (kSplit && !kRetain)) {
+      return {};
+    } else {
+      if (!low_direct_) return {};
+      return fmt::format("{}/{}/{}/{}/{}/{}", kSplit, kRetain, kAlignedDin, config_.block,
+                         split_level_, config_.count_loads);
+    }
+  }
+
+  bool feed_group(const std::vector<ConfigSimulator*>& members, const Record* records,
+                  std::size_t count, std::uint64_t first_record,
+                  const PreparedBatch& prepared) override {
+    if constexpr (kPerLevel || (kSplit && !kRetain)) {
+      (void)members, (void)records, (void)count, (void)first_record, (void)prepared;
+      return false;
+    } else {
+      if (!prepared.demand_only || prepared.span_bits >= config_.block) return false;
+      group_.clear();
+      for (ConfigSimulator* member : members) group_.push_back(static_cast<Simulator*>(member));
+      feed_group_flat(records, count, first_record);
+      return true;
+    }
   }
 
   ResultRow result() const override {
@@ -404,6 +445,60 @@ class Simulator final : public ConfigSimulator {
       }
     }
     count_fast(count, high_refs, high_misses, low_misses);
+  }
+
+  // feed_flat for a group: the record and its level are read once; each
+  // member's low cache is one slot update (high-level records write the
+  // dummy slot); under retain the leader's filter stands for all, and a first
+  // touch is recorded in every member (whose loads are then equal).
+  void feed_group_flat(const Record* records, std::size_t count, std::uint64_t first_record) {
+    constexpr std::size_t kMaxGroup = 8;
+    const std::size_t group_size = std::min(group_.size(), kMaxGroup);
+    std::uint64_t* tables[kMaxGroup];
+    std::uint64_t masks[kMaxGroup];
+    std::uint64_t dummies[kMaxGroup];
+    std::uint64_t low_misses[kMaxGroup] = {};
+    for (std::size_t g = 0; g < group_size; ++g) {
+      tables[g] = group_[g]->table_.data();
+      masks[g] = group_[g]->low_mask_;
+      dummies[g] = group_[g]->dummy_slot_;
+    }
+    const unsigned shift = block_shift_;
+    std::uint64_t* const filter = table_.data() + high_offset_;
+    const std::uint64_t filter_mask = high_mask_;
+    const std::uint64_t split_level = split_level_;
+    std::uint64_t high_refs = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint64_t block = records[i].address >> shift;
+      std::uint64_t high = 0;
+      if constexpr (kSplit) high = records[i].tag < split_level;
+      const std::uint64_t select = std::uint64_t{0} - high;  // all ones when high
+      for (std::size_t g = 0; g < group_size; ++g) {
+        const std::uint64_t index = (block & masks[g] & ~select) | (dummies[g] & select);
+        const std::uint64_t differ = tables[g][index] != block;
+        tables[g][index] = block;
+        low_misses[g] += differ & (high ^ 1);
+      }
+      if constexpr (kRetain) {
+        high_refs += high;
+        std::uint64_t& slot = filter[block & filter_mask];
+        std::uint64_t first_touch = static_cast<std::uint64_t>(slot != block) & high;
+        asm("" : "+r"(first_touch));  // see feed_flat
+        if (first_touch != 0) [[unlikely]] {
+          for (std::size_t g = 0; g < group_size; ++g) group_[g]->group_first_touch(block, first_record + i + 1);
+        }
+      }
+    }
+    for (std::size_t g = 0; g < group_size; ++g) {
+      group_[g]->count_fast(count, high_refs, group_[g]->pending_high_misses_, low_misses[g]);
+      group_[g]->pending_high_misses_ = 0;
+    }
+  }
+
+  // A retained block first seen by the group's leader this frame.
+  [[gnu::noinline]] void group_first_touch(std::uint64_t block, std::uint64_t record_number) {
+    table_[high_offset_ + (block & high_mask_)] = block;
+    if (retain_insert(block, record_number)) pending_high_misses_ += config_.count_loads;
   }
 
   // Fast path with a set-associative cache: one block per record.
@@ -569,9 +664,12 @@ class Simulator final : public ConfigSimulator {
   std::uint64_t low_mask_ = 0;
   std::uint64_t high_mask_ = 0;
   std::uint64_t high_offset_ = 0;
+  std::uint64_t dummy_slot_ = 0;
   std::optional<NodeCache> low_cache_;   // set-associative low (or single) cache
   std::optional<NodeCache> high_cache_;  // set-associative high cache under `cache`
   RetainedBlocks retained_;
+  std::vector<Simulator*> group_;  // feed_group's members (this one first)
+  std::uint64_t pending_high_misses_ = 0;  // counted loads of a group's chunk
   std::uint64_t animation_frame_ = 0;
   Counters counters_;
   std::vector<std::uint64_t> level_refs_;
@@ -694,7 +792,22 @@ void Sweep::start(const formats::RecordBatch& first_batch) {
     parts_[lightest].simulators.push_back(i);
     load[lightest] += cost(i);
   }
-  for (Part& part : parts_) std::sort(part.simulators.begin(), part.simulators.end());
+  for (Part& part : parts_) {
+    std::sort(part.simulators.begin(), part.simulators.end());
+    constexpr std::size_t kMaxGroup = 8;  // as Simulator::feed_group_flat
+    for (const std::size_t i : part.simulators) {
+      const std::string key = simulators_[i]->group_key();
+      auto group = std::find_if(part.groups.begin(), part.groups.end(), [&](const auto& members) {
+        return !key.empty() && members.size() < kMaxGroup &&
+               simulators_[members.front()]->group_key() == key;
+      });
+      if (group == part.groups.end()) {
+        part.groups.push_back({i});
+      } else {
+        group->push_back(i);
+      }
+    }
+  }
 }
 
 void Sweep::feed(const formats::RecordBatch& batch) {
@@ -724,8 +837,18 @@ void Sweep::feed_part(const formats::RecordBatch& batch, std::size_t part_index)
     const std::size_t chunk = std::min(kChunk, count - begin);
     const std::uint64_t first_record = batch.first_record + begin;
     prepare(records + begin, chunk, first_record, part);
-    for (const std::size_t s : part.simulators) {
-      simulators_[s]->feed(records + begin, chunk, first_record, part.prepared);
+    for (const auto& group : part.groups) {
+      if (group.size() > 1) {
+        part.group_members.clear();
+        for (const std::size_t s : group) part.group_members.push_back(simulators_[s].get());
+        if (simulators_[group.front()]->feed_group(part.group_members, records + begin, chunk,
+                                                   first_record, part.prepared)) {
+          continue;
+        }
+      }
+      for (const std::size_t s : group) {
+        simulators_[s]->feed(records + begin, chunk, first_record, part.prepared);
+      }
     }
   }
 }

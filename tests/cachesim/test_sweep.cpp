@@ -284,6 +284,38 @@ TEST(Sweep, PartsForThreadsGiveTheSameResults) {
   }
 }
 
+TEST(Sweep, ConfigurationsSimulatedTogetherEqualEachAlone) {
+  // Sizes of one kind share one loop (grouped); each alone has its own.
+  std::vector<NodeCacheConfig> configs;
+  for (const std::uint64_t size : {16u, 32u, 64u, 128u}) configs.push_back(single(size));
+  for (const std::uint64_t low : {16u, 32u, 64u}) {
+    NodeCacheConfig config = split(HighPolicy::Retain);
+    config.high_size = 128;  // 9 high blocks touched per frame
+    config.low_size = low;
+    config.size = config.high_size + low;
+    config.count_loads = low == 32;
+    configs.push_back(config);
+  }
+  std::vector<Record> records;
+  for (int repeat = 0; repeat < 5; ++repeat) {
+    for (Record record : traversal()) {
+      record.address += static_cast<std::uint64_t>(repeat % 3) * 0x40;
+      records.push_back(record);
+    }
+  }
+  const std::vector<RecordBatch> batches{batch_of(records, 0), batch_of(records, 1)};
+  const TraceResult together = run(configs, batches);
+  for (std::size_t i = 0; i < configs.size(); ++i) {
+    const TraceResult alone = run({configs[i]}, batches);
+    EXPECT_EQ(together.rows[i].misses, alone.rows[0].misses) << i;
+    EXPECT_EQ(together.rows[i].low_misses, alone.rows[0].low_misses) << i;
+    EXPECT_EQ(together.rows[i].high_misses, alone.rows[0].high_misses) << i;
+    EXPECT_EQ(together.rows[i].high_loads, alone.rows[0].high_loads) << i;
+    EXPECT_EQ(together.rows[i].high_refs, alone.rows[0].high_refs) << i;
+  }
+  EXPECT_EQ(together.rows[5].high_misses, *together.rows[5].high_loads);  // --count-loads
+}
+
 TEST(Sweep, ExpandsEveryCombinationInReportOrder) {
   SweepOptions options;
   options.sizes = {4096, 8192, 16384};

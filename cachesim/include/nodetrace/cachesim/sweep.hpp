@@ -167,6 +167,10 @@ class Sweep {
  private:
   struct Part {
     std::vector<std::size_t> simulators;
+    // The part's simulators in groups fed by one loop (see ConfigSimulator::
+    // group_key); a group of one is fed alone.
+    std::vector<std::vector<std::size_t>> groups;
+    std::vector<ConfigSimulator*> group_members;  // scratch for feed_group
     PreparedBatch prepared;
     std::uint64_t other_stream_records = 0;
   };
