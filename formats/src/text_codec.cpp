@@ -361,6 +361,56 @@ char* put_tag(char* out, Tag tag) {
   return out;
 }
 
+// Eight lower-case hex digits of a 32-bit value as they appear in memory
+// (most significant first), without a loop: spread the nibbles one per byte,
+// put them in text order, then add '0' or 'a' - 10 to every byte at once.
+std::uint64_t hex8(std::uint32_t value) {
+  std::uint64_t x = value;
+  x = (x | (x << 16)) & 0x0000FFFF0000FFFFull;
+  x = (x | (x << 8)) & 0x00FF00FF00FF00FFull;
+  x = (x | (x << 4)) & 0x0F0F0F0F0F0F0F0Full;  // byte i = nibble i
+  x = __builtin_bswap64(x);                      // byte i = nibble 7 - i
+  const std::uint64_t letters = ((x + 0x0606060606060606ull) >> 4) & 0x0101010101010101ull;
+  return x + 0x3030303030303030ull + letters * ('a' - '0' - 10);
+}
+
+// "00".."99" as two bytes each: the node levels of a fixed-width line.
+constexpr std::array<char, 200> make_decimal_pairs() {
+  std::array<char, 200> pairs{};
+  for (int i = 0; i < 100; ++i) {
+    pairs[2 * i] = static_cast<char>('0' + i / 10);
+    pairs[2 * i + 1] = static_cast<char>('0' + i % 10);
+  }
+  return pairs;
+}
+constexpr auto kDecimalPairs = make_decimal_pairs();
+
+// The common line, written with a few stores and no loop: a level-tagged
+// record with a 32-bit address (and for extended din a one-digit size), as
+// `0 00001a38 07\n` or `r 00001a38 8 07\n`. Returns false, writing nothing
+// useful, when the record needs the general path.
+template <bool kExtended>
+bool put_common_line(char*& out, const Record& record) {
+  if ((record.address >> 32) != 0 || record.tag >= 100 || (kExtended && record.size >= 16)) return false;
+  char* p = out;
+  const auto type = static_cast<unsigned>(record.type);
+  p[0] = kExtended ? kTypeLetters[type] : static_cast<char>('0' + type);
+  p[1] = ' ';
+  const std::uint64_t digits = hex8(static_cast<std::uint32_t>(record.address));
+  std::memcpy(p + 2, &digits, 8);
+  p += 10;
+  if constexpr (kExtended) {
+    p[0] = ' ';
+    p[1] = kHexDigits[record.size];
+    p += 2;
+  }
+  p[0] = ' ';
+  std::memcpy(p + 1, &kDecimalPairs[2 * record.tag], 2);
+  p[3] = '\n';
+  out = p + 4;
+  return true;
+}
+
 }  // namespace
 
 void format_records(std::span<const Record> records, RecordForm form, unsigned address_digits,
@@ -394,7 +444,7 @@ void format_records(std::span<const Record> records, RecordForm form, unsigned a
   const std::size_t start = out.size();
   out.reserve(start + records.size() * kMaxLine);
   char* p = out.data() + start;
-  for (const Record& record : records) {
+  auto put_line = [&](const Record& record) {
     const auto type = static_cast<unsigned>(record.type);
     *p++ = extended ? kTypeLetters[type] : static_cast<char>('0' + type);
     *p++ = ' ';
@@ -405,6 +455,17 @@ void format_records(std::span<const Record> records, RecordForm form, unsigned a
     }
     p = put_tag(p, record.tag);
     *p++ = '\n';
+  };
+  if (address_digits != 8) {
+    for (const Record& record : records) put_line(record);
+  } else if (extended) {
+    for (const Record& record : records) {
+      if (!put_common_line<true>(p, record)) put_line(record);
+    }
+  } else {
+    for (const Record& record : records) {
+      if (!put_common_line<false>(p, record)) put_line(record);
+    }
   }
   out.resize(static_cast<std::size_t>(p - out.data()));
 }

@@ -33,20 +33,24 @@ constexpr const char* kTypeNames[kAccessTypeCount] = {"read", "write", "instruct
 struct Encoded {
   detail::ByteBuffer text;        // the record bytes
   detail::ByteBuffer compressed;  // the zstd frame (containers)
-  std::vector<Record> records;    // handed back for reuse
 };
 
+// Text and compressed buffers are kept apart: handing a small compressed
+// buffer out for text would reallocate (and page-fault) it every frame.
 struct Stock {
-  detail::Recycler<detail::ByteBuffer> bytes{16};
+  detail::Recycler<detail::ByteBuffer> text{8};
+  detail::Recycler<detail::ByteBuffer> compressed{8};
   detail::Recycler<std::vector<Record>> records{8};
 };
 
 Encoded encode(std::vector<Record> records, RecordForm form, unsigned digits, std::uint64_t first_record,
                bool compress, int level, Stock& stock) {
   Encoded encoded;
-  encoded.text = stock.bytes.take();
+  encoded.text = stock.text.take();
   detail::format_records(records, form, digits, first_record, encoded.text);
-  encoded.records = std::move(records);
+  // Back to the stock at once, not when the frame is written out: fewer
+  // record buffers in flight means fewer fresh pages to fault in.
+  stock.records.give(std::move(records));
   if (compress) {
     struct Deleter {
       void operator()(ZSTD_CCtx* context) const { ZSTD_freeCCtx(context); }
@@ -56,7 +60,7 @@ Encoded encode(std::vector<Record> records, RecordForm form, unsigned digits, st
     ZSTD_CCtx_setParameter(context.get(), ZSTD_c_compressionLevel, level);
     ZSTD_CCtx_setParameter(context.get(), ZSTD_c_checksumFlag, 1);
     ZSTD_CCtx_setParameter(context.get(), ZSTD_c_contentSizeFlag, 1);
-    encoded.compressed = stock.bytes.take();
+    encoded.compressed = stock.compressed.take();
     encoded.compressed.resize(ZSTD_compressBound(encoded.text.size()));
     const std::size_t size = ZSTD_compress2(context.get(), encoded.compressed.data(), encoded.compressed.size(),
                                             encoded.text.data(), encoded.text.size());
@@ -129,25 +133,17 @@ class Writer final : public TraceWriter {
 
   void write(std::span<const Record> records) override {
     check_open();
-    for (const Record& record : records) {
-      const auto type = static_cast<unsigned>(record.type);
-      if (type >= static_cast<unsigned>(kAccessTypeCount)) {
-        fail(fmt::format("record {}: access type {} is not one of Dinero IV's (0-5)", records_total_ + 1, type));
+    while (!records.empty()) {
+      // Whole runs up to the end of the pending data frame: one cheap pass
+      // checks and counts them, one copy appends them.
+      const std::size_t room = options_.records_per_frame - pending_.size();
+      const std::span<const Record> run = records.first(std::min<std::size_t>(room, records.size()));
+      records = records.subspan(run.size());
+      if (!count_run(run)) {
+        write_one_by_one(run);  // throws, naming the first bad record
       }
-      if (levels_ && record.tag == kTagNone) {
-        fail(fmt::format("record {}: untagged, but the trace marks its tags as node levels", records_total_ + 1));
-      }
-      if (options_.form == RecordForm::Binary && (record.address > 0xFFFFFFFFu || record.size > 0xFFFFu)) {
-        fail(fmt::format("record {}: address {:#x} or size {} does not fit a binary record (32-bit address, 16-bit size)",
-                         records_total_ + 1, record.address, record.size));
-      }
-      if (record.size == 0 && options_.form != RecordForm::Din) {
-        fail(fmt::format("record {}: size 0 (a reference is at least 1 byte)", records_total_ + 1));
-      }
-      ++type_counts_[type];
-      ++tag_counts_[record.tag];
-      ++records_total_;
-      pending_.push_back(record);
+      pending_.insert(pending_.end(), run.begin(), run.end());
+      records_total_ += run.size();
       if (pending_.size() >= options_.records_per_frame) submit_pending();
     }
   }
@@ -206,6 +202,51 @@ class Writer final : public TraceWriter {
     std::uint64_t animation_frame = 0;
   };
 
+  // Counts the records by type and tag when every one of them can be written;
+  // false (counting nothing) when one cannot.
+  bool count_run(std::span<const Record> run) {
+    const bool din = options_.form == RecordForm::Din;
+    const bool binary = options_.form == RecordForm::Binary;
+    bool bad = false;
+    for (const Record& record : run) {
+      bad |= static_cast<unsigned>(record.type) >= static_cast<unsigned>(kAccessTypeCount);
+      bad |= levels_ && record.tag == kTagNone;
+      bad |= binary && (record.address > 0xFFFFFFFFu || record.size > 0xFFFFu);
+      bad |= !din && record.size == 0;
+    }
+    if (bad) return false;
+    for (const Record& record : run) {
+      ++type_counts_[static_cast<unsigned>(record.type)];
+      ++tag_counts_[record.tag];
+    }
+    return true;
+  }
+
+  // The records of a run with a bad one, as they were written before bulk
+  // checking: those before it are kept, then the error names it.
+  void write_one_by_one(std::span<const Record> run) {
+    for (const Record& record : run) {
+      const auto type = static_cast<unsigned>(record.type);
+      if (type >= static_cast<unsigned>(kAccessTypeCount)) {
+        fail(fmt::format("record {}: access type {} is not one of Dinero IV's (0-5)", records_total_ + 1, type));
+      }
+      if (levels_ && record.tag == kTagNone) {
+        fail(fmt::format("record {}: untagged, but the trace marks its tags as node levels", records_total_ + 1));
+      }
+      if (options_.form == RecordForm::Binary && (record.address > 0xFFFFFFFFu || record.size > 0xFFFFu)) {
+        fail(fmt::format("record {}: address {:#x} or size {} does not fit a binary record (32-bit address, 16-bit size)",
+                         records_total_ + 1, record.address, record.size));
+      }
+      if (record.size == 0 && options_.form != RecordForm::Din) {
+        fail(fmt::format("record {}: size 0 (a reference is at least 1 byte)", records_total_ + 1));
+      }
+      ++type_counts_[type];
+      ++tag_counts_[record.tag];
+      ++records_total_;
+      pending_.push_back(record);
+    }
+  }
+
   [[noreturn]] void fail(const std::string& message) const { throw FormatError(fmt::format("{}: {}", name_, message)); }
 
   void check_open() const {
@@ -247,7 +288,7 @@ class Writer final : public TraceWriter {
   // Writes finished items in order; waits for all when `all`, else only while
   // more jobs are in flight than keep both cores busy (bounded memory).
   void drain(bool all) {
-    const std::size_t limit = 2 * static_cast<std::size_t>(pool_->size()) + 1;
+    const std::size_t limit = static_cast<std::size_t>(pool_->size()) + 1;
     while (!queue_.empty() && (all || queue_.size() > limit || !queue_.front().job.valid())) {
       Item item = std::move(queue_.front());
       queue_.pop_front();
@@ -263,13 +304,12 @@ class Writer final : public TraceWriter {
       }
       XXH64_update(record_hash_.get(), encoded.text.data(), encoded.text.size());
       record_bytes_ += encoded.text.size();
-      stock_->records.give(std::move(encoded.records));
       if (!container_) {
         emit(encoded.text.view(), false);
-        stock_->bytes.give(std::move(encoded.text));
+        stock_->text.give(std::move(encoded.text));
         continue;
       }
-      stock_->bytes.give(std::move(encoded.text));
+      stock_->text.give(std::move(encoded.text));
       FrameIndexEntry entry;
       entry.offset = offset_;
       entry.compressed_size = encoded.compressed.size();
@@ -279,7 +319,7 @@ class Writer final : public TraceWriter {
       entry.checksum = detail::load_le32(encoded.compressed.data() + encoded.compressed.size() - 4);
       index_.push_back(entry);
       emit(encoded.compressed.view(), true);
-      stock_->bytes.give(std::move(encoded.compressed));
+      stock_->compressed.give(std::move(encoded.compressed));
     }
   }
 
