@@ -58,6 +58,12 @@ Encoded encode(std::vector<Record> records, RecordForm form, unsigned digits, st
     thread_local std::unique_ptr<ZSTD_CCtx, Deleter> context(ZSTD_createCCtx());
     ZSTD_CCtx_reset(context.get(), ZSTD_reset_session_and_parameters);
     ZSTD_CCtx_setParameter(context.get(), ZSTD_c_compressionLevel, level);
+    // A 4 MiB window rather than the 0.5-2 MiB zstd gives levels 1-6: a data
+    // frame is about 14 MB of text, and the longer reach finds more repeats.
+    // Measured at level 3 on 14 MB frames: 3% smaller on a tracer trace, 0.6%
+    // on formats_bench's, and no slower (fewer, longer matches). zstd still
+    // shrinks the window of a frame smaller than that.
+    if (level >= 1 && level <= 6) ZSTD_CCtx_setParameter(context.get(), ZSTD_c_windowLog, 22);
     ZSTD_CCtx_setParameter(context.get(), ZSTD_c_checksumFlag, 1);
     ZSTD_CCtx_setParameter(context.get(), ZSTD_c_contentSizeFlag, 1);
     encoded.compressed = stock.compressed.take();
