@@ -49,7 +49,7 @@ render_seconds() { sed -n 's/^  render: \([0-9.]*\) s.*/\1/p' "$1"; }
 load="$(cut -d' ' -f1 /proc/loadavg)"
 echo "bench-tracer: ${width}x${height}, max depth $max_depth, $runs run(s) each, $(nproc) cores, load average $load"
 awk -v load="$load" -v cores="$(nproc)" 'BEGIN { if (load + 0 > cores * 0.5) print "bench-tracer: the machine is busy (load " load " on " cores " cores): absolute figures are low; the ratios are measured under the same load" }'
-printf '%-14s %9s %8s %11s %10s %9s %11s %9s %7s %10s\n' scene triangles build_s rays render_s Mrays_s recorded_s traced_s ratio B/record
+printf '%-14s %9s %8s %11s %10s %9s %11s %9s %7s %10s %9s\n' scene triangles build_s rays render_s Mrays_s recorded_s traced_s ratio B/record vs_zstd3
 for scene in $scenes; do
   name="$(basename "$scene")"
   plain=() recorded=() traced=()
@@ -72,13 +72,14 @@ for scene in $scenes; do
   rays="$(sed -n 's/^  rays: .*; total \([0-9]*\)$/\1/p' "$work/plain.txt")"
   records="$(sed -n 's/^  render: .*; \([0-9]*\) records$/\1/p' "$work/traced.txt")"
   bytes="$(stat -c %s "$work/trace.din.zst")"
+  zstd3_bytes="$(zstd -dc "$work/trace.din.zst" | zstd -3 -T1 -q -c | wc -c)"
   awk -v n="$name" -v t="$triangles" -v b="$build_s" -v r="$rays" -v p="$render_s" -v q="$traced_s" \
-      -v m="$recorded_s" -v rec="$records" -v by="$bytes" 'BEGIN {
-    printf "%-14s %9d %8.2f %11d %10.3f %9.3f %11.3f %9.3f %7.2f %10.3f\n", n, t, b, r, p, r / p / 1e6, m, q, q / p, by / rec }'
+      -v m="$recorded_s" -v rec="$records" -v by="$bytes" -v z3="$zstd3_bytes" 'BEGIN {
+    printf "%-14s %9d %8.2f %11d %10.3f %9.3f %11.3f %9.3f %7.2f %10.3f %9.4f\n", n, t, b, r, p, r / p / 1e6, m, q, q / p, by / rec, by / z3 }'
 done
 echo "render_s: rendering only; recorded_s: also making every record (then discarded); traced_s: also writing"
 echo "the trace; ratio = traced_s / render_s (target <= 2.0), render-loop seconds; B/record = compressed"
-echo "din bytes per record (tracer's default zstd level)"
+echo "din bytes per record (tracer's default zstd level, 3); vs_zstd3 = trace bytes / \`zstd -3\` of its text (target <= 1)"
 
 # The kd-tree build on about 250K triangles (the forest built-in at size 5).
 builds=()
