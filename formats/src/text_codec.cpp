@@ -439,10 +439,8 @@ void format_records(std::span<const Record> records, RecordForm form, unsigned a
     return;
   }
   const bool extended = form == RecordForm::ExtendedDin;
-  // Longest line: type, 16 address digits, 8 size digits, 5 tag digits, blanks, newline.
-  constexpr std::size_t kMaxLine = 1 + 1 + 16 + 1 + 8 + 1 + 5 + 1;
   const std::size_t start = out.size();
-  out.reserve(start + records.size() * kMaxLine);
+  out.reserve(start + records.size() * kMaxTextLine);
   char* p = out.data() + start;
   auto put_line = [&](const Record& record) {
     const auto type = static_cast<unsigned>(record.type);

@@ -38,6 +38,10 @@ bool parse_records(std::string_view bytes, const ParseSettings& settings,
 // Guesses din or extended din from the first record's first character.
 RecordForm detect_text_form(std::string_view first_bytes);
 
+// The longest line format_records writes: type, 16 address digits, 8 size
+// digits, 5 tag digits, the blanks and the newline.
+inline constexpr std::size_t kMaxTextLine = 1 + 1 + 16 + 1 + 8 + 1 + 5 + 1;
+
 // Appends the records in `form`: text lines with fixed-width fields, or
 // 8-byte binary records. Throws FormatError when a record cannot be written
 // in that form (e.g. an address above 32 bits in binary); `first_record` is

@@ -40,17 +40,12 @@ struct Encoded {
 struct Stock {
   detail::Recycler<detail::ByteBuffer> text{8};
   detail::Recycler<detail::ByteBuffer> compressed{8};
-  detail::Recycler<std::vector<Record>> records{8};
 };
 
-Encoded encode(std::vector<Record> records, RecordForm form, unsigned digits, std::uint64_t first_record,
-               bool compress, int level, Stock& stock) {
+// A data frame's text, compressed (containers) on a worker thread.
+Encoded encode(detail::ByteBuffer text, bool compress, int level, Stock& stock) {
   Encoded encoded;
-  encoded.text = stock.text.take();
-  detail::format_records(records, form, digits, first_record, encoded.text);
-  // Back to the stock at once, not when the frame is written out: fewer
-  // record buffers in flight means fewer fresh pages to fault in.
-  stock.records.give(std::move(records));
+  encoded.text = std::move(text);
   if (compress) {
     struct Deleter {
       void operator()(ZSTD_CCtx* context) const { ZSTD_freeCCtx(context); }
@@ -113,7 +108,7 @@ class Writer final : public TraceWriter {
       header["trailer"] = true;
       emit(detail::skippable_frame(detail::kHeaderMagic, header.dump()), true);
     }
-    pending_.reserve(std::min<std::uint64_t>(options_.records_per_frame, 1u << 20));
+    reserve_pending_text();
   }
 
   ~Writer() override {
@@ -141,16 +136,20 @@ class Writer final : public TraceWriter {
     check_open();
     while (!records.empty()) {
       // Whole runs up to the end of the pending data frame: one cheap pass
-      // checks and counts them, one copy appends them.
-      const std::size_t room = options_.records_per_frame - pending_.size();
+      // checks and counts them, then they are formatted straight into the
+      // frame's text while they are still in the cache (formatting costs
+      // about what copying them for a worker would; compression, the bulk of
+      // the work, runs on the workers).
+      const std::size_t room = options_.records_per_frame - pending_records_;
       const std::span<const Record> run = records.first(std::min<std::size_t>(room, records.size()));
       records = records.subspan(run.size());
       if (!count_run(run)) {
         write_one_by_one(run);  // throws, naming the first bad record
       }
-      pending_.insert(pending_.end(), run.begin(), run.end());
+      detail::format_records(run, options_.form, options_.address_digits, records_total_, pending_text_);
+      pending_records_ += run.size();
       records_total_ += run.size();
-      if (pending_.size() >= options_.records_per_frame) submit_pending();
+      if (pending_records_ >= options_.records_per_frame) submit_pending();
     }
   }
 
@@ -248,8 +247,10 @@ class Writer final : public TraceWriter {
       }
       ++type_counts_[type];
       ++tag_counts_[record.tag];
+      detail::format_records(std::span<const Record>(&record, 1), options_.form, options_.address_digits,
+                             records_total_, pending_text_);
+      ++pending_records_;
       ++records_total_;
-      pending_.push_back(record);
     }
   }
 
@@ -274,21 +275,25 @@ class Writer final : public TraceWriter {
   }
 
   void submit_pending() {
-    if (pending_.empty()) return;
+    if (pending_records_ == 0) return;
     Item item;
-    item.first_record = records_total_ - pending_.size();
-    item.record_count = pending_.size();
+    item.first_record = records_total_ - pending_records_;
+    item.record_count = pending_records_;
     item.animation_frame = markers_ == 0 ? 0 : markers_ - 1;
-    std::vector<Record> records = stock_->records.take();
-    records.swap(pending_);
-    pending_.reserve(std::min<std::uint64_t>(options_.records_per_frame, 1u << 20));
-    item.job = pool_->submit([records = std::move(records), form = options_.form, digits = options_.address_digits,
-                              first = item.first_record, compress = container_, level = options_.zstd_level,
-                              stock = stock_]() mutable {
-      return encode(std::move(records), form, digits, first, compress, level, *stock);
-    });
+    detail::ByteBuffer text = std::move(pending_text_);
+    pending_text_ = stock_->text.take();
+    pending_records_ = 0;
+    reserve_pending_text();
+    item.job = pool_->submit([text = std::move(text), compress = container_, level = options_.zstd_level,
+                              stock = stock_]() mutable { return encode(std::move(text), compress, level, *stock); });
     queue_.push_back(std::move(item));
     drain(false);
+  }
+
+  // Room for a whole frame's text up front (pages are touched only as lines
+  // are written), so formatting never reallocates mid-frame.
+  void reserve_pending_text() {
+    pending_text_.reserve(std::min<std::uint64_t>(options_.records_per_frame, 1u << 20) * detail::kMaxTextLine);
   }
 
   // Writes finished items in order; waits for all when `all`, else only while
@@ -358,7 +363,8 @@ class Writer final : public TraceWriter {
   std::shared_ptr<Stock> stock_ = std::make_shared<Stock>();
   std::unique_ptr<detail::ThreadPool> pool_;
   std::deque<Item> queue_;
-  std::vector<Record> pending_;
+  detail::ByteBuffer pending_text_;  // the text of the data frame being filled
+  std::uint64_t pending_records_ = 0;
   std::vector<FrameIndexEntry> index_;
   std::vector<std::uint64_t> tag_counts_;
   std::array<std::uint64_t, kAccessTypeCount> type_counts_{};
