@@ -38,31 +38,6 @@ std::optional<HighPolicy> parse_high_policy_name(std::string_view name) {
   return std::nullopt;
 }
 
-std::uint64_t parse_size(std::string_view text) {
-  std::uint64_t value = 0;
-  const char* const end = text.data() + text.size();
-  const auto [next, error] = std::from_chars(text.data(), end, value);
-  std::uint64_t scale = 1;
-  if (next != end && next + 1 == end) {
-    switch (*next) {
-      case 'k': case 'K': scale = 1024; break;
-      case 'm': case 'M': scale = 1024 * 1024; break;
-      case 'g': case 'G': scale = 1024 * 1024 * 1024; break;
-      default: scale = 0;
-    }
-  } else if (next != end) {
-    scale = 0;
-  }
-  if (error != std::errc{} || next == text.data() || scale == 0 || value == 0 ||
-      value > std::numeric_limits<std::uint64_t>::max() / scale) {
-    throw UsageError(fmt::format(
-        "'{}' is not a size: expected a positive number of bytes, optionally with k or m "
-        "(e.g. 8k)",
-        text));
-  }
-  return value * scale;
-}
-
 std::uint32_t parse_assoc(std::string_view text) {
   if (text == "full") return 0;
   std::uint32_t value = 0;

@@ -12,6 +12,7 @@
 
 #include "nodetrace/cachesim/report.hpp"
 #include "nodetrace/cachesim/sweep.hpp"
+#include "nodetrace/formats/byte_size.hpp"
 #include "nodetrace/formats/error.hpp"
 #include "nodetrace/formats/reader.hpp"
 
@@ -100,10 +101,10 @@ std::vector<T> parse_list(const std::vector<std::string>& texts, const char* opt
 inline SweepOptions sweep_options(const RunCommandLine& line) {
   SweepOptions options;
   options.sizes.clear();
-  for (const auto& text : line.sizes) options.sizes.push_back(parse_size(text));
+  for (const auto& text : line.sizes) options.sizes.push_back(formats::parse_byte_size(text));
   options.blocks.clear();
   for (const auto& text : line.blocks) {
-    const std::uint64_t block = parse_size(text);
+    const std::uint64_t block = formats::parse_byte_size(text);
     if (block > (1u << 30)) throw formats::UsageError(fmt::format("--block {} is too large", text));
     options.blocks.push_back(static_cast<std::uint32_t>(block));
   }
@@ -127,8 +128,8 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
     }
     options.split_levels.push_back(level);
   }
-  if (!line.high_size.empty()) options.high_size = parse_size(line.high_size);
-  if (!line.low_size.empty()) options.low_size = parse_size(line.low_size);
+  if (!line.high_size.empty()) options.high_size = formats::parse_byte_size(line.high_size);
+  if (!line.low_size.empty()) options.low_size = formats::parse_byte_size(line.low_size);
   if (!line.high_assoc.empty()) options.high_assoc = parse_assoc(line.high_assoc);
   options.count_loads = line.count_loads;
   options.per_level = line.per_level;

@@ -24,8 +24,6 @@ std::optional<Scheme> parse_scheme_name(std::string_view name);
 std::string_view high_policy_name(HighPolicy policy);  // retain, cache
 std::optional<HighPolicy> parse_high_policy_name(std::string_view name);
 
-// "8192", "8k", "8K", "1m": bytes. Throws formats::UsageError.
-std::uint64_t parse_size(std::string_view text);
 // Associativity: a number, or "full" (returned as 0: all blocks of the cache).
 std::uint32_t parse_assoc(std::string_view text);
 

@@ -1,0 +1,16 @@
+// Byte sizes as users write them on command lines: "4096", "4k", "16K", "1m",
+// "2g" (binary multiples, as Dinero IV reads them). Shared by every front end
+// so that `tracer --high-size 4k` and `cachesim run --size 4k` agree.
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+
+namespace nodetrace::formats {
+
+// A positive byte count, optionally followed by one of k, m, g (either case).
+// Throws UsageError saying what was expected for anything else (zero,
+// negative, overflow, other suffixes).
+std::uint64_t parse_byte_size(std::string_view text);
+
+}  // namespace nodetrace::formats
