@@ -135,5 +135,29 @@ TEST(PipelineStreaming, TracerToCachesimThroughAPipe) {
   EXPECT_NE(from_file.out.find(",split,"), std::string::npos);
 }
 
+TEST(PipelineLayouts, OnlyAHybridLayoutsSplitLevelIsComparedWithK) {
+  TempDir dir;
+  const std::string render = quoted(program("tracer")) +
+                             " render mountain:6 --width 16 --height 12 --quiet";
+  const std::string simulate = quoted(program("cachesim")) +
+                               " run --size 2k --scheme split --format csv ";
+  // dfl has no BFL top part: no split level in the header, no note about it.
+  const auto dfl = dir / "dfl.din.zst";
+  ASSERT_EQ(run_command(render + " --layout dfl -o " + quoted(dfl)).exit_code, 0);
+  const auto info = run_command(quoted(program("tracetool")) + " info --format json " + quoted(dfl));
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_FALSE(nlohmann::json::parse(info.out)["header"]["layout"].contains("split_level"));
+  const auto dfl_run = run_command(simulate + quoted(dfl));
+  ASSERT_EQ(dfl_run.exit_code, 0) << dfl_run.err;
+  EXPECT_EQ(dfl_run.err.find("differs from the layout"), std::string::npos) << dfl_run.err;
+  // A hybrid layout built for another high-cache size is noted.
+  const auto hybrid = dir / "hybrid.din.zst";
+  ASSERT_EQ(run_command(render + " --split-level 1 -o " + quoted(hybrid)).exit_code, 0);
+  const auto hybrid_run = run_command(simulate + quoted(hybrid));
+  ASSERT_EQ(hybrid_run.exit_code, 0) << hybrid_run.err;
+  EXPECT_NE(hybrid_run.err.find("differs from the layout's split_level 1"), std::string::npos)
+      << hybrid_run.err;
+}
+
 }  // namespace
 }  // namespace nodetrace::testing

@@ -48,11 +48,13 @@ nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
   if (r.fov_y_degrees) render["fov"] = shortest(*r.fov_y_degrees);
   header["render"] = render;
   nlohmann::json layout = {{"name", layout_name(options.layout)},
-                           {"split_level", split_level},
                            {"node_size", r.addresses.node_size},
                            {"node_base", r.addresses.node_base}};
-  if (options.layout == LayoutKind::Hybrid && options.high_size) {
-    layout["high_size"] = *options.high_size;
+  // Only the hybrid layout has a BFL top part: a split level written for the
+  // others would make simulators compare their K against a meaningless 0.
+  if (options.layout == LayoutKind::Hybrid) {
+    layout["split_level"] = split_level;
+    if (options.high_size) layout["high_size"] = *options.high_size;
   }
   header["layout"] = layout;
   header["kdtree"] = {{"traversal_cost", shortest(options.build.traversal_cost)},
@@ -173,9 +175,9 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
       marker.nodes = tree.stats().nodes;
       marker.leaves = tree.stats().leaves;
       marker.depth = tree.stats().depth;
-      marker.extra = {{"split_level", report.split_level},
-                      {"triangles", scene.triangles.size()},
+      marker.extra = {{"triangles", scene.triangles.size()},
                       {"empty_leaves", tree.stats().empty_leaves}};
+      if (options.layout == LayoutKind::Hybrid) marker.extra["split_level"] = report.split_level;
       writer->begin_frame(marker);
     }
     Image image;

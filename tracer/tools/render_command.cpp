@@ -32,10 +32,13 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
                    const std::string& scene_name, double build_seconds) {
   const RenderStats& t = result.total;
   const auto& first = result.frames.front();
-  std::fprintf(stderr, "tracer: %s, %dx%d, max depth %d, %zu frame(s), layout %s (split level %u)\n",
+  const std::string layout =
+      options.layout == LayoutKind::Hybrid
+          ? fmt::format("hybrid (split level {})", first.split_level)
+          : std::string(layout_name(options.layout));
+  std::fprintf(stderr, "tracer: %s, %dx%d, max depth %d, %zu frame(s), layout %s\n",
                scene_name.c_str(), options.render.width, options.render.height,
-               options.render.max_depth, result.frames.size(),
-               std::string(layout_name(options.layout)).c_str(), first.split_level);
+               options.render.max_depth, result.frames.size(), layout.c_str());
   std::fprintf(stderr,
                "  kd-tree: %llu triangles, %llu nodes, %llu leaves (%llu empty), depth %u, built in %.2f s\n",
                static_cast<unsigned long long>(first.triangles),
