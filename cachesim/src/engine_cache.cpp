@@ -72,16 +72,9 @@ void Cache::move_to_top(std::uint32_t stack, std::uint32_t node) {
   Stack& s = stacks_[stack];
   const std::uint32_t top = s.top;
   if (node == top) return;
-  const std::uint32_t bottom = nodes_[top].up;
-  if (bottom != node) {
-    Node& p = nodes_[node];
-    nodes_[p.down].up = p.up;
-    nodes_[p.up].down = p.down;
-    p.up = bottom;
-    p.down = top;
-    nodes_[bottom].down = node;
-    nodes_[top].up = node;
-  }
+  // The stack is a ring: the bottom node is just above the top, so making the
+  // bottom node the top needs only the top pointer to move.
+  if (nodes_[top].up != node) relink_above_top(top, node);
   s.top = node;
 }
 
@@ -94,6 +87,11 @@ void Cache::move_to_bottom(std::uint32_t stack, std::uint32_t node) {
     s.top = nodes_[top].down;
     return;
   }
+  relink_above_top(top, node);
+}
+
+void Cache::relink_above_top(std::uint32_t top, std::uint32_t node) {
+  const std::uint32_t bottom = nodes_[top].up;
   Node& p = nodes_[node];
   nodes_[p.down].up = p.up;
   nodes_[p.up].down = p.down;

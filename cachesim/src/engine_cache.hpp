@@ -79,6 +79,9 @@ class Cache {
   std::uint32_t find(std::uint32_t stack, std::uint64_t block) const;
   void move_to_top(std::uint32_t stack, std::uint32_t node);
   void move_to_bottom(std::uint32_t stack, std::uint32_t node);
+  // Unlinks `node` and puts it between the bottom of the ring and `top`
+  // (i.e. at the bottom); the caller decides whether it becomes the top.
+  void relink_above_top(std::uint32_t top, std::uint32_t node);
   std::uint32_t nth_from_top(std::uint32_t stack, std::uint32_t n) const;
   std::uint32_t replace(std::uint32_t stack, std::uint64_t block, std::uint32_t hit);
   void index_node(std::uint32_t stack, std::uint32_t node);
