@@ -16,17 +16,21 @@
 #include <vector>
 
 #include "nodetrace/cachesim/engine.hpp"
+#include "nodetrace/formats/record.hpp"
 
 namespace nodetrace::cachesim::detail {
 
-enum : std::uint8_t {
-  kRead = 0,
-  kWrite = 1,
-  kInstructionFetch = 2,
-  kMisc = 3,
-  kCopyBack = 4,
-  kInvalidate = 5,
-};
+// formats::AccessType as the small integers the engine indexes its counters by.
+constexpr std::uint8_t access_index(formats::AccessType type) {
+  return static_cast<std::uint8_t>(type);
+}
+inline constexpr std::uint8_t kRead = access_index(formats::AccessType::Read);
+inline constexpr std::uint8_t kWrite = access_index(formats::AccessType::Write);
+inline constexpr std::uint8_t kInstructionFetch =
+    access_index(formats::AccessType::InstructionFetch);
+inline constexpr std::uint8_t kMisc = access_index(formats::AccessType::Misc);
+inline constexpr std::uint8_t kCopyBack = access_index(formats::AccessType::CopyBack);
+inline constexpr std::uint8_t kInvalidate = access_index(formats::AccessType::Invalidate);
 
 // A memory reference as Dinero IV's d4memref: its size is 16 bits wide.
 struct Ref {
