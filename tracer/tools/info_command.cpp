@@ -26,8 +26,8 @@ int info_command(int argc, char** argv) {
   app.add_option("--max-depth", max_depth, "ray tree depth assumed for the ray kinds")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
-  app.add_option("--node-size", node_size, "bytes per node, for the split levels shown")
-      ->check(CLI::PositiveNumber)
+  app.add_option("--node-size", node_size, "bytes per node, for the split levels shown (at most 65535)")
+      ->check(CLI::Range(1, kMaxNodeSize))
       ->capture_default_str();
   SceneCommandOptions scene_options;
   add_scene_options(app, scene_options);
@@ -39,6 +39,9 @@ int info_command(int argc, char** argv) {
 
   try {
     if (!scene_options.frames.empty()) throw formats::UsageError("--frames: info describes one frame; use --frame");
+    // Options first, before a scene is loaded.
+    if (scene_options.time) formats::check_finite(*scene_options.time, "--time");
+    const KdBuildOptions build_options = make_build_options(scene_options);
     const auto source = open_scene(scene_spec);
     const Animation& animation = source->animation();
     const std::uint64_t frame = scene_options.frame.value_or(0);
@@ -48,7 +51,7 @@ int info_command(int argc, char** argv) {
     }
     const double time = scene_options.time.value_or(animation.time_of_frame(frame));
     const Scene scene = source->at_time(time);
-    const KdTree tree = KdTree::build(scene.triangles, make_build_options(scene_options));
+    const KdTree tree = KdTree::build(scene.triangles, build_options);
     const KdTreeStats& s = tree.stats();
     const RayKindPlan plan = plan_ray_kinds(scene, max_depth);
     const Bounds bounds = scene.bounds();

@@ -3,7 +3,9 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -11,9 +13,22 @@
 
 #include "nodetrace/formats/byte_size.hpp"
 #include "nodetrace/formats/error.hpp"
+#include "nodetrace/formats/option_limits.hpp"
+#include "nodetrace/tracer/camera_checks.hpp"
 #include "nodetrace/tracer/trace_emit.hpp"
 
 namespace nodetrace::tracer::cli {
+
+// Resource budgets of a render, stated in --help and in the errors.
+// Image sides up to 16 bits; pixels up to 2^26 (8192x8192): the image, the
+// pixel order and the per-pixel state take about 24 bytes a pixel.
+inline constexpr int kMaxImageSide = 65535;
+inline constexpr std::uint64_t kMaxImagePixels = std::uint64_t{1} << 26;
+// Camera coordinates: beyond this a float ray origin has no precision left
+// for a scene of ordinary size.
+inline constexpr double kMaxCameraCoordinate = 1e15;
+// Bytes per node, tile side: Dinero IV's sizes are 16 bits.
+inline constexpr int kMaxNodeSize = 65535;
 
 // A size option ("4096", "4k", "1m"), read as everywhere in nodetrace;
 // the error names the option.
@@ -89,8 +104,8 @@ inline void add_scene_options(CLI::App& app, SceneCommandOptions& o) {
 struct RenderCommandOptions {
   int width = 800, height = 600, max_depth = 10, tile_size = 8;
   std::string pixel_order = "scanline";
-  std::vector<float> eye, look_at, up;
-  std::optional<float> fov;
+  std::vector<double> eye, look_at, up;
+  std::optional<double> fov;
   unsigned threads = 0;
   std::string layout;
   std::optional<std::uint32_t> split_level;
@@ -99,8 +114,12 @@ struct RenderCommandOptions {
 };
 
 inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
-  app.add_option("--width", o.width, "image width")->check(CLI::PositiveNumber)->capture_default_str();
-  app.add_option("--height", o.height, "image height")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--width", o.width, "image width (at most 65535; width x height at most 2^26 pixels)")
+      ->check(CLI::Range(1, kMaxImageSide))
+      ->capture_default_str();
+  app.add_option("--height", o.height, "image height (at most 65535)")
+      ->check(CLI::Range(1, kMaxImageSide))
+      ->capture_default_str();
   app.add_option("--max-depth", o.max_depth, "ray tree depth (primary rays are depth 1)")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
@@ -108,13 +127,14 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
       ->check(CLI::IsMember({"scanline", "tiled", "morton"}))
       ->capture_default_str();
   app.add_option("--tile-size", o.tile_size, "tile side for --pixel-order tiled")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::Range(1, kMaxImageSide))
       ->capture_default_str();
   app.add_option("--eye", o.eye, "camera position X Y Z")->expected(3);
   app.add_option("--look-at", o.look_at, "point the camera looks at X Y Z")->expected(3);
   app.add_option("--up", o.up, "camera up direction X Y Z")->expected(3);
-  app.add_option("--fov", o.fov, "vertical field of view in degrees")->check(CLI::Range(0.01f, 179.0f));
-  app.add_option("--threads", o.threads, "rendering threads (default: one per core); the output does not depend on it");
+  app.add_option("--fov", o.fov, "vertical field of view in degrees, 0.01 to 179");
+  app.add_option("--threads", o.threads,
+                 "rendering threads (default: one per core; at most 16 per core); the output does not depend on it");
   app.add_option("--layout", o.layout,
                  "tree layout: dfl, bfl, hybrid or veb (default: hybrid when --split-level or "
                  "--high-size is given, else dfl)")
@@ -126,10 +146,20 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
   app.add_option("--node-base", o.node_base, "address of layout slot 0")->capture_default_str();
   app.add_option("--list-base", o.list_base, "address of the leaf primitive lists (--streams lists; default 0x40000000)");
   app.add_option("--triangle-base", o.triangle_base, "address of the triangles (--streams triangles; default 0x80000000)");
-  app.add_option("--node-size", o.node_size, "bytes per kd-tree node")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--node-size", o.node_size, "bytes per kd-tree node (at most 65535)")
+      ->check(CLI::Range(1, kMaxNodeSize))
+      ->capture_default_str();
 }
 
 inline KdBuildOptions make_build_options(const SceneCommandOptions& s) {
+  formats::check_finite(s.traversal_cost, "--traversal-cost");
+  formats::check_finite(s.intersection_cost, "--intersection-cost");
+  if (!(s.traversal_cost > 0) || !(s.intersection_cost > 0)) {
+    throw formats::UsageError("--traversal-cost and --intersection-cost must be positive");
+  }
+  if (!(s.empty_bonus >= 0 && s.empty_bonus <= 1)) {
+    throw formats::UsageError(fmt::format("--empty-bonus {}: expected a number from 0 to 1", s.empty_bonus));
+  }
   KdBuildOptions build;
   build.traversal_cost = s.traversal_cost;
   build.intersection_cost = s.intersection_cost;
@@ -141,7 +171,7 @@ inline KdBuildOptions make_build_options(const SceneCommandOptions& s) {
 // Frame range from --frame / --time / --frames into the job options.
 inline void apply_frames(const SceneCommandOptions& s, TraceJobOptions& options) {
   if (s.frame) options.first_frame = options.last_frame = *s.frame;
-  if (s.time) options.time = *s.time;
+  if (s.time) options.time = formats::check_finite(*s.time, "--time");
   if (!s.frames.empty()) {
     const auto dash = s.frames.find('-');
     try {
@@ -157,7 +187,29 @@ inline void apply_frames(const SceneCommandOptions& s, TraceJobOptions& options)
   }
 }
 
+// A point or direction option: finite, and within kMaxCameraCoordinate.
+inline Vec3 camera_vector(const std::vector<double>& v, const char* option) {
+  const std::string given = fmt::format("{} {:g} {:g} {:g}", option, v[0], v[1], v[2]);
+  for (const double x : v) {
+    if (!std::isfinite(x)) throw formats::UsageError(given + ": expected finite numbers");
+    if (std::fabs(x) > kMaxCameraCoordinate) {
+      throw formats::UsageError(fmt::format("{}: expected coordinates of at most {:g} in magnitude", given,
+                                            kMaxCameraCoordinate));
+    }
+  }
+  return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
+}
+
+inline void check_image_size(int width, int height) {
+  const std::uint64_t pixels = std::uint64_t(width) * std::uint64_t(height);
+  if (pixels > kMaxImagePixels) {
+    throw formats::UsageError(fmt::format("--width {} --height {}: at most {} pixels (e.g. 8192x8192)", width,
+                                          height, kMaxImagePixels));
+  }
+}
+
 inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const SceneCommandOptions& s) {
+  check_image_size(r.width, r.height);
   TraceJobOptions options;
   options.build = make_build_options(s);
   apply_frames(s, options);
@@ -167,22 +219,37 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
   render.max_depth = r.max_depth;
   render.pixel_order = *parse_pixel_order(r.pixel_order);
   render.tile_size = r.tile_size;
-  render.threads = r.threads;
+  render.threads = formats::check_thread_count(r.threads, "--threads");
   render.addresses.node_size = r.node_size;
   render.addresses.node_base = parse_address(r.node_base, "--node-base");
   if (!r.list_base.empty()) render.addresses.list_base = parse_address(r.list_base, "--list-base");
   if (!r.triangle_base.empty()) {
     render.addresses.triangle_base = parse_address(r.triangle_base, "--triangle-base");
   }
-  render.fov_y_degrees = r.fov;
+  if (r.fov) {
+    if (!(*r.fov >= 0.01 && *r.fov <= 179)) {
+      throw formats::UsageError(fmt::format("--fov {}: expected degrees from 0.01 to 179", *r.fov));
+    }
+    render.fov_y_degrees = static_cast<float>(*r.fov);
+  }
   if (!r.eye.empty() || !r.look_at.empty() || !r.up.empty()) {
     if (r.eye.empty() || r.look_at.empty()) {
       throw formats::UsageError("a camera needs both --eye and --look-at (--up and --fov are optional)");
     }
     Camera camera;
-    camera.eye = {r.eye[0], r.eye[1], r.eye[2]};
-    camera.look_at = {r.look_at[0], r.look_at[1], r.look_at[2]};
-    if (!r.up.empty()) camera.up = {r.up[0], r.up[1], r.up[2]};
+    camera.eye = camera_vector(r.eye, "--eye");
+    camera.look_at = camera_vector(r.look_at, "--look-at");
+    if (!r.up.empty()) camera.up = camera_vector(r.up, "--up");
+    switch (camera_problem(camera.eye, camera.look_at, camera.up)) {
+      case CameraProblem::EyeAtLookAt:
+        throw formats::UsageError("--eye and --look-at are the same point: the camera looks nowhere");
+      case CameraProblem::UpAlongView:
+        throw formats::UsageError(fmt::format("--up is parallel to the view direction (up {:g} {:g} {:g}{}): "
+                                              "expected a direction across the view",
+                                              camera.up.x, camera.up.y, camera.up.z,
+                                              r.up.empty() ? ", the default" : ""));
+      case CameraProblem::None: break;
+    }
     render.camera = camera;
   }
   options.split_level = r.split_level;

@@ -1,0 +1,168 @@
+// Hostile scenes, traces and options, one table row each: the command, the
+// exit code it must give and the words its error message must start with.
+// Every command runs in a fresh directory holding the fixture files below,
+// under a hang guard (`timeout`), and with a memory limit where the row says
+// so. A new case is one line.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "test_support.hpp"
+
+namespace nodetrace::testing {
+namespace {
+
+// Small input files every case can use by name.
+std::vector<std::pair<std::string, std::string>> fixture_files() {
+  const std::string triangle = "v -1 -1 0\nv 1 -1 0\nv 0 1 0\n";
+  std::vector<std::pair<std::string, std::string>> files = {
+      {"ok.obj", triangle + "f 1 2 3\n"},
+      {"far.obj", triangle + "f 1 2 100000000\n"},
+      {"far_normal.obj", triangle + "vn 0 0 1\nf 1//1 2//1 3//90000000\n"},
+      {"far_negative.obj", triangle + "f 1 2 -100000000\n"},
+      {"one_past.obj", triangle + "f 1 2 4\n"},
+      {"negative_past.obj", triangle + "f -1 -2 -9\n"},
+      {"zero_index.obj", triangle + "f 0 1 2\n"},
+      {"far_texture.obj", triangle + "vt 0 0\nf 1/1 2/1 3/7\n"},
+      {"two_corners.obj", triangle + "f 1 2\n"},
+      {"garbage.obj", "this is not an OBJ file\nnor is this\n"},
+      {"huge.aff", "p 3\n1e39 0 0\n0 1 0\n0 0 1\n"},
+      {"polygon_count.aff", "p 100000000\n0 0 0\n1 0 0\n0 1 0\n"},
+      {"mesh_count.aff", "m vertices 100000000\n0 0 0\n1 0 0\n0 1 0\ntriangles 1\n0 1 2\n"},
+      {"resolution.aff", "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 0 0\n"
+                         "p 3\n0 0 0\n1 0 0\n0 1 0\n"},
+      {"view_degenerate.aff", "v\nfrom 1 2 3\nat 1 2 3\nup 0 1 0\nangle 45\nhither 1\nresolution 4 3\n"
+                              "p 3\n0 0 0\n1 0 0\n0 1 0\n"},
+      {"view_up.aff", "v\nfrom 0 0 5\nat 0 0 0\nup 0 0 1\nangle 45\nhither 1\nresolution 4 3\n"
+                      "p 3\n0 0 0\n1 0 0\n0 1 0\n"},
+      {"view_angle.aff", "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 0\nhither 1\nresolution 4 3\n"
+                         "p 3\n0 0 0\n1 0 0\n0 1 0\n"},
+      {"empty.aff", "b 0 0 0\n"},
+      {"animated.aff", "a 0 1 10\nk move {\ntransl 2\n0 0 0 0 0 0 0\n1 1 0 0 0 0 0\n}\n"
+                       "x move {\np 3\n0 0 0\n1 0 0\n0 1 0\n}\n"},
+      {"tag_cr.din", "0 00001000 07\r\n"},
+      {"big_size.xdin", "r 104 10000\n"},
+  };
+  // A chain of files each including the next twice: 2^40 inclusions.
+  for (int i = 0; i < 40; ++i) {
+    const std::string next = fmt::format("chain{}.aff", i + 1);
+    files.push_back({fmt::format("chain{}.aff", i), "i 1 " + next + "\ni 1 " + next + "\n"});
+  }
+  files.push_back({"chain40.aff", "p 3\n0 0 0\n1 0 0\n0 1 0\n"});
+  std::string records;  // a 15K-record plain din trace
+  for (int i = 0; i < 15000; ++i) records += fmt::format("0 {:08x} {:02d}\n", 8 * (i % 997), i % 12);
+  files.push_back({"t.din", records});
+  return files;
+}
+
+struct HostileCase {
+  const char* name;
+  const char* command;  // $B: build/bin; $LIMIT: a 4 GiB address-space limit
+  int exit_code;
+  const char* message;  // standard error starts with this
+};
+
+// clang-format off
+const HostileCase kCases[] = {
+  // OBJ face indices: every form bounds-checked, naming the line.
+  {"ObjFarIndex", "$B/tracer info far.obj", 1, "tracer info: far.obj:4: vertex index 100000000 is out of range"},
+  {"ObjFarIndexRender", "$B/tracer render far.obj --width 4 --height 3", 1, "tracer render: far.obj:4: vertex index 100000000"},
+  {"ObjFarNormalIndex", "$B/tracer info far_normal.obj", 1, "tracer info: far_normal.obj:5: normal index 90000000 is out of range"},
+  {"ObjFarNegativeIndex", "$B/tracer info far_negative.obj", 1, "tracer info: far_negative.obj:4: vertex index -100000000 is out of range"},
+  {"ObjOnePastTheEnd", "$B/tracer info one_past.obj", 1, "tracer info: one_past.obj:4: vertex index 4 is out of range (3 vertices)"},
+  {"ObjNegativePastTheStart", "$B/tracer info negative_past.obj", 1, "tracer info: negative_past.obj:4: vertex index -9 is out of range"},
+  {"ObjZeroIndex", "$B/tracer info zero_index.obj", 1, "tracer info: zero_index.obj:4: vertex index 0 is out of range"},
+  {"ObjFarTextureIndex", "$B/tracer info far_texture.obj", 1, "tracer info: far_texture.obj:5: texture coordinate index 7 is out of range"},
+  {"ObjTwoCornerFace", "$B/tracer info two_corners.obj", 1, "tracer info: two_corners.obj:4: expected a face of at least 3 vertices"},
+  {"ObjNoTriangles", "$B/tracer info garbage.obj", 1, "tracer info: garbage.obj: no triangles"},
+  // AFF values, counts and includes.
+  {"AffFloatOverflow", "$B/tracer info huge.aff", 1, "tracer info: huge.aff:2: expected polygon vertex coordinate (a number of at most 3.40282e+38 in magnitude), got '1e39'"},
+  {"AffPolygonCount", "$LIMIT $B/tracer info polygon_count.aff", 1, "tracer info: polygon_count.aff:1: polygon vertex count 100000000 needs at least"},
+  {"AffMeshVertexCount", "$LIMIT $B/tracer info mesh_count.aff", 1, "tracer info: mesh_count.aff:1: mesh vertex count 100000000 needs at least"},
+  {"AffIncludeExplosion", "$LIMIT $B/tracer info chain0.aff", 1, "tracer info: chain"},
+  {"AffResolutionZero", "$B/tracer info resolution.aff", 1, "tracer info: resolution.aff:7: expected a resolution of at least 1x1"},
+  {"AffEyeAtLookAt", "$B/tracer info view_degenerate.aff", 1, "tracer info: view_degenerate.aff:1: view 'from' and 'at' are the same point"},
+  {"AffUpAlongView", "$B/tracer info view_up.aff", 1, "tracer info: view_up.aff:1: view 'up' is parallel to the view direction"},
+  {"AffViewAngle", "$B/tracer info view_angle.aff", 1, "tracer info: view_angle.aff:5: expected a view angle"},
+  {"AffNoTriangles", "$B/tracer info empty.aff", 1, "tracer info: empty.aff: no triangles"},
+  // Scene time and camera options.
+  {"TimeNan", "$B/tracer info animated.aff --time nan", 2, "tracer info: --time nan: expected a finite number"},
+  {"TimeNanRender", "$B/tracer render animated.aff --time nan --width 4 --height 3", 2, "tracer render: --time nan: expected a finite number"},
+  {"TimeInf", "$B/tracer info animated.aff --time inf", 2, "tracer info: --time inf: expected a finite number"},
+  {"EyeNan", "$B/tracer render ok.obj --eye nan 0 0 --look-at 0 0 0", 2, "tracer render: --eye"},
+  {"EyeInf", "$B/tracer render ok.obj --eye inf 0 0 --look-at 0 0 0", 2, "tracer render: --eye"},
+  {"EyeHuge", "$B/tracer render ok.obj --eye 1e39 0 0 --look-at 0 0 0", 2, "tracer render: --eye"},
+  {"EyeLarge", "$B/tracer render ok.obj --eye 1e30 0 0 --look-at 0 0 0", 2, "tracer render: --eye 1e+30 0 0: expected coordinates of at most 1e+15"},
+  {"LookAtNan", "$B/tracer render ok.obj --eye 0 0 5 --look-at nan 0 0", 2, "tracer render: --look-at"},
+  {"UpNan", "$B/tracer render ok.obj --eye 0 0 5 --look-at 0 0 0 --up 0 nan 0", 2, "tracer render: --up"},
+  {"FovNan", "$B/tracer render ok.obj --fov nan", 2, "tracer render: --fov"},
+  {"EyeEqualsLookAt", "$B/tracer render ok.obj --eye 1 2 3 --look-at 1 2 3", 2, "tracer render: --eye and --look-at are the same point"},
+  {"UpAlongView", "$B/tracer render ok.obj --eye 0 0 5 --look-at 0 0 0 --up 0 0 1", 2, "tracer render: --up is parallel to the view direction"},
+  {"UpZero", "$B/tracer render ok.obj --eye 0 0 5 --look-at 0 0 0 --up 0 0 0", 2, "tracer render: --up is parallel to the view direction"},
+  // Image, tree and address options.
+  {"WidthZero", "$B/tracer render ok.obj --width 0", 2, "--width: Value 0 not in range 1 to 65535"},
+  {"NodeSizeZero", "$B/tracer render ok.obj --node-size 0", 2, "--node-size: Value 0 not in range 1 to 65535"},
+  {"InfoNodeSizeZero", "$B/tracer info ok.obj --node-size 0", 2, "--node-size: Value 0 not in range 1 to 65535"},
+  {"TileSizeZero", "$B/tracer render ok.obj --tile-size 0", 2, "--tile-size: Value 0 not in range 1 to 65535"},
+  {"ImageTooLarge", "$B/tracer render ok.obj --width 65535 --height 65535", 2, "tracer render: --width 65535 --height 65535: at most 67108864 pixels"},
+  {"NodeBaseWraps", "$B/tracer render ok.obj --width 4 --height 3 --node-base 0xfffffffffffffff0 -o t.din.zst", 2, "tracer render: --node-base 0xfffffffffffffff0"},
+  {"ListBaseWraps", "$B/tracer render ok.obj --width 4 --height 3 --streams nodes,lists --list-base 0xffffffffffffffff -o t.din.zst", 2, "tracer render: --list-base 0xffffffffffffffff"},
+  {"SceneSizeZero", "$B/tracer info sphereflake:0", 1, "tracer info: scene 'sphereflake:0': size 0 is out of range"},
+  {"SceneSizeLarge", "$B/tracer info sphereflake:9", 1, "tracer info: scene 'sphereflake:9': size 9 is out of range"},
+  // Threads.
+  {"TracerThreads", "$B/tracer render ok.obj --width 4 --height 3 --threads 100000", 2, "tracer render: --threads 100000: at most"},
+  {"ConvertThreads", "$B/tracetool convert t.din out.din.zst --tags-are-levels --threads 100000", 2, "tracetool: --threads 100000: at most"},
+  {"CachesimThreads", "$B/cachesim run t.din --threads 100000", 2, "cachesim run: --threads 100000: at most"},
+  {"WrapThreads", "$B/dinero-wrap run t.din --threads 100000 --dinero '$B/cachesim dinero'", 2, "dinero-wrap run: --threads 100000: at most"},
+  {"WrapJobs", "$B/dinero-wrap run t.din --jobs 100000 --dinero '$B/cachesim dinero'", 2, "dinero-wrap run: --jobs 100000: at most"},
+  // Cache sizes: a stated limit instead of an allocation of the size asked.
+  {"CacheSizeHuge", "$LIMIT $B/cachesim run t.din --size 1024g", 2, "cachesim run: --size 1024g: at most 256m"},
+  {"CacheSize16g", "$LIMIT $B/cachesim run t.din --size 16g", 2, "cachesim run: --size 16g: at most 256m"},
+  {"HighSizeHuge", "$LIMIT $B/cachesim run t.din --scheme split --split-level 3 --high-size 16g", 2, "cachesim run: --high-size 16g: at most 256m"},
+  {"WrapCacheSize", "$LIMIT $B/dinero-wrap run t.din --size 16g --dinero '$B/cachesim dinero'", 2, "dinero-wrap run: --size 16g: at most 256m"},
+  // Trace data.
+  {"XdinSize16Bits", "$B/cachesim run big_size.xdin", 1, "cachesim run: big_size.xdin: record 1: size 0x10000"},
+  {"XdinSize16BitsInfo", "$B/tracetool verify big_size.xdin", 1, "tracetool: big_size.xdin: record 1: size 0x10000"},
+  {"TagWithCarriageReturn", "$B/tracetool verify tag_cr.din --tags-are-levels", 1, "tracetool: tag_cr.din: record 1: tag '07\\r'"},
+  // Option names and scripts.
+  {"TracetoolInformatAlias", "$B/tracetool info t.din --informat din --form din", 2, ""},
+  {"TestScriptHelp", "$SRC/scripts/test.sh --help", 0, ""},
+};
+// clang-format on
+
+void PrintTo(const HostileCase& c, std::ostream* out) { *out << c.command; }
+
+class HostileInput : public ::testing::TestWithParam<HostileCase> {};
+
+std::string expand(std::string command, const std::string& name, const std::string& value) {
+  for (std::size_t at = command.find(name); at != std::string::npos; at = command.find(name, at + value.size())) {
+    command.replace(at, name.size(), value);
+  }
+  return command;
+}
+
+TEST_P(HostileInput, ExitsWithItsCodeAndMessage) {
+  const HostileCase& c = GetParam();
+  TempDir dir;
+  for (const auto& [name, bytes] : fixture_files()) write_file(dir / name, bytes);
+#if defined(__SANITIZE_ADDRESS__)
+  const std::string limit;  // AddressSanitizer reserves terabytes of address space
+#else
+  const std::string limit = "ulimit -v 4194304;";
+#endif
+  std::string command = expand(c.command, "$LIMIT", limit);
+  command = expand(command, "$B", program("").string());
+  command = expand(command, "$SRC", NODETRACE_SOURCE_DIR);
+  // The hang guard: a case that runs this long has hung (exit 124).
+  const auto result = run_command("cd '" + dir.path().string() + "' && timeout 300 sh -c \"" + command + "\"");
+  EXPECT_EQ(result.exit_code, c.exit_code) << c.command << "\nstderr: " << result.err;
+  EXPECT_EQ(result.err.substr(0, std::string(c.message).size()), c.message) << c.command;
+}
+
+INSTANTIATE_TEST_SUITE_P(Table, HostileInput, ::testing::ValuesIn(kCases),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+}  // namespace
+}  // namespace nodetrace::testing
