@@ -1,4 +1,5 @@
 // Wavefront OBJ + MTL through tinyobjloader, mapped to Whitted materials.
+#include <fmt/format.h>
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "scene_internal.hpp"
 
@@ -45,11 +47,12 @@ Material whitted_material(const tinyobj::material_t& m) {
   return material;
 }
 
-// tinyobjloader reads a malformed or non-finite coordinate as some number
-// without complaint; check `v`, `vn` and `vt` lines first so bad input is an
-// error naming the line.
-void check_coordinates(const std::string& text, const std::filesystem::path& path) {
+// Calls visit(line_number, keyword, words) for each line of an OBJ text;
+// `words` holds what follows the keyword up to a comment.
+template <typename Visit>
+void for_each_line(const std::string& text, Visit visit) {
   std::size_t line_start = 0;
+  std::vector<std::string_view> words;
   for (int line = 1; line_start < text.size(); ++line) {
     std::size_t line_end = text.find('\n', line_start);
     if (line_end == std::string::npos) line_end = text.size();
@@ -65,17 +68,89 @@ void check_coordinates(const std::string& text, const std::filesystem::path& pat
       return word;
     };
     const std::string_view keyword = next_word();
-    if (keyword != "v" && keyword != "vn" && keyword != "vt") continue;
+    if (keyword != "v" && keyword != "vn" && keyword != "vt" && keyword != "f") continue;
+    words.clear();
     for (std::string_view word = next_word(); !word.empty() && word.front() != '#'; word = next_word()) {
+      words.push_back(word);
+    }
+    visit(line, keyword, words);
+  }
+}
+
+struct ElementCounts {
+  std::int64_t vertices = 0, texcoords = 0, normals = 0;
+};
+
+// tinyobjloader reads a malformed or non-finite coordinate as some number
+// without complaint, and trusts face indices (an index past the end reads
+// past its arrays); check `v`, `vn`, `vt` and `f` lines first so bad input
+// is an error naming the line. A positive index counts from the file's
+// first element of its kind (as tinyobjloader reads it, so a forward
+// reference works), a negative one back from the line.
+void check_lines(const std::string& text, const std::filesystem::path& path) {
+  auto fail = [&](int line, const std::string& what) {
+    throw SceneError(path.string() + ":" + std::to_string(line) + ": " + what);
+  };
+  ElementCounts total;
+  for_each_line(text, [&](int line, std::string_view keyword, const std::vector<std::string_view>& words) {
+    if (keyword == "f") return;
+    (keyword == "v" ? total.vertices : keyword == "vt" ? total.texcoords : total.normals) += 1;
+    for (std::string_view word : words) {
       if (word.front() == '+') word.remove_prefix(1);
       double value = 0;
       const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value);
       if (error != std::errc() || end != word.data() + word.size() || !std::isfinite(value)) {
-        throw SceneError(path.string() + ":" + std::to_string(line) + ": expected a finite number in '" +
-                         std::string(keyword) + "' line, got '" + std::string(word) + "'");
+        fail(line, "expected a finite number in '" + std::string(keyword) + "' line, got '" + std::string(word) + "'");
       }
     }
-  }
+  });
+  ElementCounts before;  // elements defined above the current line
+  for_each_line(text, [&](int line, std::string_view keyword, const std::vector<std::string_view>& words) {
+    if (keyword != "f") {
+      (keyword == "v" ? before.vertices : keyword == "vt" ? before.texcoords : before.normals) += 1;
+      return;
+    }
+    if (words.size() < 3) {
+      fail(line, "expected a face of at least 3 vertices, got " + std::to_string(words.size()));
+    }
+    for (const std::string_view word : words) {
+      // v, v/vt, v//vn or v/vt/vn
+      std::string_view parts[3];
+      std::size_t part_count = 0;
+      bool too_many_parts = false;
+      for (std::size_t start = 0;;) {
+        const std::size_t slash = word.find('/', start);
+        if (part_count == 3) {
+          too_many_parts = true;
+          break;
+        }
+        parts[part_count++] = word.substr(start, slash == std::string_view::npos ? std::string_view::npos : slash - start);
+        if (slash == std::string_view::npos) break;
+        start = slash + 1;
+      }
+      if (too_many_parts || parts[0].empty()) {
+        fail(line, "expected a face vertex such as 3, 3/1, 3//2 or 3/1/2, got '" + std::string(word) + "'");
+      }
+      static const char* const kWhat[3] = {"vertex", "texture coordinate", "normal"};
+      const std::int64_t totals[3] = {total.vertices, total.texcoords, total.normals};
+      const std::int64_t above[3] = {before.vertices, before.texcoords, before.normals};
+      for (std::size_t k = 0; k < part_count; ++k) {
+        if (k > 0 && parts[k].empty()) continue;  // 3//2: no texture coordinate
+        std::int64_t index = 0;
+        const auto [end, error] = std::from_chars(parts[k].data(), parts[k].data() + parts[k].size(), index);
+        if (error != std::errc() || end != parts[k].data() + parts[k].size()) {
+          fail(line, std::string("expected an integer ") + kWhat[k] + " index in face vertex '" + std::string(word) +
+                         "', got '" + std::string(parts[k]) + "'");
+        }
+        if (index > 0 ? index > totals[k] : (index == 0 || -index > above[k])) {
+          fail(line, fmt::format("{} index {} is out of range ({} {})", kWhat[k], index,
+                                 index > 0 ? totals[k] : above[k],
+                                 std::string(k == 0 ? "vertices" : k == 1 ? "texture coordinates" : "normals") +
+                                     (index > 0 ? "" : " before this line")));
+        }
+      }
+    }
+  });
 }
 
 // The `mtllib` names of an OBJ file, for the content hash.
@@ -97,7 +172,7 @@ std::vector<std::string> material_libraries(const std::string& obj_text) {
 
 std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path) {
   const std::string text = read_scene_file(path);
-  check_coordinates(text, path);
+  check_lines(text, path);
   std::uint64_t hash = fnv1a64(text);
   const std::filesystem::path directory = path.parent_path();
   for (const auto& library : material_libraries(text)) {
@@ -176,6 +251,9 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path) {
       }
       offset += corners;
     }
+  }
+  if (scene.triangles.empty()) {
+    throw SceneError(path.string() + ": no triangles (expected 'f' lines of at least 3 vertices)");
   }
   if (any_normals) scene.vertex_normals = std::move(normals);
 
