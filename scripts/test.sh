@@ -12,7 +12,8 @@ while [ $# -gt 0 ]; do
   case "$1" in
     --ci) export NODETRACE_REQUIRE_SHARED=1; shift ;;
     --sanitize) setup_args+=(--sanitize); build_dir=build-sanitize; shift ;;
-    *) echo "test.sh: unknown option $1" >&2; exit 2 ;;
+    -h|--help) sed -n '2,5s/^# \{0,1\}//p' scripts/test.sh; exit 0 ;;
+    *) echo "test.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
 

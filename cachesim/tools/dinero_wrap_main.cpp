@@ -54,7 +54,7 @@ int run_subcommand(int argc, char** argv) {
   app.add_option("--dinero", dinero,
                  "Dinero IV command, may carry arguments (default: $DINEROIV, or dineroIV on "
                  "PATH)");
-  app.add_option("--jobs", jobs, "Dinero IV processes at a time (default: one per core)");
+  app.add_option("--jobs", jobs, "Dinero IV processes at a time (default: one per core; at most 16 per core)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -62,11 +62,11 @@ int run_subcommand(int argc, char** argv) {
   }
   return guarded("run", [&] {
     wrap::WrapOptions options;
-    options.dinero = wrap::find_dinero(dinero.empty() ? std::nullopt
-                                                      : std::optional<std::string>(dinero));
-    options.jobs = jobs;
+    options.jobs = formats::check_thread_count(jobs, "--jobs", "processes");
     options.reader = cli::reader_options(line);
     const SweepOptions sweep = cli::sweep_options(line);
+    options.dinero = wrap::find_dinero(dinero.empty() ? std::nullopt
+                                                      : std::optional<std::string>(dinero));
     const std::vector<NodeCacheConfig> configs = expand_configurations(sweep);
     std::vector<ResultRow> rows;
     std::vector<std::string> notes;

@@ -70,6 +70,9 @@ int run_command(int argc, char** argv) {
   } catch (const formats::IoError& error) {
     std::fprintf(stderr, "cachesim run: %s\n", error.what());
     return 1;
+  } catch (const std::exception& error) {  // e.g. out of memory, no thread to start
+    std::fprintf(stderr, "cachesim run: %s\n", error.what());
+    return 1;
   }
 }
 

@@ -14,9 +14,21 @@
 #include "nodetrace/cachesim/sweep.hpp"
 #include "nodetrace/formats/byte_size.hpp"
 #include "nodetrace/formats/error.hpp"
+#include "nodetrace/formats/option_limits.hpp"
 #include "nodetrace/formats/reader.hpp"
 
 namespace nodetrace::cachesim::cli {
+
+// The largest cache a run simulates (--size, --high-size, --low-size): the
+// simulator allocates its blocks' state up front, so the budget bounds the
+// memory of a run (at 8-byte blocks, about as many bytes as the cache holds,
+// per configuration) whatever the trace's length.
+inline constexpr std::uint64_t kMaxCacheBytes = std::uint64_t{256} << 20;
+
+inline std::uint64_t cache_size(const std::string& text, const char* option) {
+  return formats::check_at_most(formats::parse_byte_size(text), kMaxCacheBytes, option, text, "256m",
+                                "the cache budget of a run; its state is allocated up front");
+}
 
 struct RunCommandLine {
   std::vector<std::string> traces;
@@ -41,7 +53,7 @@ struct RunCommandLine {
 inline void add_run_options(CLI::App& app, RunCommandLine& line) {
   app.add_option("traces", line.traces, "Trace files (container, plain din / xdin, zstd); - is stdin")
       ->required();
-  app.add_option("--size", line.sizes, "Total cache sizes, bytes with optional k/m (list)")
+  app.add_option("--size", line.sizes, "Total cache sizes, bytes with optional k/m, at most 256m (list)")
       ->delimiter(',')
       ->capture_default_str();
   app.add_option("--block", line.blocks, "Block sizes in bytes (list)")
@@ -81,7 +93,7 @@ inline void add_run_options(CLI::App& app, RunCommandLine& line) {
   app.add_option("--informat", line.informat,
                  "Record form of plain traces: din, xdin or binary (default: detected)")
       ->check(CLI::IsMember({"din", "xdin", "binary"}));
-  app.add_option("--threads", line.threads, "Trace decoding threads (0: one per core)")
+  app.add_option("--threads", line.threads, "Trace decoding threads (0: one per core; at most 16 per core)")
       ->capture_default_str();
 }
 
@@ -101,7 +113,7 @@ std::vector<T> parse_list(const std::vector<std::string>& texts, const char* opt
 inline SweepOptions sweep_options(const RunCommandLine& line) {
   SweepOptions options;
   options.sizes.clear();
-  for (const auto& text : line.sizes) options.sizes.push_back(formats::parse_byte_size(text));
+  for (const auto& text : line.sizes) options.sizes.push_back(cache_size(text, "--size"));
   options.blocks.clear();
   for (const auto& text : line.blocks) {
     const std::uint64_t block = formats::parse_byte_size(text);
@@ -128,8 +140,8 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
     }
     options.split_levels.push_back(level);
   }
-  if (!line.high_size.empty()) options.high_size = formats::parse_byte_size(line.high_size);
-  if (!line.low_size.empty()) options.low_size = formats::parse_byte_size(line.low_size);
+  if (!line.high_size.empty()) options.high_size = cache_size(line.high_size, "--high-size");
+  if (!line.low_size.empty()) options.low_size = cache_size(line.low_size, "--low-size");
   if (!line.high_assoc.empty()) options.high_assoc = parse_assoc(line.high_assoc);
   options.count_loads = line.count_loads;
   options.per_level = line.per_level;
@@ -139,7 +151,7 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
 inline formats::ReaderOptions reader_options(const RunCommandLine& line) {
   formats::ReaderOptions options;
   options.tags_are_levels = line.tags_are_levels;
-  options.threads = line.threads;
+  options.threads = formats::check_thread_count(line.threads, "--threads");
   if (!line.informat.empty()) options.form = formats::parse_form_name(line.informat);
   return options;
 }

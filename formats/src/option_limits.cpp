@@ -15,11 +15,11 @@ unsigned thread_limit() {
   return std::max(kMinThreadLimit, kThreadsPerCore * cores);
 }
 
-unsigned check_thread_count(std::uint64_t requested, std::string_view option) {
+unsigned check_thread_count(std::uint64_t requested, std::string_view option, std::string_view unit) {
   const unsigned limit = thread_limit();
   if (requested > limit) {
-    throw UsageError(fmt::format("{} {}: at most {} threads ({} per core, at least {})", option, requested,
-                                 limit, kThreadsPerCore, kMinThreadLimit));
+    throw UsageError(fmt::format("{} {}: at most {} {} ({} per core, at least {})", option, requested, limit,
+                                 unit, kThreadsPerCore, kMinThreadLimit));
   }
   return static_cast<unsigned>(requested);
 }

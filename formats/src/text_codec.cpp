@@ -73,6 +73,20 @@ HexStatus read_hex(const char*& p, const char* end, std::uint64_t& value, unsign
   return HexStatus::Ok;
 }
 
+// A token as an error message shows it: at most 32 bytes, control bytes and
+// bytes above 0x7e escaped (a raw CR would move the terminal's cursor).
+std::string shown_token(std::string_view token) {
+  std::string shown;
+  for (const char c : token.substr(0, 32)) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (c == '\r') shown += "\\r";
+    else if (c == '\t') shown += "\\t";
+    else if (byte < 0x20 || byte > 0x7e) shown += fmt::format("\\x{:02x}", byte);
+    else shown += c;
+  }
+  return shown;
+}
+
 std::string bad_digit(unsigned char c, const char* field) {
   return fmt::format("non hex digit (code {:#x}) in {}", static_cast<unsigned>(c), field);
 }
@@ -105,7 +119,7 @@ bool read_tag(const char* p, const char* end, Tag& tag, std::string& message) {
     if (level > kMaxLevel) break;
   }
   if (!decimal || level > kMaxLevel) {
-    std::string shown(token.substr(0, 32));
+    const std::string shown = shown_token(token);
     message = decimal ? fmt::format("tag {} is above the largest node level {}", shown, kMaxLevel)
                       : fmt::format("tag '{}' is neither a decimal node level nor p or t", shown);
     return false;
@@ -135,7 +149,7 @@ bool parse_line(const char* p, const char* end, const ParseSettings& settings, R
     }
     if (label >= static_cast<std::uint64_t>(kAccessTypeCount)) {
       message = fmt::format("label {} is not a Dinero IV access type (0-5)",
-                            std::string_view(label_begin, static_cast<std::size_t>(p - label_begin)).substr(0, 32));
+                            shown_token(std::string_view(label_begin, static_cast<std::size_t>(p - label_begin))));
       return false;
     }
     record.type = static_cast<AccessType>(label);
@@ -145,7 +159,7 @@ bool parse_line(const char* p, const char* end, const ParseSettings& settings, R
     const std::uint8_t type = stop - p == 1 ? kTypeLetter[static_cast<unsigned char>(*p)] : 0xFF;
     if (type == 0xFF) {
       message = fmt::format("unknown access type '{}'",
-                            std::string_view(p, static_cast<std::size_t>(stop - p)).substr(0, 32));
+                            shown_token(std::string_view(p, static_cast<std::size_t>(stop - p))));
       return false;
     }
     record.type = static_cast<AccessType>(type);
@@ -181,6 +195,12 @@ bool parse_line(const char* p, const char* end, const ParseSettings& settings, R
     }
     if (size > 0xFFFFFFFFu) {
       message = "size wider than 32 bits";
+      return false;
+    }
+    if (size > 0xFFFFu) {
+      // DESIGN.md: Dinero IV keeps the low 16 bits of a size and simulates
+      // another reference than the line says.
+      message = fmt::format("size {:#x} is 0x10000 or more: Dinero IV truncates sizes to 16 bits", size);
       return false;
     }
     record.size = static_cast<std::uint32_t>(size);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "nodetrace/formats/error.hpp"
+#include "nodetrace/formats/option_limits.hpp"
 #include "nodetrace/formats/reader.hpp"
 #include "nodetrace/formats/writer.hpp"
 
@@ -262,6 +263,7 @@ struct ConvertOptions {
 };
 
 int run_convert(const std::string& in, const std::string& out, const ConvertOptions& convert) {
+  formats::check_thread_count(convert.threads, "--threads");
   auto reader =
       formats::TraceReader::open(in, reader_options(convert.tags_are_levels, form_option(convert.form), convert.threads));
   formats::WriterOptions options;
@@ -305,7 +307,7 @@ int main(int argc, char** argv) {
   info->add_option("FILE", info_path, "Trace file, or - for standard input")->required();
   info->add_option("--format", info_format, "Output: table or json")->check(CLI::IsMember({"table", "json"}));
   info->add_flag("--tags-are-levels", tags_are_levels, "Read a plain trace's tag field as node levels");
-  info->add_option("--form", form, "Record form of plain input (binary is never guessed)")->check(CLI::IsMember(forms));
+  info->add_option("--informat,--form", form, "Record form of plain input (binary is never guessed); --form is an alias")->check(CLI::IsMember(forms));
 
   auto* cat = app.add_subcommand("cat", "Print records, optionally filtered by tag");
   std::string cat_path, cat_tags, cat_to;
@@ -313,13 +315,13 @@ int main(int argc, char** argv) {
   cat->add_option("--tags", cat_tags, "Keep these tags: levels, ranges and p / t, e.g. 0-3,9-,p");
   cat->add_option("--to", cat_to, "Output record form (default: the input's)")->check(CLI::IsMember(forms));
   cat->add_flag("--tags-are-levels", tags_are_levels, "Read a plain trace's tag field as node levels");
-  cat->add_option("--form", form, "Record form of plain input (binary is never guessed)")->check(CLI::IsMember(forms));
+  cat->add_option("--informat,--form", form, "Record form of plain input (binary is never guessed); --form is an alias")->check(CLI::IsMember(forms));
 
   auto* verify = app.add_subcommand("verify", "Check every checksum, the index, frame order and the record hash");
   std::string verify_path;
   verify->add_option("FILE", verify_path, "Trace file, or - for standard input")->required();
   verify->add_flag("--tags-are-levels", tags_are_levels, "Read a plain trace's tag field as node levels");
-  verify->add_option("--form", form, "Record form of plain input (binary is never guessed)")->check(CLI::IsMember(forms));
+  verify->add_option("--informat,--form", form, "Record form of plain input (binary is never guessed); --form is an alias")->check(CLI::IsMember(forms));
 
   auto* convert = app.add_subcommand("convert", "Convert any readable trace to a container (OUT *.zst or -) or plain records");
   std::string convert_in, convert_out;
@@ -329,10 +331,10 @@ int main(int argc, char** argv) {
   convert->add_option("--zstd-level", convert_options.zstd_level, "zstd compression level")->check(CLI::Range(-7, 22));
   convert->add_option("--to", convert_options.to, "Output record form (default: the input's)")->check(CLI::IsMember(forms));
   convert->add_flag("--tags-are-levels", convert_options.tags_are_levels, "The input's tag field holds node levels");
-  convert->add_option("--threads", convert_options.threads, "Compression and decoding threads (0: one per core)");
+  convert->add_option("--threads", convert_options.threads, "Compression and decoding threads (0: one per core; at most 16 per core)");
   convert->add_option("--frame-records", convert_options.frame_records, "Records per data frame")->check(CLI::PositiveNumber);
   convert->add_flag("--address16", convert_options.address16, "Write 16 hex address digits instead of 8");
-  convert->add_option("--form", convert_options.form, "Record form of plain input (binary is never guessed)")->check(CLI::IsMember(forms));
+  convert->add_option("--informat,--form", convert_options.form, "Record form of plain input (binary is never guessed); --form is an alias")->check(CLI::IsMember(forms));
 
   try {
     app.parse(argc, argv);

@@ -107,7 +107,7 @@ const HostileCase kCases[] = {
   {"InfoNodeSizeZero", "$B/tracer info ok.obj --node-size 0", 2, "--node-size: Value 0 not in range 1 to 65535"},
   {"TileSizeZero", "$B/tracer render ok.obj --tile-size 0", 2, "--tile-size: Value 0 not in range 1 to 65535"},
   {"ImageTooLarge", "$B/tracer render ok.obj --width 65535 --height 65535", 2, "tracer render: --width 65535 --height 65535: at most 67108864 pixels"},
-  {"NodeBaseWraps", "$B/tracer render ok.obj --width 4 --height 3 --node-base 0xfffffffffffffff0 -o t.din.zst", 2, "tracer render: --node-base 0xfffffffffffffff0"},
+  {"NodeBaseWraps", "$B/tracer render sphereflake:1 --width 4 --height 3 --node-base 0xfffffffffffffff0 -o t.din.zst", 2, "tracer render: --node-base 0xfffffffffffffff0"},
   {"ListBaseWraps", "$B/tracer render ok.obj --width 4 --height 3 --streams nodes,lists --list-base 0xffffffffffffffff -o t.din.zst", 2, "tracer render: --list-base 0xffffffffffffffff"},
   {"SceneSizeZero", "$B/tracer info sphereflake:0", 1, "tracer info: scene 'sphereflake:0': size 0 is out of range"},
   {"SceneSizeLarge", "$B/tracer info sphereflake:9", 1, "tracer info: scene 'sphereflake:9': size 9 is out of range"},
@@ -127,7 +127,10 @@ const HostileCase kCases[] = {
   {"XdinSize16BitsInfo", "$B/tracetool verify big_size.xdin", 1, "tracetool: big_size.xdin: record 1: size 0x10000"},
   {"TagWithCarriageReturn", "$B/tracetool verify tag_cr.din --tags-are-levels", 1, "tracetool: tag_cr.din: record 1: tag '07\\r'"},
   // Option names and scripts.
-  {"TracetoolInformatAlias", "$B/tracetool info t.din --informat din --form din", 2, ""},
+  // --informat everywhere (Dinero IV's own -informat); tracetool's --form stays as an alias.
+  {"TracetoolInformat", "$B/tracetool info t.din --informat xdin", 1, "tracetool: t.din: record 1: unknown access type '0'"},
+  {"TracetoolFormAlias", "$B/tracetool info t.din --form xdin", 1, "tracetool: t.din: record 1: unknown access type '0'"},
+  {"CachesimInformat", "$B/cachesim run t.din --informat xdin", 1, "cachesim run: t.din: record 1: unknown access type '0'"},
   {"TestScriptHelp", "$SRC/scripts/test.sh --help", 0, ""},
 };
 // clang-format on

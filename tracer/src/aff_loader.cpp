@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <charconv>
+#include <cfloat>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -15,6 +16,9 @@
 #include <unordered_map>
 #include <vector>
 
+#include <fmt/format.h>
+
+#include "nodetrace/tracer/camera_checks.hpp"
 #include "nodetrace/tracer/scene_geometry.hpp"
 #include "scene_internal.hpp"
 
@@ -307,6 +311,7 @@ class Tokenizer {
 
   double number(std::string_view what) {
     const std::string_view token = next();
+    last_token_ = token;
     if (token.empty()) fail("expected " + std::string(what) + ", got the end of the file");
     const auto value = parse_number(token);
     if (!value) fail("expected " + std::string(what) + " (a number), got '" + std::string(token) + "'");
@@ -316,19 +321,36 @@ class Tokenizer {
     return *value;
   }
 
-  float real(std::string_view what) { return static_cast<float>(number(what)); }
+  // A number stored as a float: one beyond FLT_MAX would become inf.
+  float real(std::string_view what) {
+    const double value = number(what);
+    if (std::fabs(value) > FLT_MAX) {
+      fail(fmt::format("expected {} (a number of at most {:g} in magnitude), got '{}'", what, FLT_MAX,
+                       std::string(last_token_)));
+    }
+    return static_cast<float>(value);
+  }
 
   Vec3 vec3(std::string_view what) {
     const float x = real(what), y = real(what), z = real(what);
     return {x, y, z};
   }
 
-  std::size_t count(std::string_view what, std::size_t limit = 100'000'000) {
+  // A count of elements that follow in the file, `tokens_per_element`
+  // tokens each: each token takes at least two bytes (a character and a
+  // separator), so a count the rest of the file cannot hold is an error
+  // before anything is allocated for it.
+  std::size_t count(std::string_view what, std::size_t limit = 100'000'000, std::size_t tokens_per_element = 0) {
     const std::string_view token = next();
     std::size_t value = 0;
     const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
     if (token.empty() || error != std::errc() || end != token.data() + token.size() || value > limit) {
       fail("expected " + std::string(what) + " (a non-negative integer), got '" + std::string(token) + "'");
+    }
+    const std::size_t remaining = text_.size() - pos_;
+    if (tokens_per_element > 0 && value > remaining / (2 * tokens_per_element)) {
+      fail(fmt::format("{} {} needs at least {} bytes, more than the {} left before the end of the file", what,
+                       value, 2 * tokens_per_element * value, remaining));
     }
     return value;
   }
@@ -349,8 +371,9 @@ class Tokenizer {
     }
   }
 
-  [[noreturn]] void fail(const std::string& what) const {
-    throw SceneError(file_ + ":" + std::to_string(token_line_) + ": " + what);
+  [[noreturn]] void fail(const std::string& what) const { fail_at(token_line_, what); }
+  [[noreturn]] void fail_at(int line, const std::string& what) const {
+    throw SceneError(file_ + ":" + std::to_string(line) + ": " + what);
   }
 
   int line() const { return token_line_; }
@@ -374,6 +397,7 @@ class Tokenizer {
 
   std::string_view text_;
   std::string file_;
+  std::string_view last_token_;  // of number()
   std::size_t pos_ = 0;
   int line_ = 1, token_line_ = 1;
 };
@@ -422,7 +446,16 @@ struct ParsedAff {
   std::map<std::string, AnimatedTransform, std::less<>> transforms;
 };
 
+// Include budget: nesting depth, files parsed (each inclusion counts, a file
+// included twice is parsed twice) and their bytes, so that files including
+// each other many times cannot explode; the BART scenes parse a few hundred
+// files and some megabytes.
 constexpr int kMaxIncludeDepth = 64;
+constexpr std::size_t kMaxIncludedFiles = 100'000;
+constexpr std::uint64_t kMaxIncludedBytes = std::uint64_t{1} << 30;
+// Triangles a scene may make (spheres and cones make many from few bytes):
+// about 2 GB of triangles, normals and kd-tree input.
+constexpr std::size_t kMaxTriangles = std::size_t{1} << 24;
 
 class AffParser {
  public:
@@ -445,6 +478,13 @@ class AffParser {
       hash_ = fnv1a64(bytes, hash_);
       found = files_.emplace(key, std::move(bytes)).first;
     }
+    ++files_parsed_;
+    bytes_parsed_ += found->second.size();
+    if (includer && (files_parsed_ > kMaxIncludedFiles || bytes_parsed_ > kMaxIncludedBytes)) {
+      includer->fail(fmt::format("including '{}' exceeds the include budget of {} files or {} bytes parsed "
+                                 "(files including others many times?)",
+                                 path.string(), kMaxIncludedFiles, kMaxIncludedBytes));
+    }
     Tokenizer tokens(found->second, path.string());
     const std::size_t stack_depth = node_stack_.size();
     parse_commands(tokens, path, depth);
@@ -454,6 +494,7 @@ class AffParser {
   }
 
   std::uint64_t hash() const { return hash_; }
+  std::size_t triangles() const { return triangles_; }
 
  private:
   void parse_commands(Tokenizer& tokens, const std::filesystem::path& path, int depth) {
@@ -489,22 +530,39 @@ class AffParser {
   }
 
   void parse_view(Tokenizer& tokens) {
+    const int view_line = tokens.line();
     View view;
     for (;;) {
       const std::string_view field = tokens.peek();
       if (field == "from") tokens.next(), view.from = tokens.vec3("view 'from' coordinate");
       else if (field == "at") tokens.next(), view.at = tokens.vec3("view 'at' coordinate");
       else if (field == "up") tokens.next(), view.up = tokens.vec3("view 'up' coordinate");
-      else if (field == "angle") tokens.next(), view.angle = tokens.real("view angle in degrees");
+      else if (field == "angle") {
+        tokens.next();
+        view.angle = tokens.real("view angle in degrees");
+        if (!(view.angle > 0 && view.angle < 180)) {
+          tokens.fail(fmt::format("expected a view angle between 0 and 180 degrees, got {:g}", view.angle));
+        }
+      }
       else if (field == "hither") tokens.next(), tokens.number("hither distance");
       else if (field == "resolution") {
         tokens.next();
         const auto width = tokens.count("horizontal resolution", 1 << 20);
         const auto height = tokens.count("vertical resolution", 1 << 20);
+        if (width == 0 || height == 0) {
+          tokens.fail(fmt::format("expected a resolution of at least 1x1, got {}x{}", width, height));
+        }
         out_.width = static_cast<int>(width), out_.height = static_cast<int>(height);
       } else {
         break;
       }
+    }
+    switch (camera_problem(view.from, view.at, view.up)) {
+      case CameraProblem::EyeAtLookAt:
+        tokens.fail_at(view_line, "view 'from' and 'at' are the same point: the camera looks nowhere");
+      case CameraProblem::UpAlongView:
+        tokens.fail_at(view_line, "view 'up' is parallel to the view direction: expected a direction across it");
+      case CameraProblem::None: break;
     }
     out_.view = view;
   }
@@ -576,7 +634,11 @@ class AffParser {
     return out_.batches.back();
   }
 
-  void add_triangle(Batch& target, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3* normals) {
+  void add_triangle(Batch& target, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3* normals,
+                    const Tokenizer& tokens) {
+    if (++triangles_ > kMaxTriangles) {
+      tokens.fail(fmt::format("the scene makes more than {} triangles (the limit of a scene)", kMaxTriangles));
+    }
     target.corners.insert(target.corners.end(), {a, b, c});
     if (normals) {
       target.normals.insert(target.normals.end(), {normals[0], normals[1], normals[2]});
@@ -588,7 +650,8 @@ class AffParser {
   }
 
   void parse_polygon(Tokenizer& tokens, bool with_normals, bool with_texture) {
-    const std::size_t count = tokens.count("polygon vertex count");
+    const std::size_t count =
+        tokens.count("polygon vertex count", 100'000'000, 3 + (with_normals ? 3 : 0) + (with_texture ? 2 : 0));
     if (count < 3) tokens.fail("expected a polygon vertex count of at least 3, got " + std::to_string(count));
     std::vector<Vec3> points(count), normals(with_normals ? count : 0);
     for (std::size_t i = 0; i < count; ++i) {
@@ -600,7 +663,7 @@ class AffParser {
     for (std::size_t i = 1; i + 1 < count; ++i) {
       const Vec3 fan_normals[3] = {with_normals ? normals[0] : Vec3{}, with_normals ? normals[i] : Vec3{},
                                    with_normals ? normals[i + 1] : Vec3{}};
-      add_triangle(target, points[0], points[i], points[i + 1], with_normals ? fan_normals : nullptr);
+      add_triangle(target, points[0], points[i], points[i + 1], with_normals ? fan_normals : nullptr, tokens);
     }
   }
 
@@ -612,18 +675,18 @@ class AffParser {
       const std::string_view part = tokens.peek();
       if (part == "vertices") {
         tokens.next();
-        const std::size_t count = tokens.count("mesh vertex count");
+        const std::size_t count = tokens.count("mesh vertex count", 100'000'000, 3);
         vertices.resize(count);
         for (auto& v : vertices) v = tokens.vec3("mesh vertex coordinate");
         have_vertices = true;
       } else if (part == "normals") {
         tokens.next();
-        const std::size_t count = tokens.count("mesh normal count");
+        const std::size_t count = tokens.count("mesh normal count", 100'000'000, 3);
         normals.resize(count);
         for (auto& n : normals) n = tokens.vec3("mesh normal coordinate");
       } else if (part == "texturecoords") {
         tokens.next();
-        texture_coordinates = tokens.count("mesh texture coordinate count");
+        texture_coordinates = tokens.count("mesh texture coordinate count", 100'000'000, 2);
         tokens.word("texture image name");  // never loaded: a node trace needs no textures
         for (std::size_t i = 0; i < 2 * texture_coordinates; ++i) tokens.number("texture coordinate");
       } else if (part == "triangles" || part == "txtriangles") {
@@ -641,7 +704,8 @@ class AffParser {
 
   void parse_mesh_triangles(Tokenizer& tokens, const std::vector<Vec3>& vertices,
                             const std::vector<Vec3>& normals, bool textured, std::size_t texture_count) {
-    const std::size_t count = tokens.count("mesh triangle count");
+    const std::size_t count = tokens.count("mesh triangle count", 100'000'000,
+                                           3 + (normals.empty() ? 0 : 3) + (textured ? 3 : 0));
     Batch& target = batch();
     target.corners.reserve(target.corners.size() + 3 * count);
     target.normals.reserve(target.normals.size() + 3 * count);
@@ -660,9 +724,9 @@ class AffParser {
         const std::size_t na = index(normals.size(), "normal index"), nb = index(normals.size(), "normal index"),
                           nc = index(normals.size(), "normal index");
         const Vec3 corner_normals[3] = {normals[na], normals[nb], normals[nc]};
-        add_triangle(target, vertices[a], vertices[b], vertices[c], corner_normals);
+        add_triangle(target, vertices[a], vertices[b], vertices[c], corner_normals, tokens);
       } else {
-        add_triangle(target, vertices[a], vertices[b], vertices[c], nullptr);
+        add_triangle(target, vertices[a], vertices[b], vertices[c], nullptr, tokens);
       }
       if (textured) {
         for (int k = 0; k < 3; ++k) index(std::max<std::size_t>(texture_count, 1), "texture coordinate index");
@@ -670,16 +734,16 @@ class AffParser {
     }
   }
 
-  void add_closed_mesh(const std::vector<Triangle>& triangles) {
+  void add_closed_mesh(const std::vector<Triangle>& triangles, const Tokenizer& tokens) {
     Batch& target = batch();
-    for (const auto& t : triangles) add_triangle(target, t.v0, t.v1, t.v2, nullptr);
+    for (const auto& t : triangles) add_triangle(target, t.v0, t.v1, t.v2, nullptr, tokens);
   }
 
   void parse_sphere(Tokenizer& tokens) {
     const Vec3 center = tokens.vec3("sphere centre coordinate");
     const float radius = tokens.real("sphere radius");
     if (!(radius > 0)) tokens.fail("expected a positive sphere radius");
-    add_closed_mesh(make_sphere_mesh(center, radius, 2));
+    add_closed_mesh(make_sphere_mesh(center, radius, 2), tokens);
   }
 
   void parse_cone(Tokenizer& tokens) {
@@ -687,7 +751,7 @@ class AffParser {
     const float base_radius = tokens.real("cone base radius");
     const Vec3 apex = tokens.vec3("cone apex coordinate");
     const float apex_radius = tokens.real("cone apex radius");
-    add_closed_mesh(make_cone_mesh(base, std::fabs(base_radius), apex, std::fabs(apex_radius), 24));
+    add_closed_mesh(make_cone_mesh(base, std::fabs(base_radius), apex, std::fabs(apex_radius), 24), tokens);
   }
 
   void parse_include(Tokenizer& tokens, const std::filesystem::path& path, int depth) {
@@ -726,7 +790,7 @@ class AffParser {
   }
 
   std::vector<Key> parse_keys(Tokenizer& tokens, int values) {
-    const std::size_t count = tokens.count("keyframe count");
+    const std::size_t count = tokens.count("keyframe count", 100'000'000, 4 + static_cast<std::size_t>(values));
     if (count == 0) tokens.fail("expected at least one keyframe");
     std::vector<Key> keys(count);
     for (auto& key : keys) {
@@ -779,6 +843,8 @@ class AffParser {
   std::map<std::array<float, 14>, std::uint32_t> material_index_;
   std::unordered_map<std::string, std::string> files_;
   std::uint64_t hash_ = kFnvOffset;
+  std::size_t files_parsed_ = 0, triangles_ = 0;
+  std::uint64_t bytes_parsed_ = 0;
 };
 
 // ---------------------------------------------------------------- source
@@ -792,6 +858,8 @@ class AffSceneSource final : public SceneSource {
   std::string content_hash() const override { return parsed_.hash; }
 
   Scene at_time(double time) const override {
+    // A NaN time would make the key search run off its keys.
+    if (!std::isfinite(time)) throw SceneError(parsed_.name + ": scene time " + std::to_string(time) + " is not finite");
     Scene scene;
     scene.name = parsed_.name;
     scene.materials = parsed_.materials;
@@ -880,6 +948,7 @@ std::unique_ptr<SceneSource> open_aff(const std::filesystem::path& path) {
   parsed.name = path.filename().string();
   AffParser parser(parsed);
   parser.parse_file(path, nullptr, 0);
+  if (parser.triangles() == 0) throw SceneError(path.string() + ": no triangles (expected p, pp, tp, tpp, m, s or c)");
   parsed.hash = format_hash(parser.hash());
   return std::make_unique<AffSceneSource>(std::move(parsed));
 }

@@ -354,13 +354,14 @@ std::uint64_t content_hash(const Scene& scene, int size) {
 
 }  // namespace
 
-std::unique_ptr<SceneSource> open_builtin(const std::string& name, int size) {
+std::unique_ptr<SceneSource> open_builtin(const std::string& name, std::optional<int> requested) {
   for (const auto& generator : kGenerators) {
     if (name != generator.name) continue;
-    if (size == 0) size = generator.default_size;
+    const int size = requested.value_or(generator.default_size);
     if (size < generator.min_size || size > generator.max_size) {
-      throw SceneError("scene '" + name + "': size " + std::to_string(size) + " out of range " +
-                       std::to_string(generator.min_size) + ".." + std::to_string(generator.max_size));
+      throw SceneError("scene '" + name + ":" + std::to_string(size) + "': size " + std::to_string(size) +
+                       " is out of range " + std::to_string(generator.min_size) + ".." +
+                       std::to_string(generator.max_size));
     }
     Scene scene = generate(generator, size);
     std::string hash = format_hash(content_hash(scene, size));

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -37,7 +38,8 @@ class StaticSceneSource final : public SceneSource {
 std::unique_ptr<SceneSource> open_aff(const std::filesystem::path& path);
 std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path);
 // Throws SceneError for an unknown name or a size out of range.
-std::unique_ptr<SceneSource> open_builtin(const std::string& name, int size);
+// `size` nullopt: the scene's default size.
+std::unique_ptr<SceneSource> open_builtin(const std::string& name, std::optional<int> size);
 bool is_builtin_name(const std::string& name);
 std::string builtin_names();  // comma-separated, for messages
 

@@ -56,11 +56,13 @@ std::unique_ptr<SceneSource> open_scene(const std::string& spec, const SceneLoad
   if (extension == ".aff") return detail::open_aff(spec);
 
   std::string name = spec;
-  int size = options.builtin_size;
+  std::optional<int> size;
+  if (options.builtin_size != 0) size = options.builtin_size;
   if (const auto colon = spec.find(':'); colon != std::string::npos) {
     name = spec.substr(0, colon);
     const std::string size_text = spec.substr(colon + 1);
-    const auto [end, error] = std::from_chars(size_text.data(), size_text.data() + size_text.size(), size);
+    size.emplace();
+    const auto [end, error] = std::from_chars(size_text.data(), size_text.data() + size_text.size(), *size);
     if (error != std::errc() || end != size_text.data() + size_text.size() || size_text.empty()) {
       throw SceneError("scene '" + spec + "': expected NAME:SIZE with an integer size, got '" +
                        size_text + "'");

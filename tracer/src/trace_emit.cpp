@@ -1,5 +1,7 @@
 #include "nodetrace/tracer/trace_emit.hpp"
 
+#include <fmt/format.h>
+
 #include <charconv>
 #include <cstdlib>
 #include <memory>
@@ -102,6 +104,24 @@ std::uint32_t choose_split_level(const TraceJobOptions& options, const KdTreeSta
   throw formats::UsageError("the hybrid layout needs --split-level K or --high-size SIZE");
 }
 
+namespace {
+
+// A stream's addresses, base + i * size for i < count, must not wrap past
+// 2^64 - 1: a wrapped address would alias the bottom of the address space.
+void check_address_range(const char* option, std::uint64_t base, std::uint64_t count, std::uint64_t size,
+                         const char* what) {
+  if (count == 0) return;
+  const std::uint64_t top = ~std::uint64_t{0};
+  if (count > top / size || count * size - 1 > top - base) {
+    throw formats::UsageError(fmt::format("{} {:#x}: the {} {} of {} bytes would run past the 64-bit address "
+                                          "space (the base can be at most {:#x})",
+                                          option, base, count, what, size,
+                                          count > top / size ? 0 : top - (count * size - 1)));
+  }
+}
+
+}  // namespace
+
 TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& options,
                              const Renderer::Progress& progress) {
   const RenderOptions& r = options.render;
@@ -144,6 +164,15 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
     report.triangles = scene.triangles.size();
     report.tree = tree.stats();
     report.split_level = choose_split_level(options, tree.stats());
+    check_address_range("--node-base", r.addresses.node_base, tree.stats().nodes, r.addresses.node_size, "nodes");
+    if (r.streams.lists) {
+      check_address_range("--list-base", r.addresses.list_base, tree.stats().primitive_references,
+                          r.addresses.list_entry_size, "list entries");
+    }
+    if (r.streams.triangles) {
+      check_address_range("--triangle-base", r.addresses.triangle_base, scene.triangles.size(),
+                          r.addresses.triangle_size, "triangles");
+    }
     const Layout layout = make_layout(tree, options.layout, report.split_level);
     RenderOptions options_for_frame = r;
     if (options.discard_records) options_for_frame.record = true;

@@ -17,7 +17,9 @@ unsigned thread_limit();
 
 // `requested` (0: one per core) if it is within thread_limit(); otherwise
 // throws UsageError naming the option, the value and the limit.
-unsigned check_thread_count(std::uint64_t requested, std::string_view option);
+// `unit` names what is counted ("threads", "processes").
+unsigned check_thread_count(std::uint64_t requested, std::string_view option,
+                            std::string_view unit = "threads");
 
 // `value` if it is a finite number; otherwise throws UsageError naming the
 // option and the value.
