@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <new>
 
 #include "commands.hpp"
 #include "nodetrace/cachesim/report.hpp"
@@ -70,7 +71,10 @@ int run_command(int argc, char** argv) {
   } catch (const formats::IoError& error) {
     std::fprintf(stderr, "cachesim run: %s\n", error.what());
     return 1;
-  } catch (const std::exception& error) {  // e.g. out of memory, no thread to start
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "cachesim run: out of memory (the caches or trace frames are too large for this machine)\n");
+    return 1;
+  } catch (const std::exception& error) {  // anything else, e.g. no thread to start
     std::fprintf(stderr, "cachesim run: %s\n", error.what());
     return 1;
   }

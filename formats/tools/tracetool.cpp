@@ -332,7 +332,10 @@ int main(int argc, char** argv) {
   convert->add_option("--to", convert_options.to, "Output record form (default: the input's)")->check(CLI::IsMember(forms));
   convert->add_flag("--tags-are-levels", convert_options.tags_are_levels, "The input's tag field holds node levels");
   convert->add_option("--threads", convert_options.threads, "Compression and decoding threads (0: one per core; at most 16 per core)");
-  convert->add_option("--frame-records", convert_options.frame_records, "Records per data frame")->check(CLI::PositiveNumber);
+  // At most 2^24 records per data frame: each compressing thread buffers a
+  // frame's text, up to a few hundred MB at that size.
+  convert->add_option("--frame-records", convert_options.frame_records, "Records per data frame (1 to 16777216)")
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 24));
   convert->add_flag("--address16", convert_options.address16, "Write 16 hex address digits instead of 8");
   convert->add_option("--informat,--form", convert_options.form, "Record form of plain input (binary is never guessed); --form is an alias")->check(CLI::IsMember(forms));
 

@@ -5,6 +5,7 @@
 #include <fmt/ranges.h>
 
 #include <cstdio>
+#include <new>
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
@@ -127,7 +128,10 @@ int info_command(int argc, char** argv) {
   } catch (const SceneError& e) {
     std::fprintf(stderr, "tracer info: %s\n", e.what());
     return 1;
-  } catch (const std::exception& e) {  // anything else, e.g. out of memory
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "tracer info: out of memory (the scene is too large for this machine)\n");
+    return 1;
+  } catch (const std::exception& e) {  // anything else, e.g. no thread to start
     std::fprintf(stderr, "tracer info: %s\n", e.what());
     return 1;
   }

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <new>
 #include <optional>
 #include <string>
 
@@ -160,7 +161,10 @@ int render_command(int argc, char** argv) {
   } catch (const formats::IoError& e) {
     std::fprintf(stderr, "tracer render: %s\n", e.what());
     return 1;
-  } catch (const std::exception& e) {  // anything else, e.g. out of memory
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "tracer render: out of memory (the scene or image is too large for this machine)\n");
+    return 1;
+  } catch (const std::exception& e) {  // anything else, e.g. no thread to start
     std::fprintf(stderr, "tracer render: %s\n", e.what());
     return 1;
   }

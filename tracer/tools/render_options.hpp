@@ -139,7 +139,8 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
                  "tree layout: dfl, bfl, hybrid or veb (default: hybrid when --split-level or "
                  "--high-size is given, else dfl)")
       ->check(CLI::IsMember({"dfl", "bfl", "hybrid", "veb"}));
-  auto* split = app.add_option("--split-level", o.split_level, "hybrid layout: levels < K in BFL");
+  auto* split = app.add_option("--split-level", o.split_level, "hybrid layout: levels < K in BFL")
+                    ->check(CLI::Range(0, kMaxLevelLimit));
   auto* high = app.add_option("--high-size", o.high_size,
                               "hybrid layout: K = the most levels whose nodes fit a high-level cache of SIZE bytes (e.g. 4k)");
   split->excludes(high);
