@@ -1,12 +1,26 @@
 #include "nodetrace/formats/metadata.hpp"
 
+#include <fmt/format.h>
+
 #include "nodetrace/formats/error.hpp"
 
 namespace nodetrace::formats {
 
 namespace {
+
 const char* const kMarkerKeys[] = {"frame", "time", "nodes_per_level", "nodes", "leaves", "depth"};
+
+// A marker's unsigned integer field; an error names the key and what it holds.
+std::uint64_t unsigned_field(const nlohmann::json& value, const std::string& key, std::uint64_t limit) {
+  if (!value.is_number_unsigned() || value.get<std::uint64_t>() > limit) {
+    throw FormatError(fmt::format("animation frame marker: \"{}\" is {}, expected an unsigned integer{}", key,
+                                  value.dump().substr(0, 40),
+                                  limit == ~std::uint64_t{0} ? "" : fmt::format(" up to {}", limit)));
+  }
+  return value.get<std::uint64_t>();
 }
+
+}  // namespace
 
 nlohmann::json FrameMarker::to_json() const {
   nlohmann::json json = extra.is_object() ? extra : nlohmann::json::object();
@@ -21,17 +35,31 @@ nlohmann::json FrameMarker::to_json() const {
 
 FrameMarker FrameMarker::from_json(const nlohmann::json& json) {
   if (!json.is_object()) throw FormatError("animation frame marker is not a JSON object");
+  constexpr std::uint64_t kAny = ~std::uint64_t{0};
   FrameMarker marker;
-  try {
-    marker.frame = json.at("frame").get<std::uint64_t>();
-    if (json.contains("time")) marker.time = json.at("time").get<double>();
-    if (json.contains("nodes_per_level"))
-      marker.nodes_per_level = json.at("nodes_per_level").get<std::vector<std::uint64_t>>();
-    if (json.contains("nodes")) marker.nodes = json.at("nodes").get<std::uint64_t>();
-    if (json.contains("leaves")) marker.leaves = json.at("leaves").get<std::uint64_t>();
-    if (json.contains("depth")) marker.depth = json.at("depth").get<std::uint32_t>();
-  } catch (const nlohmann::json::exception& error) {
-    throw FormatError(std::string("animation frame marker: ") + error.what());
+  if (!json.contains("frame")) throw FormatError("animation frame marker: no \"frame\" key");
+  marker.frame = unsigned_field(json["frame"], "frame", kAny);
+  if (json.contains("time")) {
+    if (!json["time"].is_number()) {
+      throw FormatError(fmt::format("animation frame marker: \"time\" is {}, expected a number",
+                                    json["time"].dump().substr(0, 40)));
+    }
+    marker.time = json["time"].get<double>();
+  }
+  if (json.contains("nodes_per_level")) {
+    const nlohmann::json& levels = json["nodes_per_level"];
+    if (!levels.is_array()) {
+      throw FormatError(fmt::format("animation frame marker: \"nodes_per_level\" is {}, expected an array",
+                                    levels.dump().substr(0, 40)));
+    }
+    for (std::size_t i = 0; i < levels.size(); ++i) {
+      marker.nodes_per_level.push_back(unsigned_field(levels[i], fmt::format("nodes_per_level[{}]", i), kAny));
+    }
+  }
+  if (json.contains("nodes")) marker.nodes = unsigned_field(json["nodes"], "nodes", kAny);
+  if (json.contains("leaves")) marker.leaves = unsigned_field(json["leaves"], "leaves", kAny);
+  if (json.contains("depth")) {
+    marker.depth = static_cast<std::uint32_t>(unsigned_field(json["depth"], "depth", 0xFFFFFFFFu));
   }
   for (const auto& [key, value] : json.items()) {
     bool known = false;

@@ -529,10 +529,15 @@ class Reader final : public TraceReader {
         if (zstd_status_ != 0) fail(fmt::format("truncated: the zstd stream ends inside a frame at byte {}", input_.offset()));
         break;
       }
+      // Between frames (status 0) the next one starts here. Damage may show
+      // only at the frame's end (its checksum), so an error names where the
+      // frame began.
+      if (zstd_status_ == 0) zstd_frame_start_ = input_.offset();
       ZSTD_inBuffer in{input_.data(), available, 0};
       zstd_status_ = ZSTD_decompressStream(zstd_.get(), &output, &in);
       if (ZSTD_isError(zstd_status_)) {
-        fail(fmt::format("damaged zstd data near byte {} ({})", input_.offset(), ZSTD_getErrorName(zstd_status_)));
+        fail(fmt::format("damaged zstd data in the zstd frame that starts at byte {} ({})", zstd_frame_start_,
+                         ZSTD_getErrorName(zstd_status_)));
       }
       input_.consume(in.pos);
       if (in.pos == 0 && output.pos == before) break;  // no progress: let the caller come back
@@ -688,6 +693,7 @@ class Reader final : public TraceReader {
   std::uint64_t header_end_ = 0;
   std::uint64_t data_frames_ = 0;
   std::uint64_t markers_ = 0;
+  std::uint64_t zstd_frame_start_ = 0;  // plain zstd input: offset of the frame being decoded
   std::uint64_t records_read_ = 0;       // containers: records in frames handed over so far
   std::uint64_t records_delivered_ = 0;  // records returned by next()
   std::vector<FrameIndexEntry> seen_;

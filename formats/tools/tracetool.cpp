@@ -240,14 +240,24 @@ int run_cat(const std::string& path, const std::string& tags, const std::string&
 int run_verify(const std::string& path, bool tags_are_levels, const std::string& form) {
   auto reader = formats::TraceReader::open(path, reader_options(tags_are_levels, form_option(form)));
   formats::RecordBatch batch;
-  std::uint64_t records = 0;
-  while (reader->next(batch)) records += batch.records.size();
-  const std::uint64_t frames = reader->trailer() ? reader->trailer()->index.size() : 0;
+  std::uint64_t records = 0, markers = 0;
+  while (reader->next(batch)) {
+    records += batch.records.size();
+    if (batch.marker) ++markers;
+  }
+  // DESIGN.md: a trace without animation-frame markers is one animation frame.
+  const std::uint64_t animation_frames = std::max<std::uint64_t>(markers, 1);
   if (reader->input_kind() == "container") {
-    fmt::print("OK: {} records, {} frames\n", records, frames);
+    const std::uint64_t data_frames = reader->trailer() ? reader->trailer()->index.size() : 0;
+    fmt::print("OK: {} records, {} animation frame{}, {} data frame{}\n", records, animation_frames,
+               animation_frames == 1 ? "" : "s", data_frames, data_frames == 1 ? "" : "s");
   } else {
-    fmt::print("OK: {} records, {} frames (a {} trace: every record parses; it has no checksums of ours)\n", records,
-               frames, reader->input_kind() == "zstd" ? "plain zstd" : "plain text");
+    const std::string form_words = reader->form() == formats::RecordForm::Binary ? "Dinero binary"
+                                                                                 : std::string(formats::form_name(reader->form())) + " text";
+    fmt::print("OK: {} records, {} animation frame{} (a plain {}{} trace: every record parses; it has no checksums "
+               "of ours)\n",
+               records, animation_frames, animation_frames == 1 ? "" : "s",
+               reader->input_kind() == "zstd" ? "zstd-compressed " : "", form_words);
   }
   return 0;
 }

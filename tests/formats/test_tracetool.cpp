@@ -62,9 +62,9 @@ TEST_F(Tracetool, HelpAndUsageErrors) {
 TEST_F(Tracetool, VerifyReportsRecordsAndFrames) {
   const auto result = run("verify " + path("t.din.zst"));
   EXPECT_EQ(result.exit_code, 0) << result.err;
-  EXPECT_EQ(result.out, "OK: 101 records, 4 frames\n");
+  EXPECT_EQ(result.out, "OK: 101 records, 2 animation frames, 4 data frames\n");
   const auto piped = run("verify -", read_file(dir_ / "t.din.zst"));
-  EXPECT_EQ(piped.out, "OK: 101 records, 4 frames\n");
+  EXPECT_EQ(piped.out, "OK: 101 records, 2 animation frames, 4 data frames\n");
 }
 
 TEST_F(Tracetool, VerifyFailsOnDamage) {
