@@ -6,6 +6,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <new>
 #include <string_view>
 
 #include "nodetrace/cachesim/report.hpp"
@@ -36,6 +37,9 @@ int guarded(const char* name, Body body) {
   } catch (const formats::UsageError& error) {
     std::fprintf(stderr, "dinero-wrap %s: %s\n", name, error.what());
     return 2;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "dinero-wrap %s: out of memory\n", name);
+    return 1;
   } catch (const std::exception& error) {
     std::fprintf(stderr, "dinero-wrap %s: %s\n", name, error.what());
     return 1;

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -378,6 +379,10 @@ int main(int argc, char** argv) {
   } catch (const formats::IoError& error) {
     std::fflush(stdout);
     fmt::print(stderr, "tracetool: {}\n", error.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fflush(stdout);
+    fmt::print(stderr, "tracetool: out of memory\n");
     return 1;
   } catch (const std::exception& error) {
     std::fflush(stdout);

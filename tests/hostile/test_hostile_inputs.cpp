@@ -27,6 +27,7 @@ std::vector<std::pair<std::string, std::string>> fixture_files() {
       {"zero_index.obj", triangle + "f 0 1 2\n"},
       {"far_texture.obj", triangle + "vt 0 0\nf 1/1 2/1 3/7\n"},
       {"two_corners.obj", triangle + "f 1 2\n"},
+      {"huge.obj", "v 1e39 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"},
       {"garbage.obj", "this is not an OBJ file\nnor is this\n"},
       {"huge.aff", "p 3\n1e39 0 0\n0 1 0\n0 0 1\n"},
       {"polygon_count.aff", "p 100000000\n0 0 0\n1 0 0\n0 1 0\n"},
@@ -81,6 +82,7 @@ const HostileCase kCases[] = {
   {"ObjZeroIndex", "$B/tracer info zero_index.obj", 1, "tracer info: zero_index.obj:4: vertex index 0 is out of range"},
   {"ObjFarTextureIndex", "$B/tracer info far_texture.obj", 1, "tracer info: far_texture.obj:5: texture coordinate index 7 is out of range"},
   {"ObjTwoCornerFace", "$B/tracer info two_corners.obj", 1, "tracer info: two_corners.obj:4: expected a face of at least 3 vertices"},
+  {"ObjFloatOverflow", "$B/tracer info huge.obj", 1, "tracer info: huge.obj:1: expected a finite number of at most 3.40282e+38 in magnitude in 'v' line, got '1e39'"},
   {"ObjNoTriangles", "$B/tracer info garbage.obj", 1, "tracer info: garbage.obj: no triangles"},
   // AFF values, counts and includes.
   {"AffFloatOverflow", "$B/tracer info huge.aff", 1, "tracer info: huge.aff:2: expected polygon vertex coordinate (a number of at most 3.40282e+38 in magnitude), got '1e39'"},

@@ -3,6 +3,7 @@
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <charconv>
 #include <string_view>
 #include <cmath>
@@ -99,8 +100,10 @@ void check_lines(const std::string& text, const std::filesystem::path& path) {
       if (word.front() == '+') word.remove_prefix(1);
       double value = 0;
       const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value);
-      if (error != std::errc() || end != word.data() + word.size() || !std::isfinite(value)) {
-        fail(line, "expected a finite number in '" + std::string(keyword) + "' line, got '" + std::string(word) + "'");
+      // tinyobjloader stores floats: beyond FLT_MAX a value becomes inf.
+      if (error != std::errc() || end != word.data() + word.size() || !(std::fabs(value) <= FLT_MAX)) {
+        fail(line, fmt::format("expected a finite number of at most {:g} in magnitude in '{}' line, got '{}'",
+                               FLT_MAX, keyword, word));
       }
     }
   });
