@@ -62,8 +62,9 @@ std::vector<std::pair<std::string, std::string>> fixture_files() {
 // `*` in them skips any text (a byte offset, a path) up to what follows.
 struct HostileCase {
   const char* name;
-  // $B: build/bin; $LIMIT: a 4 GiB address-space limit; $LOWMEM: a 1 GB one
-  // that must run out (such a row is skipped under AddressSanitizer).
+  // $B: build/bin; $LIMIT: a 4 GiB address-space limit, a guard. A row
+  // that sets its own limit (`ulimit -v`) to make something run out is
+  // skipped under AddressSanitizer.
   const char* command;
   int exit_code;
   const char* message;   // standard error starts with this
@@ -121,7 +122,7 @@ const HostileCase kCases[] = {
   {"SplitLevelHuge", "$B/tracer render ok.obj --width 4 --height 3 --split-level 4294967295", 2, "--split-level: Value 4294967295 not in range 0 to 100"},
   {"TraversalCostNan", "$B/tracer render ok.obj --width 4 --height 3 --traversal-cost nan", 2, "tracer render: --traversal-cost nan: expected a finite number"},
   {"EmptyBonusNan", "$B/tracer info ok.obj --empty-bonus nan", 2, "tracer info: --empty-bonus nan: expected a number from 0 to 1"},
-  {"OutOfMemory", "$LOWMEM $B/tracer render ok.obj --width 8192 --height 8192 --image o.png", 1, "tracer render: out of memory"},
+  {"OutOfMemory", "ulimit -v 1000000; $B/tracer render ok.obj --width 8192 --height 8192 --image o.png", 1, "tracer render: out of memory"},
   {"FrameRecordsZero", "$B/tracetool convert t.din out.din.zst --tags-are-levels --frame-records 0", 2, "--frame-records: Value 0 not in range 1 to 16777216"},
   {"FrameRecordsHuge", "$B/tracetool convert t.din out.din.zst --tags-are-levels --frame-records 100000000000", 2, "--frame-records: Value 100000000000 not in range 1 to 16777216"},
   // Threads.
@@ -130,6 +131,10 @@ const HostileCase kCases[] = {
   {"CachesimThreads", "$B/cachesim run t.din --threads 100000", 2, "cachesim run: --threads 100000: at most"},
   {"WrapThreads", "$B/dinero-wrap run t.din --threads 100000 --dinero '$B/cachesim dinero'", 2, "dinero-wrap run: --threads 100000: at most"},
   {"WrapJobs", "$B/dinero-wrap run t.din --jobs 100000 --dinero '$B/cachesim dinero'", 2, "dinero-wrap run: --jobs 100000: at most"},
+  // Threads that cannot start (their stacks do not fit the address space).
+  {"TracerThreadsFail", "ulimit -v 250000; $B/tracer render ok.obj --width 256 --height 256 --threads 64 -q", 1, "tracer render: cannot start 64 threads"},
+  {"ConvertThreadsFail", "ulimit -v 250000; $B/tracetool convert t.din out.din.zst --tags-are-levels --threads 64", 1, "tracetool: cannot start 64 threads"},
+  {"CachesimThreadsFail", "ulimit -v 250000; $B/cachesim run t.din --threads 64", 1, "cachesim run: cannot start 64 threads"},
   // Cache sizes: a stated limit instead of an allocation of the size asked.
   {"CacheSizeHuge", "$LIMIT $B/cachesim run t.din --size 1024g", 2, "cachesim run: --size 1024g: at most 256m"},
   {"CacheSize16g", "$LIMIT $B/cachesim run t.din --size 16g", 2, "cachesim run: --size 16g: at most 256m"},
@@ -195,13 +200,12 @@ TEST_P(HostileInput, ExitsWithItsCodeAndMessage) {
   for (const auto& [name, bytes] : fixture_files()) write_file(dir / name, bytes);
 #if defined(__SANITIZE_ADDRESS__)
   // AddressSanitizer reserves terabytes of address space: no limit applies.
-  if (std::string(c.command).find("$LOWMEM") != std::string::npos) GTEST_SKIP() << "needs an address-space limit";
+  if (std::string(c.command).find("ulimit -v") != std::string::npos) GTEST_SKIP() << "needs an address-space limit";
   const std::string limit;
 #else
   const std::string limit = "ulimit -v 4194304;";
 #endif
   std::string command = expand(c.command, "$LIMIT", limit);
-  command = expand(command, "$LOWMEM", "ulimit -v 1000000;");
   command = expand(command, "$B", program("").string());
   command = expand(command, "$SRC", NODETRACE_SOURCE_DIR);
   write_file(dir / "case.sh", command + "\n");

@@ -11,6 +11,7 @@
 #include <limits>
 #include <mutex>
 #include <stdexcept>
+#include <system_error>
 #include <thread>
 
 namespace nodetrace::tracer {
@@ -573,8 +574,17 @@ RenderStats Renderer::render(const RecordSink& sink, Image* image, const Progres
       }
     };
     std::vector<std::thread> pool;
-    for (unsigned t = 0; t < threads; ++t) pool.emplace_back(worker);
     try {
+      // Inside the try: if a thread cannot start, those started are told to
+      // stop and joined (a joinable std::thread destroyed would terminate).
+      for (unsigned t = 0; t < threads; ++t) {
+        try {
+          pool.emplace_back(worker);
+        } catch (const std::system_error& e) {
+          throw std::runtime_error("cannot start " + std::to_string(threads) + " threads (" + std::to_string(t) +
+                                   " started): " + e.what());
+        }
+      }
       for (std::size_t c = 0; c < chunks; ++c) {
         Chunk& chunk = slots[c % window];
         {
