@@ -24,6 +24,9 @@ namespace nodetrace::cachesim::cli {
 // memory of a run (at 8-byte blocks, about as many bytes as the cache holds,
 // per configuration) whatever the trace's length.
 inline constexpr std::uint64_t kMaxCacheBytes = std::uint64_t{256} << 20;
+// And the most blocks one cache holds (256m of 8-byte blocks), so small
+// blocks cannot multiply that memory.
+inline constexpr std::uint64_t kMaxCacheBlocks = kMaxCacheBytes / 8;
 
 inline std::uint64_t cache_size(const std::string& text, const char* option) {
   return formats::check_at_most(formats::parse_byte_size(text), kMaxCacheBytes, option, text, "256m",
@@ -119,6 +122,16 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
     const std::uint64_t block = formats::parse_byte_size(text);
     if (block > (1u << 30)) throw formats::UsageError(fmt::format("--block {} is too large", text));
     options.blocks.push_back(static_cast<std::uint32_t>(block));
+  }
+  for (std::size_t i = 0; i < options.sizes.size(); ++i) {
+    for (std::size_t b = 0; b < options.blocks.size(); ++b) {
+      const std::uint64_t blocks = options.sizes[i] / options.blocks[b];
+      if (blocks > kMaxCacheBlocks) {
+        throw formats::UsageError(fmt::format("--size {} with --block {}: {} blocks, at most {} in one cache "
+                                              "(the simulator keeps each block's state)",
+                                              line.sizes[i], line.blocks[b], blocks, kMaxCacheBlocks));
+      }
+    }
   }
   options.assocs.clear();
   for (const auto& text : line.assocs) options.assocs.push_back(parse_assoc(text));

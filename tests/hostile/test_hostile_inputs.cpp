@@ -114,6 +114,7 @@ const HostileCase kCases[] = {
   {"NodeSizeZero", "$B/tracer render ok.obj --node-size 0", 2, "--node-size: Value 0 not in range 1 to 65535"},
   {"InfoNodeSizeZero", "$B/tracer info ok.obj --node-size 0", 2, "--node-size: Value 0 not in range 1 to 65535"},
   {"TileSizeZero", "$B/tracer render ok.obj --tile-size 0", 2, "--tile-size: Value 0 not in range 1 to 65535"},
+  {"ImageSideTooLarge", "$B/tracer render ok.obj --width 65536 --height 65536", 2, "--width: Value 65536 not in range 1 to 65535"},
   {"ImageTooLarge", "$B/tracer render ok.obj --width 65535 --height 65535", 2, "tracer render: --width 65535 --height 65535: at most 67108864 pixels"},
   {"NodeBaseWraps", "$B/tracer render sphereflake:1 --width 4 --height 3 --node-base 0xfffffffffffffff0 -o t.din.zst", 2, "tracer render: --node-base 0xfffffffffffffff0"},
   {"ListBaseWraps", "$B/tracer render ok.obj --width 4 --height 3 --streams nodes,lists --list-base 0xffffffffffffffff -o t.din.zst", 2, "tracer render: --list-base 0xffffffffffffffff"},
@@ -139,6 +140,7 @@ const HostileCase kCases[] = {
   {"CacheSizeHuge", "$LIMIT $B/cachesim run t.din --size 1024g", 2, "cachesim run: --size 1024g: at most 256m"},
   {"CacheSize16g", "$LIMIT $B/cachesim run t.din --size 16g", 2, "cachesim run: --size 16g: at most 256m"},
   {"HighSizeHuge", "$LIMIT $B/cachesim run t.din --scheme split --split-level 3 --high-size 16g", 2, "cachesim run: --high-size 16g: at most 256m"},
+  {"CacheBlocks", "$LIMIT $B/cachesim run t.din --size 256m --block 1", 2, "cachesim run: --size 256m with --block 1: 268435456 blocks, at most 33554432"},
   {"WrapCacheSize", "$LIMIT $B/dinero-wrap run t.din --size 16g --dinero '$B/cachesim dinero'", 2, "dinero-wrap run: --size 16g: at most 256m"},
   // Trace data.
   {"XdinSize16Bits", "$B/cachesim run big_size.xdin", 1, "cachesim run: big_size.xdin: record 1: size 0x10000"},
