@@ -20,14 +20,15 @@
 namespace nodetrace::tracer::cli {
 
 // Resource budgets of a render, stated in --help and in the errors.
-// Image sides up to 16 bits; pixels up to 2^26 (8192x8192): the image, the
-// pixel order and the per-pixel state take about 24 bytes a pixel.
+// Image sides up to 16 bits; pixels up to 2^26 (8192x8192): the image and
+// the pixel order take about 16 bytes a pixel, and pixel numbers are 32-bit.
 inline constexpr int kMaxImageSide = 65535;
 inline constexpr std::uint64_t kMaxImagePixels = std::uint64_t{1} << 26;
 // Camera coordinates: beyond this a float ray origin has no precision left
 // for a scene of ordinary size.
 inline constexpr double kMaxCameraCoordinate = 1e15;
-// Bytes per node, tile side: Dinero IV's sizes are 16 bits.
+// Bytes per node: Dinero IV's sizes are 16 bits (an extended din size of
+// 0x10000 or more is an error).
 inline constexpr int kMaxNodeSize = 65535;
 
 // A size option ("4096", "4k", "1m"), read as everywhere in nodetrace;
