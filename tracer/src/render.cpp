@@ -190,10 +190,26 @@ float fresnel_dielectric(float cos_i, float cos_t, float eta_i, float eta_t) {
 
 }  // namespace
 
+// What one worker carries while it renders a chunk. A ray tree of depth D
+// may hold up to 2^D rays (reflection and refraction at every hit), so its
+// records are not kept whole: once `records` holds flush_at, `flush`
+// hands them on in order (waiting, with threads, until every earlier chunk
+// has been emitted). Memory per pixel is the recursion, O(max depth).
 struct Renderer::Context {
   std::vector<Record>* records = nullptr;
   RenderStats stats;
+  std::function<void()> flush;
+  std::uint64_t flushed = 0;  // records already handed on
+  std::size_t flush_at = 0;
+  void maybe_flush() {
+    if (records && flush && records->size() >= flush_at) flush();
+  }
 };
+
+namespace {
+// Unwinds a worker whose render was abandoned because another one failed.
+struct RenderCancelled {};
+}  // namespace
 
 Renderer::Renderer(const Scene& scene, const KdTree& tree, const Layout& layout,
                    const RenderOptions& options)
@@ -231,6 +247,10 @@ template <bool AnyHit>
 bool Renderer::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records,
                         RenderStats* stats) const {
   if (compact_.empty() || tree_.bounds().empty()) return false;
+  // A ray with a non-finite or zero part meets nothing: without this its
+  // NaN comparisons would send it to every node of the tree.
+  const auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (!finite(ray.origin) || !finite(ray.direction) || ray.direction == Vec3{}) return false;
   const Vec3 inverse{1.0f / ray.direction.x, 1.0f / ray.direction.y, 1.0f / ray.direction.z};
   float t_min = 0, t_far = t_max;
   if (!intersect_box(tree_.bounds(), ray.origin, inverse, t_min, t_far)) return false;
@@ -334,6 +354,7 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
   ++context.stats.rays[static_cast<int>(kind)];
   const auto hit = closest_hit(ray, std::numeric_limits<float>::infinity(), context.records,
                                &context.stats);
+  context.maybe_flush();
   if (!hit) return scene_.background;
 
   const Triangle& triangle = scene_.triangles[hit->triangle];
@@ -367,7 +388,9 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
       if (dot(to_light, facing) <= 0) continue;
       ++context.stats.rays[static_cast<int>(RayKind::Shadow)];
       const Ray shadow{shadow_origin, light.position - shadow_origin};
-      if (occluded(shadow, 1.0f - 1e-4f, context.records, &context.stats)) continue;
+      const bool blocked = occluded(shadow, 1.0f - 1e-4f, context.records, &context.stats);
+      context.maybe_flush();
+      if (blocked) continue;
       const Vec3 l = unit_vector(to_light);
       const float diffuse = std::max(0.0f, dot(normal, l));
       float specular = 0;
@@ -446,19 +469,33 @@ RenderStats Renderer::render(const RecordSink& sink, Image* image, const Progres
   struct Chunk {
     std::vector<Record> records;
     RenderStats stats;
+    std::uint64_t flushed = 0;
     bool done = false;
   };
+  // Set up for threads below: waits until chunk c is the next to emit.
+  std::function<void(std::size_t)> wait_for_turn;
   auto render_chunk = [&](std::size_t c, Chunk& chunk) {
     Context context;
     context.records = options_.record ? &chunk.records : nullptr;
+    if (context.records) {
+      context.flush_at = std::max<std::size_t>(1, options_.records_per_flush);
+      context.flush = [&, c] {
+        if (sink && wait_for_turn) wait_for_turn(c);
+        context.flushed += chunk.records.size();
+        if (sink) sink(chunk.records);
+        chunk.records.clear();
+      };
+    }
     const std::size_t end = std::min(sequence.size(), (c + 1) * chunk_pixels);
     for (std::size_t i = c * chunk_pixels; i < end; ++i) render_pixel(sequence[i], context, image);
     chunk.stats = context.stats;
+    chunk.flushed = context.flushed;
   };
 
   RenderStats total;
   auto emit = [&](std::size_t c, Chunk& chunk) {
-    chunk.stats.records = chunk.records.size();
+    chunk.stats.records = chunk.flushed + chunk.records.size();
+    chunk.flushed = 0;
     total += chunk.stats;
     if (options_.record && sink && !chunk.records.empty()) sink(chunk.records);
     chunk.records.clear();  // keeps the capacity: no page faults refilling it
@@ -481,6 +518,14 @@ RenderStats Renderer::render(const RecordSink& sink, Image* image, const Progres
     std::size_t next_chunk = 0, emitted = 0;
     bool failed = false;
     std::exception_ptr error;
+    // A worker may hand its chunk's records on itself once every earlier
+    // chunk is emitted: the writer is then waiting for this very chunk, so
+    // the sink is never called from two threads at once.
+    wait_for_turn = [&](std::size_t c) {
+      std::unique_lock lock(mutex);
+      changed.wait(lock, [&] { return failed || emitted == c; });
+      if (failed) throw RenderCancelled{};
+    };
     auto worker = [&] {
       while (true) {
         std::size_t c;
@@ -493,6 +538,8 @@ RenderStats Renderer::render(const RecordSink& sink, Image* image, const Progres
         Chunk& chunk = slots[c % window];
         try {
           render_chunk(c, chunk);
+        } catch (const RenderCancelled&) {
+          return;
         } catch (...) {
           std::lock_guard lock(mutex);
           failed = true;

@@ -74,14 +74,18 @@ inline bool intersect_sheared(const ShearedRay& r, const Triangle& triangle, flo
   const double inverse = 1.0 / det;
   const double t = t_scaled * inverse;
   // Reject t within its own rounding error (bounds for the float version of
-  // this computation, which bound the more exact one here as well).
+  // this computation, which bound the more exact one here as well). PBR
+  // adds the scaled z to x and y; the sheared x and y are made from the
+  // unscaled z (distances), and using those keeps the bound homogeneous
+  // for a direction of any length.
   const double max_x = std::max({std::fabs(ax), std::fabs(bx), std::fabs(cx)});
   const double max_y = std::max({std::fabs(ay), std::fabs(by), std::fabs(cy)});
   const double max_z = std::max({std::fabs(az), std::fabs(bz), std::fabs(cz)});
+  const double max_distance_z = std::max({std::fabs(a[r.kz]), std::fabs(b[r.kz]), std::fabs(c[r.kz])});
   const double max_e = std::max({std::fabs(e0), std::fabs(e1), std::fabs(e2)});
   const double delta_z = error_gamma(3) * max_z;
-  const double delta_x = error_gamma(5) * (max_x + max_z);
-  const double delta_y = error_gamma(5) * (max_y + max_z);
+  const double delta_x = error_gamma(5) * (max_x + max_distance_z);
+  const double delta_y = error_gamma(5) * (max_y + max_distance_z);
   const double delta_e = 2 * (error_gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
   const double delta_t =
       3 * (error_gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * std::fabs(inverse);

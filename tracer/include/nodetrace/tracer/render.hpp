@@ -70,6 +70,10 @@ struct RenderOptions {
   StreamSelection streams;
   AddressMap addresses;
   int pixels_per_chunk = 512;  // unit of parallel work (does not change the output)
+  // A chunk's records go to the sink once this many are waiting, even in the
+  // middle of a pixel, so memory does not grow with the ray tree (does not
+  // change the output; a sink call may hold one traversal more).
+  std::size_t records_per_flush = std::size_t{1} << 18;
 };
 
 struct RenderStats {
