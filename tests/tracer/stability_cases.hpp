@@ -6,6 +6,8 @@
 // functions and counts what must never happen.
 #pragma once
 
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -33,16 +35,19 @@ struct Case {
   int max_depth = 3;          // mirror bounces + 1
   bool closed = false;        // camera inside a closed mesh: every ray must hit
   bool fan_rays = false;      // also shoot rays exactly through the fan's shared edges and vertices
+  bool fills_view = false;    // every primary ray must hit something
 };
 
 struct Counts {
   std::uint64_t triangles = 0;
-  double build_seconds = 0;
+  double build_seconds = 0;      // wall
+  double build_cpu_seconds = 0;  // user + sys of the process during the build
   std::uint64_t rays = 0;
   std::uint64_t self_hits = 0;         // a spawned ray meeting the surface it left
   std::uint64_t escapes = 0;           // a ray from inside a closed mesh meeting nothing
   std::uint64_t watertight_misses = 0; // a ray through a shared edge or vertex not hit exactly once
   std::uint64_t nans = 0;              // a non-finite t, barycentric, point, bound or ray
+  std::uint64_t primary_misses = 0;    // primary rays meeting nothing
 };
 
 inline Scene with_one_material(Scene scene) {
@@ -108,6 +113,7 @@ inline Case big_floor_case(float eye_height, int pixels) {
   c.scene.lights.push_back({{3e6f, 8e6f, 2e6f}, {1, 1, 1}});
   c.camera = camera({0, eye_height, eye_height}, {0, 0, 0});
   c.width = pixels, c.height = pixels * 3 / 4;
+  c.fills_view = true;
   return c;
 }
 
@@ -122,8 +128,10 @@ inline Case tilted_plane_case(int pixels) {
   test_scenes::add_quad(c.scene, o - u * h - v * h, o + u * h - v * h, o + u * h + v * h, o - u * h + v * h, 0);
   const Vec3 n = unit_vector(cross(u, v));
   c.scene.lights.push_back({o + n * 5e5f + u * 1e5f, {1, 1, 1}});
-  c.camera = camera(o + n * 10.0f + u * 3.0f, o + u * 40.0f + v * 25.0f, v);
+  // 10 units above the plane, looking 63 degrees down: the view is all plane.
+  c.camera = camera(o + n * 10.0f + u * 3.0f, o + u * 8.0f + v * 0.5f, n);
   c.width = pixels, c.height = pixels * 3 / 4;
+  c.fills_view = true;
   return c;
 }
 
@@ -139,6 +147,7 @@ inline Case inside_closed_mesh_case(int subdivisions, int pixels) {
   c.width = pixels, c.height = pixels * 3 / 4;
   c.max_depth = 6;
   c.closed = true;
+  c.fills_view = true;
   return c;
 }
 
@@ -155,6 +164,7 @@ inline Case fan_case(int pixels) {
   c.camera = camera({0, 0, 5}, {0, 0, 0});
   c.width = pixels, c.height = pixels;
   c.fan_rays = true;
+  c.fills_view = true;
   return c;
 }
 
@@ -169,6 +179,7 @@ inline Case grazing_case(int pixels) {
   c.camera = camera({0, 1, 0}, {0, 1 - 1e-7f * 1e3f, -1e3f});
   c.camera.fov_y_degrees = 1e-5f;  // every pixel within ~1e-7 rad of the axis
   c.width = pixels, c.height = pixels * 3 / 4;
+  c.fills_view = true;
   return c;
 }
 
@@ -231,6 +242,19 @@ inline Case range_case(std::size_t count, int pixels) {
   return c;
 }
 
+// The same triangle `count` times (planar splits keep all of them on both sides).
+inline Case coincident_case(std::size_t count, int pixels) {
+  Case c;
+  c.name = "coincident triangles";
+  c.scene = with_one_material({});
+  c.scene.triangles.assign(count, Triangle{{0, 0, 0}, {1, 0, 0.25f}, {0.25f, 1, 0.5f}, 0});
+  c.scene.lights.push_back({{0.5f, 0.5f, 3}, {1, 1, 1}});
+  c.camera = camera({0.4f, 0.4f, 2}, {0.4f, 0.4f, 0});
+  c.width = pixels, c.height = pixels * 3 / 4;
+  c.max_depth = 2;
+  return c;
+}
+
 // Small 3-D triangles scattered in a cube: the reference for build costs.
 inline Case soup_case(std::size_t count, int pixels) {
   Case c;
@@ -256,6 +280,7 @@ inline Case hall_of_mirrors_case(int pixels) {
   c.camera.fov_y_degrees = 2;
   c.width = pixels, c.height = pixels * 3 / 4;
   c.max_depth = 64;
+  c.fills_view = true;
   return c;
 }
 
@@ -290,6 +315,7 @@ struct Probe {
     const auto hit = renderer.closest_hit(ray, kInf, nullptr, nullptr);
     if (!hit) {
       if (inside) ++counts.escapes;
+      if (depth == 1) ++counts.primary_misses;
       return;
     }
     const Triangle& t = c.scene.triangles[hit->triangle];
@@ -338,12 +364,21 @@ inline Ray primary_ray(const Camera& camera, int x, int y, int width, int height
   return {camera.eye, unit_vector(forward + right * sx + up * sy)};
 }
 
+inline double process_cpu_seconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
 inline Counts run(const Case& c) {
   Counts counts;
   counts.triangles = c.scene.triangles.size();
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = process_cpu_seconds();
   const KdTree tree = KdTree::build(c.scene.triangles);
   counts.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  counts.build_cpu_seconds = process_cpu_seconds() - cpu_start;
   const Layout layout = make_layout(tree, LayoutKind::Dfl);
   RenderOptions options;
   options.camera = c.camera;

@@ -21,6 +21,9 @@ void expect_clean(const stability::Case& c) {
   EXPECT_EQ(counts.escapes, 0u);
   EXPECT_EQ(counts.watertight_misses, 0u);
   EXPECT_EQ(counts.nans, 0u);
+  if (c.fills_view) {
+    EXPECT_EQ(counts.primary_misses, 0u);
+  }
 }
 
 TEST(StabilityTest, NoSelfHitsOnAHugeFloorSeenFromFarAbove) { expect_clean(stability::big_floor_case(3e6f, 48)); }

@@ -2,9 +2,10 @@
 // the traversal loop. Internal header: the public entry is
 // intersect_triangle (render.hpp).
 //
-// Edge functions are computed in double from the sheared float coordinates:
-// a product of two floats is exact in double, so each edge function has the
-// exact sign, and two triangles sharing an edge see exactly opposite values.
+// Everything after the float inputs is computed in double: translation,
+// shear and edge functions, each vertex on its own, so two triangles sharing
+// an edge see exactly opposite edge values (watertight), and the rounding
+// error is some 1e-16 of the magnitudes, far below float's.
 // A ray exactly on an edge or vertex is given to one triangle by a tie rule
 // (a consistent symbolic perturbation of the ray, as rasterisers' top-left
 // rule), so it hits a shared edge, or the shared vertex of a closed fan,
@@ -15,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "nodetrace/tracer/interaction.hpp"
@@ -22,22 +24,29 @@
 
 namespace nodetrace::tracer::detail {
 
+// Higham's gamma(n) in double precision.
+constexpr double error_gamma_double(int n) {
+  constexpr double half_eps = std::numeric_limits<double>::epsilon() * 0.5;
+  return (double(n) * half_eps) / (1.0 - double(n) * half_eps);
+}
+
 // The per-ray part of the test: the axis the ray runs along most (kz) and
-// the shear that turns the ray into the +z axis.
+// the shear that turns the ray into the +z axis, in double.
 struct ShearedRay {
-  Vec3 origin;
+  double ox, oy, oz;  // origin on the kx, ky, kz axes
   int kx, ky, kz;
-  float sx, sy, sz;
-  explicit ShearedRay(const Ray& ray) : origin(ray.origin) {
+  double sx, sy, sz;
+  explicit ShearedRay(const Ray& ray) {
     const Vec3& d = ray.direction;
     const Vec3 ad{std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)};
     kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
     kx = (kz + 1) % 3;
     ky = (kx + 1) % 3;
     if (d[kz] < 0) std::swap(kx, ky);  // keep the winding
-    sx = d[kx] / d[kz];
-    sy = d[ky] / d[kz];
-    sz = 1.0f / d[kz];
+    sx = double(d[kx]) / d[kz];
+    sy = double(d[ky]) / d[kz];
+    sz = 1.0 / d[kz];
+    ox = ray.origin[kx], oy = ray.origin[ky], oz = ray.origin[kz];
   }
 };
 
@@ -45,50 +54,56 @@ struct ShearedRay {
 // (ex, ey), oriented with the triangle on its left: the ray is taken as moved
 // by (-e, e^2) for an infinitesimal e, so of two triangles on either side of
 // an edge exactly one owns it, and of a closed fan exactly one its centre.
-inline bool owns_edge(float ex, float ey) { return ey > 0 || (ey == 0 && ex > 0); }
+inline bool owns_edge(double ex, double ey) { return ey > 0 || (ey == 0 && ex > 0); }
 
 inline bool intersect_sheared(const ShearedRay& r, const Triangle& triangle, float t_max, Hit& hit) {
-  const Vec3 a = triangle.v0 - r.origin, b = triangle.v1 - r.origin, c = triangle.v2 - r.origin;
-  const float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
-  const float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
-  const float cx = c[r.kx] - r.sx * c[r.kz], cy = c[r.ky] - r.sy * c[r.kz];
-  // e0 weighs v0 (edge v1-v2), e1 weighs v1, e2 weighs v2.
-  const double e0 = double(cx) * by - double(cy) * bx;
-  const double e1 = double(ax) * cy - double(ay) * cx;
-  const double e2 = double(bx) * ay - double(by) * ax;
+  // Vertices relative to the origin, sheared: each vertex is transformed on
+  // its own, so a vertex shared by two triangles gives both the same bits.
+  struct Sheared {
+    double x, y, z, distance_z;
+  };
+  auto shear = [&r](const Vec3& v) {
+    const double z = v[r.kz] - r.oz;
+    return Sheared{(v[r.kx] - r.ox) - r.sx * z, (v[r.ky] - r.oy) - r.sy * z, r.sz * z, z};
+  };
+  const Sheared a = shear(triangle.v0), b = shear(triangle.v1), c = shear(triangle.v2);
+  // e0 weighs v0 (edge v1-v2), e1 weighs v1, e2 weighs v2. Written so that
+  // the triangle across an edge computes exactly the negated value.
+  const double e0 = c.x * b.y - c.y * b.x;
+  const double e1 = a.x * c.y - a.y * c.x;
+  const double e2 = b.x * a.y - b.y * a.x;
   if ((e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0)) return false;
   const double det = e0 + e1 + e2;
   if (det == 0) return false;
   if (e0 == 0 || e1 == 0 || e2 == 0) {
-    const float s = det > 0 ? 1.0f : -1.0f;
-    if (e0 == 0 && !owns_edge(s * (bx - cx), s * (by - cy))) return false;
-    if (e1 == 0 && !owns_edge(s * (cx - ax), s * (cy - ay))) return false;
-    if (e2 == 0 && !owns_edge(s * (ax - bx), s * (ay - by))) return false;
+    const double s = det > 0 ? 1.0 : -1.0;
+    if (e0 == 0 && !owns_edge(s * (b.x - c.x), s * (b.y - c.y))) return false;
+    if (e1 == 0 && !owns_edge(s * (c.x - a.x), s * (c.y - a.y))) return false;
+    if (e2 == 0 && !owns_edge(s * (a.x - b.x), s * (a.y - b.y))) return false;
   }
-  const float az = r.sz * a[r.kz], bz = r.sz * b[r.kz], cz = r.sz * c[r.kz];
-  const double t_scaled = e0 * az + e1 * bz + e2 * cz;
+  const double t_scaled = e0 * a.z + e1 * b.z + e2 * c.z;
   const double t_limit = double(t_max) * det;
   if (det > 0 ? (t_scaled <= 0 || t_scaled >= t_limit) : (t_scaled >= 0 || t_scaled <= t_limit)) {
     return false;
   }
   const double inverse = 1.0 / det;
   const double t = t_scaled * inverse;
-  // Reject t within its own rounding error (bounds for the float version of
-  // this computation, which bound the more exact one here as well). PBR
-  // adds the scaled z to x and y; the sheared x and y are made from the
-  // unscaled z (distances), and using those keeps the bound homogeneous
-  // for a direction of any length.
-  const double max_x = std::max({std::fabs(ax), std::fabs(bx), std::fabs(cx)});
-  const double max_y = std::max({std::fabs(ay), std::fabs(by), std::fabs(cy)});
-  const double max_z = std::max({std::fabs(az), std::fabs(bz), std::fabs(cz)});
-  const double max_distance_z = std::max({std::fabs(a[r.kz]), std::fabs(b[r.kz]), std::fabs(c[r.kz])});
+  // Reject t within its own rounding error: the bound of PBR 4th ed.,
+  // section 6.8.4, for this computation in double. PBR adds max |z| to the
+  // x and y terms; the shear's error comes from |sx z| (|sx| <= 1), which
+  // keeps the bound homogeneous for a direction of any length and far
+  // tighter for big triangles seen at small angles.
+  const double max_x = std::max({std::fabs(a.x), std::fabs(b.x), std::fabs(c.x)});
+  const double max_y = std::max({std::fabs(a.y), std::fabs(b.y), std::fabs(c.y)});
+  const double max_z = std::max({std::fabs(a.z), std::fabs(b.z), std::fabs(c.z)});
+  const double max_dz = std::max({std::fabs(a.distance_z), std::fabs(b.distance_z), std::fabs(c.distance_z)});
   const double max_e = std::max({std::fabs(e0), std::fabs(e1), std::fabs(e2)});
-  const double delta_z = error_gamma(3) * max_z;
-  const double delta_x = error_gamma(5) * (max_x + max_distance_z);
-  const double delta_y = error_gamma(5) * (max_y + max_distance_z);
-  const double delta_e = 2 * (error_gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+  const double delta_z = error_gamma_double(3) * max_z;
+  const double delta_x = error_gamma_double(5) * (max_x + 2 * std::fabs(r.sx) * max_dz);
+  const double delta_y = error_gamma_double(5) * (max_y + 2 * std::fabs(r.sy) * max_dz);
+  const double delta_e = 2 * (error_gamma_double(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
   const double delta_t =
-      3 * (error_gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * std::fabs(inverse);
+      3 * (error_gamma_double(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * std::fabs(inverse);
   if (t <= delta_t) return false;
   hit.t = static_cast<float>(t);
   hit.b0 = static_cast<float>(e0 * inverse);
