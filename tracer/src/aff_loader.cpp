@@ -17,6 +17,7 @@
 
 #include "nodetrace/tracer/scene_geometry.hpp"
 #include "scene_internal.hpp"
+#include "triangle_checks.hpp"
 
 namespace nodetrace::tracer::detail {
 
@@ -420,6 +421,7 @@ struct ParsedAff {
   Vec3 background{0, 0, 0};
   Vec3 ambient{0.1f, 0.1f, 0.1f};
   std::map<std::string, AnimatedTransform, std::less<>> transforms;
+  std::vector<std::string> warnings;
 };
 
 constexpr int kMaxIncludeDepth = 64;
@@ -576,7 +578,9 @@ class AffParser {
     return out_.batches.back();
   }
 
-  void add_triangle(Batch& target, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3* normals) {
+  void add_triangle(const Tokenizer& tokens, Batch& target, const Vec3& a, const Vec3& b, const Vec3& c,
+                    const Vec3* normals) {
+    if (!checks_.keep({a, b, c, 0}, tokens.file() + ":" + std::to_string(tokens.line()))) return;
     target.corners.insert(target.corners.end(), {a, b, c});
     if (normals) {
       target.normals.insert(target.normals.end(), {normals[0], normals[1], normals[2]});
@@ -600,7 +604,7 @@ class AffParser {
     for (std::size_t i = 1; i + 1 < count; ++i) {
       const Vec3 fan_normals[3] = {with_normals ? normals[0] : Vec3{}, with_normals ? normals[i] : Vec3{},
                                    with_normals ? normals[i + 1] : Vec3{}};
-      add_triangle(target, points[0], points[i], points[i + 1], with_normals ? fan_normals : nullptr);
+      add_triangle(tokens, target, points[0], points[i], points[i + 1], with_normals ? fan_normals : nullptr);
     }
   }
 
@@ -660,9 +664,9 @@ class AffParser {
         const std::size_t na = index(normals.size(), "normal index"), nb = index(normals.size(), "normal index"),
                           nc = index(normals.size(), "normal index");
         const Vec3 corner_normals[3] = {normals[na], normals[nb], normals[nc]};
-        add_triangle(target, vertices[a], vertices[b], vertices[c], corner_normals);
+        add_triangle(tokens, target, vertices[a], vertices[b], vertices[c], corner_normals);
       } else {
-        add_triangle(target, vertices[a], vertices[b], vertices[c], nullptr);
+        add_triangle(tokens, target, vertices[a], vertices[b], vertices[c], nullptr);
       }
       if (textured) {
         for (int k = 0; k < 3; ++k) index(std::max<std::size_t>(texture_count, 1), "texture coordinate index");
@@ -670,16 +674,16 @@ class AffParser {
     }
   }
 
-  void add_closed_mesh(const std::vector<Triangle>& triangles) {
+  void add_closed_mesh(const Tokenizer& tokens, const std::vector<Triangle>& triangles) {
     Batch& target = batch();
-    for (const auto& t : triangles) add_triangle(target, t.v0, t.v1, t.v2, nullptr);
+    for (const auto& t : triangles) add_triangle(tokens, target, t.v0, t.v1, t.v2, nullptr);
   }
 
   void parse_sphere(Tokenizer& tokens) {
     const Vec3 center = tokens.vec3("sphere centre coordinate");
     const float radius = tokens.real("sphere radius");
     if (!(radius > 0)) tokens.fail("expected a positive sphere radius");
-    add_closed_mesh(make_sphere_mesh(center, radius, 2));
+    add_closed_mesh(tokens, make_sphere_mesh(center, radius, 2));
   }
 
   void parse_cone(Tokenizer& tokens) {
@@ -687,7 +691,7 @@ class AffParser {
     const float base_radius = tokens.real("cone base radius");
     const Vec3 apex = tokens.vec3("cone apex coordinate");
     const float apex_radius = tokens.real("cone apex radius");
-    add_closed_mesh(make_cone_mesh(base, std::fabs(base_radius), apex, std::fabs(apex_radius), 24));
+    add_closed_mesh(tokens, make_cone_mesh(base, std::fabs(base_radius), apex, std::fabs(apex_radius), 24));
   }
 
   void parse_include(Tokenizer& tokens, const std::filesystem::path& path, int depth) {
@@ -779,6 +783,13 @@ class AffParser {
   std::map<std::array<float, 14>, std::uint32_t> material_index_;
   std::unordered_map<std::string, std::string> files_;
   std::uint64_t hash_ = kFnvOffset;
+  TriangleChecks checks_;
+
+ public:
+  std::vector<std::string> warnings() const {
+    if (auto warning = checks_.warning()) return {*warning};
+    return {};
+  }
 };
 
 // ---------------------------------------------------------------- source
@@ -790,6 +801,7 @@ class AffSceneSource final : public SceneSource {
   const std::string& name() const override { return parsed_.name; }
   const Animation& animation() const override { return parsed_.animation; }
   std::string content_hash() const override { return parsed_.hash; }
+  std::vector<std::string> warnings() const override { return parsed_.warnings; }
 
   Scene at_time(double time) const override {
     Scene scene;
@@ -821,6 +833,8 @@ class AffSceneSource final : public SceneSource {
       for (std::size_t c = 0; c + 2 < batch.corners.size(); c += 3) {
         scene.triangles.push_back({m.point(batch.corners[c]), m.point(batch.corners[c + 1]),
                                    m.point(batch.corners[c + 2]), batch.material});
+        // Transforms may carry a vertex out of range (or to inf).
+        check_coordinates_in_range(scene.triangles.back(), parsed_.name + " at time " + std::to_string(time));
       }
       if (any_vertex_normals) {
         const Affine& n = normal[batch.node];
@@ -881,6 +895,7 @@ std::unique_ptr<SceneSource> open_aff(const std::filesystem::path& path) {
   AffParser parser(parsed);
   parser.parse_file(path, nullptr, 0);
   parsed.hash = format_hash(parser.hash());
+  parsed.warnings = parser.warnings();
   return std::make_unique<AffSceneSource>(std::move(parsed));
 }
 

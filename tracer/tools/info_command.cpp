@@ -40,6 +40,7 @@ int info_command(int argc, char** argv) {
   try {
     if (!scene_options.frames.empty()) throw formats::UsageError("--frames: info describes one frame; use --frame");
     const auto source = open_scene(scene_spec);
+    for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer info: warning: %s\n", warning.c_str());
     const Animation& animation = source->animation();
     const std::uint64_t frame = scene_options.frame.value_or(0);
     if (!scene_options.time && frame >= animation.frames) {
