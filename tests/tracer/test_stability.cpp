@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <random>
 
 #include "stability_cases.hpp"
 
@@ -131,6 +132,35 @@ TEST(StabilityTest, ANonFiniteRayVisitsNoNode) {
     EXPECT_EQ(stats.node_fetches, 0u);
     EXPECT_TRUE(records.empty());
   }
+}
+
+TEST(StabilityTest, AnyRayFetchesEachNodeAtMostOnce) {
+  const Scene scene = test_scenes::cornell_box();
+  const KdTree tree = KdTree::build(scene.triangles);
+  const Layout layout = make_layout(tree, LayoutKind::Dfl);
+  const Renderer renderer(scene, tree, layout, RenderOptions{});
+  std::mt19937 engine(5);
+  const Bounds box = tree.bounds();
+  int checked = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Vec3 origin{test_scenes::uniform(engine, box.lo.x - 1, box.hi.x + 1),
+                      test_scenes::uniform(engine, box.lo.y - 1, box.hi.y + 1),
+                      test_scenes::uniform(engine, box.lo.z - 1, box.hi.z + 1)};
+    Vec3 direction{test_scenes::uniform(engine, -1, 1), test_scenes::uniform(engine, -1, 1),
+                   test_scenes::uniform(engine, -1, 1)};
+    // Every fourth ray runs exactly along an axis (infinite inverse directions).
+    if (i % 4 == 0) direction = Vec3{float(i % 3 == 0), float(i % 3 == 1), float(i % 3 == 2)} * (i % 8 ? 1.0f : -1.0f);
+    if (direction == Vec3{}) continue;
+    std::vector<Record> records;
+    renderer.closest_hit({origin, direction}, std::numeric_limits<float>::infinity(), &records, nullptr);
+    std::vector<std::uint64_t> addresses;
+    for (const auto& r : records) addresses.push_back(r.address);
+    std::sort(addresses.begin(), addresses.end());
+    ASSERT_TRUE(std::adjacent_find(addresses.begin(), addresses.end()) == addresses.end()) << "ray " << i;
+    ASSERT_LE(records.size(), tree.nodes().size());
+    ++checked;
+  }
+  EXPECT_GT(checked, 19000);
 }
 
 }  // namespace
