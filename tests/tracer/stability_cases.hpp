@@ -388,16 +388,18 @@ inline Counts run(const Case& c) {
     for (int x = 0; x < c.width; ++x) probe.walk(primary_ray(c.camera, x, y, c.width, c.height), 1, c.closed);
   }
   if (c.fan_rays) {
-    // Exactly along -z through the centre vertex and through points on the
-    // spokes (axes and diagonals: exact in float), counted over every
-    // triangle of the fan: each must be hit exactly once.
+    // Through the centre vertex and through points on the spokes (axes and
+    // diagonals: exact in float), counted over every triangle of the fan:
+    // each must be hit exactly once.
     std::vector<Vec3> targets{{0, 0, 0}};
     for (float r : {0.5f, 1.0f, 2.25f, 3.0f, 6.5f}) {
       targets.insert(targets.end(), {{r, 0, 0}, {-r, 0, 0}, {0, r, 0}, {0, -r, 0}, {r, r, 0}, {-r, r, 0},
                                      {r, -r, 0}, {-r, -r, 0}});
     }
     for (const Vec3& p : targets) {
-      for (const Vec3& d : {Vec3{0, 0, -1}, Vec3{0, 0, 1}}) {
+      // Along the axis both ways, and obliquely (then the ray passes the
+      // point within rounding: still exactly one triangle must own it).
+      for (const Vec3& d : {Vec3{0, 0, -1}, Vec3{0, 0, 1}, unit_vector({0.3f, -0.2f, -1}), unit_vector({-1, 1, 0.5f})}) {
         const Ray ray{p - d * 5.0f, d};
         int hits = 0;
         for (const auto& t : c.scene.triangles) hits += intersect_triangle(ray, t, detail::Probe::kInf).has_value();
