@@ -19,8 +19,11 @@ TEST(AffBart, KitchenFrameZero) {
   EXPECT_DOUBLE_EQ(source->animation().start, 0);
   EXPECT_DOUBLE_EQ(source->animation().end, 20);
   const Scene scene = source->at_frame(0);
-  EXPECT_EQ(scene.triangles.size(), 110561u);
-  EXPECT_EQ(scene.vertex_normals.size(), 3u * 110561u);
+  // 110,561 triangles in the files, 41 of them zero-area (dropped, one warning).
+  EXPECT_EQ(scene.triangles.size(), 110520u);
+  EXPECT_EQ(scene.vertex_normals.size(), 3u * 110520u);
+  ASSERT_EQ(source->warnings().size(), 1u);
+  EXPECT_EQ(source->warnings()[0].rfind("41 zero-area triangles dropped (the first at ", 0), 0u);
   EXPECT_EQ(scene.lights.size(), 6u);
   EXPECT_EQ(scene.materials.size(), 27u);
   EXPECT_EQ(scene.suggested_width, 800);
@@ -54,7 +57,10 @@ TEST(AffBart, RobotsFrameZero) {
   EXPECT_EQ(source->animation().frames, 800u);
   EXPECT_DOUBLE_EQ(source->animation().end, 50);
   const Scene scene = source->at_frame(0);
-  EXPECT_EQ(scene.triangles.size(), 71708u);
+  // 71,708 triangles in the files, 128 of them zero-area (dropped, one warning).
+  EXPECT_EQ(scene.triangles.size(), 71580u);
+  ASSERT_EQ(source->warnings().size(), 1u);
+  EXPECT_EQ(source->warnings()[0].rfind("128 zero-area triangles dropped (the first at ", 0), 0u);
   EXPECT_EQ(scene.lights.size(), 1u);
   EXPECT_EQ(scene.materials.size(), 62u);
   ASSERT_TRUE(scene.camera.has_value());

@@ -164,7 +164,7 @@ constexpr const char* kAnimated = R"(
 a 0 4 5
 x slide { p 3  0 0 0  0 0 0.1  0.1 0 0 }
 x spin { p 3  1 0 0  1 0 0.1  1.1 0 0 }
-x grow { p 3  1 1 1  1 1 1  1 1 1 }
+x grow { p 3  1 1 1  1 1 1.1  1.1 1 1 }
 l lamp 0 0 0 1 1 1
 k slide {
   transl 3

@@ -21,6 +21,7 @@
 #include "nodetrace/tracer/camera_checks.hpp"
 #include "nodetrace/tracer/scene_geometry.hpp"
 #include "scene_internal.hpp"
+#include "triangle_checks.hpp"
 
 namespace nodetrace::tracer::detail {
 
@@ -444,6 +445,7 @@ struct ParsedAff {
   Vec3 background{0, 0, 0};
   Vec3 ambient{0.1f, 0.1f, 0.1f};
   std::map<std::string, AnimatedTransform, std::less<>> transforms;
+  std::vector<std::string> warnings;
 };
 
 // Include budget: nesting depth, files parsed (each inclusion counts, a file
@@ -634,11 +636,12 @@ class AffParser {
     return out_.batches.back();
   }
 
-  void add_triangle(Batch& target, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3* normals,
-                    const Tokenizer& tokens) {
+  void add_triangle(const Tokenizer& tokens, Batch& target, const Vec3& a, const Vec3& b, const Vec3& c,
+                    const Vec3* normals) {
     if (++triangles_ > kMaxTriangles) {
       tokens.fail(fmt::format("the scene makes more than {} triangles (the limit of a scene)", kMaxTriangles));
     }
+    if (!checks_.keep({a, b, c, 0}, tokens.file() + ":" + std::to_string(tokens.line()))) return;
     target.corners.insert(target.corners.end(), {a, b, c});
     if (normals) {
       target.normals.insert(target.normals.end(), {normals[0], normals[1], normals[2]});
@@ -663,7 +666,7 @@ class AffParser {
     for (std::size_t i = 1; i + 1 < count; ++i) {
       const Vec3 fan_normals[3] = {with_normals ? normals[0] : Vec3{}, with_normals ? normals[i] : Vec3{},
                                    with_normals ? normals[i + 1] : Vec3{}};
-      add_triangle(target, points[0], points[i], points[i + 1], with_normals ? fan_normals : nullptr, tokens);
+      add_triangle(tokens, target, points[0], points[i], points[i + 1], with_normals ? fan_normals : nullptr);
     }
   }
 
@@ -724,9 +727,9 @@ class AffParser {
         const std::size_t na = index(normals.size(), "normal index"), nb = index(normals.size(), "normal index"),
                           nc = index(normals.size(), "normal index");
         const Vec3 corner_normals[3] = {normals[na], normals[nb], normals[nc]};
-        add_triangle(target, vertices[a], vertices[b], vertices[c], corner_normals, tokens);
+        add_triangle(tokens, target, vertices[a], vertices[b], vertices[c], corner_normals);
       } else {
-        add_triangle(target, vertices[a], vertices[b], vertices[c], nullptr, tokens);
+        add_triangle(tokens, target, vertices[a], vertices[b], vertices[c], nullptr);
       }
       if (textured) {
         for (int k = 0; k < 3; ++k) index(std::max<std::size_t>(texture_count, 1), "texture coordinate index");
@@ -734,16 +737,16 @@ class AffParser {
     }
   }
 
-  void add_closed_mesh(const std::vector<Triangle>& triangles, const Tokenizer& tokens) {
+  void add_closed_mesh(const Tokenizer& tokens, const std::vector<Triangle>& triangles) {
     Batch& target = batch();
-    for (const auto& t : triangles) add_triangle(target, t.v0, t.v1, t.v2, nullptr, tokens);
+    for (const auto& t : triangles) add_triangle(tokens, target, t.v0, t.v1, t.v2, nullptr);
   }
 
   void parse_sphere(Tokenizer& tokens) {
     const Vec3 center = tokens.vec3("sphere centre coordinate");
     const float radius = tokens.real("sphere radius");
     if (!(radius > 0)) tokens.fail("expected a positive sphere radius");
-    add_closed_mesh(make_sphere_mesh(center, radius, 2), tokens);
+    add_closed_mesh(tokens, make_sphere_mesh(center, radius, 2));
   }
 
   void parse_cone(Tokenizer& tokens) {
@@ -751,7 +754,7 @@ class AffParser {
     const float base_radius = tokens.real("cone base radius");
     const Vec3 apex = tokens.vec3("cone apex coordinate");
     const float apex_radius = tokens.real("cone apex radius");
-    add_closed_mesh(make_cone_mesh(base, std::fabs(base_radius), apex, std::fabs(apex_radius), 24), tokens);
+    add_closed_mesh(tokens, make_cone_mesh(base, std::fabs(base_radius), apex, std::fabs(apex_radius), 24));
   }
 
   void parse_include(Tokenizer& tokens, const std::filesystem::path& path, int depth) {
@@ -843,8 +846,13 @@ class AffParser {
   std::map<std::array<float, 14>, std::uint32_t> material_index_;
   std::unordered_map<std::string, std::string> files_;
   std::uint64_t hash_ = kFnvOffset;
-  std::size_t files_parsed_ = 0, triangles_ = 0;
-  std::uint64_t bytes_parsed_ = 0;
+  TriangleChecks checks_;
+
+ public:
+  std::vector<std::string> warnings() const {
+    if (auto warning = checks_.warning()) return {*warning};
+    return {};
+  }
 };
 
 // ---------------------------------------------------------------- source
@@ -856,6 +864,7 @@ class AffSceneSource final : public SceneSource {
   const std::string& name() const override { return parsed_.name; }
   const Animation& animation() const override { return parsed_.animation; }
   std::string content_hash() const override { return parsed_.hash; }
+  std::vector<std::string> warnings() const override { return parsed_.warnings; }
 
   Scene at_time(double time) const override {
     // A NaN time would make the key search run off its keys.
@@ -889,6 +898,8 @@ class AffSceneSource final : public SceneSource {
       for (std::size_t c = 0; c + 2 < batch.corners.size(); c += 3) {
         scene.triangles.push_back({m.point(batch.corners[c]), m.point(batch.corners[c + 1]),
                                    m.point(batch.corners[c + 2]), batch.material});
+        // Transforms may carry a vertex out of range (or to inf).
+        check_coordinates_in_range(scene.triangles.back(), parsed_.name + " at time " + std::to_string(time));
       }
       if (any_vertex_normals) {
         const Affine& n = normal[batch.node];
@@ -950,6 +961,7 @@ std::unique_ptr<SceneSource> open_aff(const std::filesystem::path& path) {
   parser.parse_file(path, nullptr, 0);
   if (parser.triangles() == 0) throw SceneError(path.string() + ": no triangles (expected p, pp, tp, tpp, m, s or c)");
   parsed.hash = format_hash(parser.hash());
+  parsed.warnings = parser.warnings();
   return std::make_unique<AffSceneSource>(std::move(parsed));
 }
 

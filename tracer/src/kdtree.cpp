@@ -207,12 +207,14 @@ class KdTreeBuilder {
   }
 
   std::uint32_t build_node(std::vector<Event> events, std::vector<std::uint32_t> ids,
-                           const Bounds& box, int level) {
+                           const Bounds& box, int level, int unproductive = 0) {
     const auto index = static_cast<std::uint32_t>(tree_.nodes_.size());
     tree_.nodes_.emplace_back();
     tree_.nodes_[index].level = static_cast<std::uint16_t>(level);
     const std::size_t n = ids.size();
-    if (n == 0 || level >= max_depth_) return make_leaf(index, ids, box);
+    if (n == 0 || level >= max_depth_ || unproductive >= kMaxUnproductiveSplits) {
+      return make_leaf(index, ids, box);
+    }
     const SplitChoice split = find_split(events, n, box);
     if (split.axis < 0 || split.cost >= options_.intersection_cost * double(n)) {
       return make_leaf(index, ids, box);
@@ -276,6 +278,8 @@ class KdTreeBuilder {
         }
       }
     }
+    const int left_unproductive = unproductive + unproductive_for(box, split, n, left_ids.size(), right_ids.size());
+    const int right_unproductive = unproductive + unproductive_for(box, split, n, right_ids.size(), left_ids.size());
     // Release the parent's lists before going down.
     std::vector<Event>().swap(events);
     std::vector<std::uint32_t>().swap(ids);
@@ -299,26 +303,53 @@ class KdTreeBuilder {
       // into tasks is fixed, so the tree does not depend on the thread count.
       auto fragment = std::async(std::launch::async, [this, events = std::move(right_events),
                                                       ids = std::move(right_ids), right_box,
-                                                      level]() mutable {
+                                                      level, right_unproductive]() mutable {
         auto part = std::make_unique<KdTree>();
         KdTreeBuilder builder(triangles_, options_, *part);
         builder.max_depth_ = max_depth_;
         builder.root_area_ = root_area_;
-        builder.build_node(std::move(events), std::move(ids), right_box, level + 1);
+        builder.build_node(std::move(events), std::move(ids), right_box, level + 1, right_unproductive);
         return std::make_pair(std::move(part), builder.sah_cost_);
       });
-      left = build_node(std::move(left_events), std::move(left_ids), left_box, level + 1);
+      left = build_node(std::move(left_events), std::move(left_ids), left_box, level + 1, left_unproductive);
       auto [part, cost] = fragment.get();
       right = append(*part);
       sah_cost_ += cost;
     } else {
-      left = build_node(std::move(left_events), std::move(left_ids), left_box, level + 1);
-      right = build_node(std::move(right_events), std::move(right_ids), right_box, level + 1);
+      left = build_node(std::move(left_events), std::move(left_ids), left_box, level + 1, left_unproductive);
+      right = build_node(std::move(right_events), std::move(right_ids), right_box, level + 1, right_unproductive);
     }
     tree_.nodes_[index].left = left;
     tree_.nodes_[index].right = right;
     return index;
   }
+
+  // In a flat box (zero extent on an axis other than the split's: all the
+  // triangles lie in one axis-aligned plane) the SAH charges nothing for a
+  // triangle on both sides, since a ray crossing the plane meets only one
+  // child. It then keeps splitting
+  // overlapping coplanar triangles down to the depth limit, each level
+  // copying nearly all of them: exponential time and memory. Such a split
+  // counts as unproductive for a child when it sends at least half the
+  // parent's triangles to both sides, or leaves the child nearly all of them
+  // while the sibling is not empty (no empty space was cut off). A node
+  // whose path holds kMaxUnproductiveSplits of them is a leaf, so a flat
+  // subtree copies its triangles at most 2^kMaxUnproductiveSplits times.
+  // In 3-D boxes the SAH itself prices the copies, and this never applies,
+  // so trees of scenes with depth are exactly as before. (Nearly flat boxes
+  // are left to the SAH: thin cells in ordinary scenes such as BART Kitchen
+  // would change.)
+  static int unproductive_for(const Bounds& box, const SplitChoice& split, std::size_t n,
+                              std::size_t child, std::size_t sibling) {
+    const int a = (split.axis + 1) % 3, b = (split.axis + 2) % 3;
+    const double face = (double(box.hi[a]) - box.lo[a]) * (double(box.hi[b]) - box.lo[b]);
+    if (face > 0) return 0;
+    const std::size_t both = child + sibling - n;
+    const bool copies_most = 2 * both >= n;
+    const bool keeps_nearly_all = sibling > 0 && 10 * child >= 9 * n;
+    return copies_most || keeps_nearly_all ? 1 : 0;
+  }
+  static constexpr int kMaxUnproductiveSplits = 4;
 
   // Appends a subtree built apart; returns the index of its root.
   std::uint32_t append(const KdTree& part) {

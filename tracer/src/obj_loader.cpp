@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "scene_internal.hpp"
+#include "triangle_checks.hpp"
 
 namespace nodetrace::tracer::detail {
 
@@ -171,6 +172,24 @@ std::vector<std::string> material_libraries(const std::string& obj_text) {
   return names;
 }
 
+// The line of each triangle the `f` lines make once triangulated (a face of
+// n corners makes n - 2), in file order as tinyobjloader returns them; for
+// messages only.
+std::vector<int> triangle_lines(const std::string& obj_text) {
+  std::vector<int> lines;
+  std::istringstream input(obj_text);
+  std::string line;
+  for (int number = 1; std::getline(input, line); ++number) {
+    std::istringstream words(line);
+    std::string keyword, corner;
+    if (!(words >> keyword) || keyword != "f") continue;
+    int corners = 0;
+    while (words >> corner && corner[0] != '#') ++corners;
+    for (int t = 2; t < corners; ++t) lines.push_back(number);
+  }
+  return lines;
+}
+
 }  // namespace
 
 std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path) {
@@ -221,6 +240,14 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path) {
   };
   bool any_normals = false;
   std::vector<Vec3> normals;
+  TriangleChecks checks;
+  const std::vector<int> lines = triangle_lines(text);
+  std::size_t triangle_index = 0;
+  auto where = [&] {
+    return triangle_index < lines.size()
+               ? path.string() + ":" + std::to_string(lines[triangle_index])
+               : path.string() + ": triangle " + std::to_string(triangle_index + 1);
+  };
   for (const auto& shape : shapes) {
     const auto& mesh = shape.mesh;
     std::size_t offset = 0;
@@ -235,6 +262,12 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path) {
                           material >= 0 && static_cast<std::size_t>(material) < obj_materials.size()
                               ? static_cast<std::uint32_t>(material)
                               : default_material};
+        const bool keep = checks.keep(triangle, where());
+        ++triangle_index;
+        if (!keep) {
+          offset += corners;
+          continue;
+        }
         Vec3 face_normal = cross(triangle.v1 - triangle.v0, triangle.v2 - triangle.v0);
         const float face_length = length(face_normal);
         face_normal = face_length > 0 ? face_normal / face_length : Vec3{0, 1, 0};
@@ -271,7 +304,9 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path) {
     scene.lights.push_back({Vec3{box.hi.x + reach, box.hi.y + reach, box.hi.z + reach}, {0.8f, 0.8f, 0.8f}});
     scene.lights.push_back({Vec3{box.lo.x - reach, box.hi.y + reach, centre.z + reach}, {0.4f, 0.4f, 0.4f}});
   }
-  return std::make_unique<StaticSceneSource>(std::move(scene), format_hash(hash));
+  std::vector<std::string> notes;
+  if (auto warning = checks.warning()) notes.push_back(std::move(*warning));
+  return std::make_unique<StaticSceneSource>(std::move(scene), format_hash(hash), std::move(notes));
 }
 
 }  // namespace nodetrace::tracer::detail

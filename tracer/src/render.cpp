@@ -14,6 +14,9 @@
 #include <system_error>
 #include <thread>
 
+#include "nodetrace/tracer/interaction.hpp"
+#include "watertight_intersection.hpp"
+
 namespace nodetrace::tracer {
 
 using formats::Record;
@@ -140,7 +143,8 @@ Camera default_camera(const Bounds& bounds) {
   Camera camera;
   if (bounds.empty()) return camera;
   const Vec3 center = (bounds.lo + bounds.hi) * 0.5f;
-  const float radius = std::max(length(bounds.hi - bounds.lo) * 0.5f, 1e-6f);
+  const float half_diagonal = length(bounds.hi - bounds.lo) * 0.5f;
+  const float radius = half_diagonal > 0 ? half_diagonal : 1e-6f;  // a single point: any small distance
   camera.fov_y_degrees = 45;
   const float distance = radius / std::sin(camera.fov_y_degrees * 0.5f * 3.14159265f / 180.0f);
   camera.eye = center + normalize(Vec3{0.35f, 0.3f, 1.0f}) * distance;
@@ -149,78 +153,9 @@ Camera default_camera(const Bounds& bounds) {
   return camera;
 }
 
-Vec3 offset_ray_origin(const Vec3& point, const Vec3& normal) {
-  constexpr float kOrigin = 1.0f / 32.0f;
-  constexpr float kFloatScale = 1.0f / 65536.0f;
-  constexpr float kIntScale = 256.0f;
-  Vec3 result;
-  for (int axis = 0; axis < 3; ++axis) {
-    const float p = point[axis];
-    const auto offset = static_cast<std::int32_t>(kIntScale * normal[axis]);
-    const std::int32_t bits = std::bit_cast<std::int32_t>(p) + (p < 0 ? -offset : offset);
-    result[axis] = std::fabs(p) < kOrigin ? p + kFloatScale * normal[axis]
-                                          : std::bit_cast<float>(bits);
-  }
-  return result;
-}
-
-namespace {
-
-// The per-ray part of the watertight test: the axis the ray runs along most
-// (kz) and the shear that turns the ray into the +z axis.
-struct ShearedRay {
-  Vec3 origin;
-  int kx, ky, kz;
-  float sx, sy, sz;
-  explicit ShearedRay(const Ray& ray) : origin(ray.origin) {
-    const Vec3& d = ray.direction;
-    const Vec3 ad{std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)};
-    kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
-    kx = (kz + 1) % 3;
-    ky = (kx + 1) % 3;
-    if (d[kz] < 0) std::swap(kx, ky);  // keep the winding
-    sx = d[kx] / d[kz];
-    sy = d[ky] / d[kz];
-    sz = 1.0f / d[kz];
-  }
-};
-
-bool intersect_sheared(const ShearedRay& r, const Triangle& triangle, float t_max, Hit& hit) {
-  const Vec3 a = triangle.v0 - r.origin, b = triangle.v1 - r.origin, c = triangle.v2 - r.origin;
-  const float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
-  const float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
-  const float cx = c[r.kx] - r.sx * c[r.kz], cy = c[r.ky] - r.sy * c[r.kz];
-  float u = cx * by - cy * bx;
-  float v = ax * cy - ay * cx;
-  float w = bx * ay - by * ax;
-  if (u == 0.0f || v == 0.0f || w == 0.0f) {
-    // Exactly on an edge in single precision: decide in double.
-    u = static_cast<float>(double(cx) * by - double(cy) * bx);
-    v = static_cast<float>(double(ax) * cy - double(ay) * cx);
-    w = static_cast<float>(double(bx) * ay - double(by) * ax);
-  }
-  if ((u < 0 || v < 0 || w < 0) && (u > 0 || v > 0 || w > 0)) return false;
-  const float det = u + v + w;
-  if (det == 0.0f) return false;
-  const float az = r.sz * a[r.kz], bz = r.sz * b[r.kz], cz = r.sz * c[r.kz];
-  const float t_scaled = u * az + v * bz + w * cz;
-  if (det > 0 ? (t_scaled <= 0 || t_scaled >= t_max * det)
-              : (t_scaled >= 0 || t_scaled <= t_max * det)) {
-    return false;
-  }
-  const float inverse = 1.0f / det;
-  hit.t = t_scaled * inverse;
-  // u weighs v0, v weighs v1, w weighs v2 in this formulation.
-  hit.u = v * inverse;
-  hit.v = w * inverse;
-  return true;
-}
-
-}  // namespace
-
 std::optional<Hit> intersect_triangle(const Ray& ray, const Triangle& triangle, float t_max) {
   Hit hit;
-  if (intersect_sheared(ShearedRay(ray), triangle, t_max, hit)) return hit;
+  if (detail::intersect_sheared(detail::ShearedRay(ray), triangle, t_max, hit)) return hit;
   return std::nullopt;
 }
 
@@ -256,10 +191,26 @@ float fresnel_dielectric(float cos_i, float cos_t, float eta_i, float eta_t) {
 
 }  // namespace
 
+// What one worker carries while it renders a chunk. A ray tree of depth D
+// may hold up to 2^D rays (reflection and refraction at every hit), so its
+// records are not kept whole: once `records` holds flush_at, `flush`
+// hands them on in order (waiting, with threads, until every earlier chunk
+// has been emitted). Memory per pixel is the recursion, O(max depth).
 struct Renderer::Context {
   std::vector<Record>* records = nullptr;
   RenderStats stats;
+  std::function<void()> flush;
+  std::uint64_t flushed = 0;  // records already handed on
+  std::size_t flush_at = 0;
+  void maybe_flush() {
+    if (records && flush && records->size() >= flush_at) flush();
+  }
 };
+
+namespace {
+// Unwinds a worker whose render was abandoned because another one failed.
+struct RenderCancelled {};
+}  // namespace
 
 Renderer::Renderer(const Scene& scene, const KdTree& tree, const Layout& layout,
                    const RenderOptions& options)
@@ -290,22 +241,22 @@ Renderer::Renderer(const Scene& scene, const KdTree& tree, const Layout& layout,
   // intensity 1 / sqrt(N). Pixels only; the rays cast do not depend on it.
   light_scale_ = scene.lights.size() > 1 ? 1.0f / std::sqrt(float(scene.lights.size())) : 1.0f;
   face_normals_.reserve(scene.triangles.size());
-  for (const auto& t : scene.triangles) {
-    const Vec3 n = cross(t.v1 - t.v0, t.v2 - t.v0);
-    const float len = length(n);
-    face_normals_.push_back(len > 0 ? n / len : Vec3{0, 0, 1});
-  }
+  for (const auto& t : scene.triangles) face_normals_.push_back(triangle_unit_normal(t, {0, 0, 1}));
 }
 
 template <bool AnyHit>
 bool Renderer::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records,
                         RenderStats* stats) const {
   if (compact_.empty() || tree_.bounds().empty()) return false;
+  // A ray with a non-finite or zero part meets nothing: without this its
+  // NaN comparisons would send it to every node of the tree.
+  const auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (!finite(ray.origin) || !finite(ray.direction) || ray.direction == Vec3{}) return false;
   const Vec3 inverse{1.0f / ray.direction.x, 1.0f / ray.direction.y, 1.0f / ray.direction.z};
   float t_min = 0, t_far = t_max;
   if (!intersect_box(tree_.bounds(), ray.origin, inverse, t_min, t_far)) return false;
 
-  const ShearedRay sheared(ray);
+  const detail::ShearedRay sheared(ray);
   const auto& primitives = tree_.primitives();
   const auto& streams = options_.streams;
   const auto& map = options_.addresses;
@@ -359,7 +310,7 @@ bool Renderer::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Recor
                             map.triangle_size, formats::AccessType::Read, formats::kTagTriangle});
       }
       ++tests;
-      if (intersect_sheared(sheared, scene_.triangles[id], best, hit)) {
+      if (detail::intersect_sheared(sheared, scene_.triangles[id], best, hit)) {
         best = hit.t;
         hit.triangle = id;
         found = true;
@@ -404,6 +355,7 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
   ++context.stats.rays[static_cast<int>(kind)];
   const auto hit = closest_hit(ray, std::numeric_limits<float>::infinity(), context.records,
                                &context.stats);
+  context.maybe_flush();
   if (!hit) return scene_.background;
 
   const Triangle& triangle = scene_.triangles[hit->triangle];
@@ -411,9 +363,11 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
   const Material& material = triangle.material < scene_.materials.size()
                                  ? scene_.materials[triangle.material]
                                  : kDefaultMaterial;
-  const float w = 1.0f - hit->u - hit->v;
-  // The point from barycentrics lies on the surface more exactly than o + t d.
-  const Vec3 point = triangle.v0 * w + triangle.v1 * hit->u + triangle.v2 * hit->v;
+  const float w = hit->b0;
+  // The point from barycentrics lies on the surface more exactly than o + t d,
+  // and its error is bounded by the vertices' magnitudes.
+  const SurfacePoint surface = interpolate_surface_point(triangle, w, hit->u, hit->v);
+  const Vec3& point = surface.point;
   const Vec3 face = face_normals_[hit->triangle];
   const bool entering = dot(ray.direction, face) < 0;
   const Vec3 facing = entering ? face : -face;  // geometric normal towards the incoming ray
@@ -428,15 +382,17 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
 
   Vec3 color = scene_.ambient * (material.ambient ? *material.ambient : material.diffuse);
   if (plan_.casts(RayKind::Shadow)) {
-    const Vec3 shadow_origin = offset_ray_origin(point, facing);
+    const Vec3 shadow_origin = offset_ray_origin(surface, facing);
     for (const auto& light : scene_.lights) {
       const Vec3 to_light = light.position - point;
       // A light behind the surface lights nothing here: no ray is needed.
       if (dot(to_light, facing) <= 0) continue;
       ++context.stats.rays[static_cast<int>(RayKind::Shadow)];
       const Ray shadow{shadow_origin, light.position - shadow_origin};
-      if (occluded(shadow, 1.0f - 1e-4f, context.records, &context.stats)) continue;
-      const Vec3 l = normalize(to_light);
+      const bool blocked = occluded(shadow, 1.0f - 1e-4f, context.records, &context.stats);
+      context.maybe_flush();
+      if (blocked) continue;
+      const Vec3 l = unit_vector(to_light);
       const float diffuse = std::max(0.0f, dot(normal, l));
       float specular = 0;
       if (material.shininess > 0 && (material.specular.x > 0 || material.specular.y > 0 ||
@@ -470,11 +426,11 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
     Vec3 direction = reflect(ray.direction, normal);
     // A smooth normal can send the mirror ray under the surface: use the face.
     if (dot(direction, facing) <= 0) direction = reflect(ray.direction, facing);
-    const Ray reflection{offset_ray_origin(point, facing), normalize(direction)};
+    const Ray reflection{offset_ray_origin(surface, facing), normalize(direction)};
     color += shade(reflection, RayKind::Reflection, depth + 1, context) * reflect_weight;
   }
   if (refract_weight > 0 && dot(refracted, facing) < 0) {
-    const Ray refraction{offset_ray_origin(point, -facing), refracted};
+    const Ray refraction{offset_ray_origin(surface, -facing), refracted};
     color += shade(refraction, RayKind::Refraction, depth + 1, context) * refract_weight;
   }
   return color;
@@ -483,7 +439,7 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
 void Renderer::render_pixel(std::uint32_t pixel, Context& context, Image* image) const {
   const int x = static_cast<int>(pixel % static_cast<std::uint32_t>(options_.width));
   const int y = static_cast<int>(pixel / static_cast<std::uint32_t>(options_.width));
-  const Vec3 forward = normalize(camera_.look_at - camera_.eye);
+  const Vec3 forward = unit_vector(camera_.look_at - camera_.eye);
   Vec3 right = cross(forward, camera_.up);
   if (length(right) == 0) right = cross(forward, std::fabs(forward.y) < 0.9f ? Vec3{0, 1, 0} : Vec3{1, 0, 0});
   right = normalize(right);
@@ -514,19 +470,33 @@ RenderStats Renderer::render(const RecordSink& sink, Image* image, const Progres
   struct Chunk {
     std::vector<Record> records;
     RenderStats stats;
+    std::uint64_t flushed = 0;
     bool done = false;
   };
+  // Set up for threads below: waits until chunk c is the next to emit.
+  std::function<void(std::size_t)> wait_for_turn;
   auto render_chunk = [&](std::size_t c, Chunk& chunk) {
     Context context;
     context.records = options_.record ? &chunk.records : nullptr;
+    if (context.records) {
+      context.flush_at = std::max<std::size_t>(1, options_.records_per_flush);
+      context.flush = [&, c] {
+        if (sink && wait_for_turn) wait_for_turn(c);
+        context.flushed += chunk.records.size();
+        if (sink) sink(chunk.records);
+        chunk.records.clear();
+      };
+    }
     const std::size_t end = std::min(sequence.size(), (c + 1) * chunk_pixels);
     for (std::size_t i = c * chunk_pixels; i < end; ++i) render_pixel(sequence[i], context, image);
     chunk.stats = context.stats;
+    chunk.flushed = context.flushed;
   };
 
   RenderStats total;
   auto emit = [&](std::size_t c, Chunk& chunk) {
-    chunk.stats.records = chunk.records.size();
+    chunk.stats.records = chunk.flushed + chunk.records.size();
+    chunk.flushed = 0;
     total += chunk.stats;
     if (options_.record && sink && !chunk.records.empty()) sink(chunk.records);
     chunk.records.clear();  // keeps the capacity: no page faults refilling it
@@ -549,6 +519,14 @@ RenderStats Renderer::render(const RecordSink& sink, Image* image, const Progres
     std::size_t next_chunk = 0, emitted = 0;
     bool failed = false;
     std::exception_ptr error;
+    // A worker may hand its chunk's records on itself once every earlier
+    // chunk is emitted: the writer is then waiting for this very chunk, so
+    // the sink is never called from two threads at once.
+    wait_for_turn = [&](std::size_t c) {
+      std::unique_lock lock(mutex);
+      changed.wait(lock, [&] { return failed || emitted == c; });
+      if (failed) throw RenderCancelled{};
+    };
     auto worker = [&] {
       while (true) {
         std::size_t c;
@@ -561,6 +539,8 @@ RenderStats Renderer::render(const RecordSink& sink, Image* image, const Progres
         Chunk& chunk = slots[c % window];
         try {
           render_chunk(c, chunk);
+        } catch (const RenderCancelled&) {
+          return;
         } catch (...) {
           std::lock_guard lock(mutex);
           failed = true;

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "nodetrace/tracer/scene_loader.hpp"
 
@@ -23,15 +24,18 @@ std::string read_scene_file(const std::filesystem::path& path);
 // A scene that does not change with time.
 class StaticSceneSource final : public SceneSource {
  public:
-  StaticSceneSource(Scene scene, std::string hash) : scene_(std::move(scene)), hash_(std::move(hash)) {}
+  StaticSceneSource(Scene scene, std::string hash, std::vector<std::string> warnings = {})
+      : scene_(std::move(scene)), hash_(std::move(hash)), warnings_(std::move(warnings)) {}
   const std::string& name() const override { return scene_.name; }
   const Animation& animation() const override { return animation_; }
   Scene at_time(double) const override { return scene_; }
   std::string content_hash() const override { return hash_; }
+  std::vector<std::string> warnings() const override { return warnings_; }
 
  private:
   Scene scene_;
   std::string hash_;
+  std::vector<std::string> warnings_;
   Animation animation_;
 };
 

@@ -44,6 +44,7 @@ int info_command(int argc, char** argv) {
     if (scene_options.time) formats::check_finite(*scene_options.time, "--time");
     const KdBuildOptions build_options = make_build_options(scene_options);
     const auto source = open_scene(scene_spec);
+    for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer info: warning: %s\n", warning.c_str());
     const Animation& animation = source->animation();
     const std::uint64_t frame = scene_options.frame.value_or(0);
     if (!scene_options.time && frame >= animation.frames) {

@@ -127,6 +127,7 @@ int render_command(int argc, char** argv) {
     }
     const std::string spec = scene_spec.empty() ? default_scene_name() : scene_spec;
     const auto source = open_scene(spec);
+    for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer render: warning: %s\n", warning.c_str());
 
     const bool show_progress = !quiet && isatty(STDERR_FILENO);
     int last_percent = -1;

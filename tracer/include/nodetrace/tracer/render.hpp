@@ -70,6 +70,10 @@ struct RenderOptions {
   StreamSelection streams;
   AddressMap addresses;
   int pixels_per_chunk = 512;  // unit of parallel work (does not change the output)
+  // A chunk's records go to the sink once this many are waiting, even in the
+  // middle of a pixel, so memory does not grow with the ray tree (does not
+  // change the output; a sink call may hold one traversal more).
+  std::size_t records_per_flush = std::size_t{1} << 18;
 };
 
 struct RenderStats {
@@ -91,19 +95,17 @@ struct Hit {
   float t = 0;
   std::uint32_t triangle = 0;
   float u = 0, v = 0;  // barycentrics of v1 and v2
+  float b0 = 0;        // barycentric of v0, from its own edge function (not 1 - u - v)
 };
 
 // A camera that frames `bounds` from the front, slightly above and right.
 Camera default_camera(const Bounds& bounds);
 
-// A point moved off a surface along `normal` (the side the new ray leaves
-// from) by a few units in the last place, so a ray from it neither hits the
-// surface it starts on nor slips through a closed mesh (Waechter and Binder,
-// "A fast and robust method for avoiding self-intersection", 2019).
-Vec3 offset_ray_origin(const Vec3& point, const Vec3& normal);
-
 // Watertight ray/triangle test (Woop, Benthin and Wald 2013): hits with
-// 0 < t < t_max, none lost on shared edges or vertices.
+// 0 < t < t_max, where t is also beyond its own rounding error. A ray exactly
+// through an edge shared by two triangles hits exactly one of them, and one
+// through the shared vertex of a closed fan exactly one of the fan. New rays
+// start at offset_ray_origin (interaction.hpp).
 std::optional<Hit> intersect_triangle(const Ray& ray, const Triangle& triangle, float t_max);
 
 class Renderer {

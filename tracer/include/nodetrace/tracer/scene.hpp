@@ -39,6 +39,12 @@ struct Camera {
   float fov_y_degrees = 45;  // vertical field of view
 };
 
+// The largest coordinate magnitude of a triangle vertex the loaders accept:
+// 2^62 (about 4.6e18). Up to it, the squared length of any difference of two
+// points (a scene diagonal, a light direction) stays within float, and the
+// kd-tree's SAH areas (in double) are far from overflow.
+inline constexpr float kMaxSceneCoordinate = 0x1p62f;
+
 struct Triangle {
   Vec3 v0, v1, v2;
   std::uint32_t material = 0;
@@ -90,6 +96,9 @@ class SceneSource {
   // Content hash of the source (file bytes including includes, or generator
   // name and parameters), for the trace header.
   virtual std::string content_hash() const = 0;
+  // What loading noticed but did not reject (e.g. zero-area triangles
+  // dropped), for the front end to show; the library prints nothing.
+  virtual std::vector<std::string> warnings() const { return {}; }
 };
 
 }  // namespace nodetrace::tracer
