@@ -92,8 +92,13 @@ define newline
 endef
 join_commas = $(subst $(space),$(comma),$(strip $1))
 
-hash_text = $(shell printf '%s' '$1' | sha256sum | cut -c1-16)
-file_hash = $(shell sha256sum < '$1' | cut -c1-16)
+# Hashes are 16 hex digits; anything else (a failed shell) stops make.
+hex_split = $(subst 0,0 ,$(subst 1,1 ,$(subst 2,2 ,$(subst 3,3 ,$(subst 4,4 ,$(subst 5,5 ,$(subst 6,6 ,$(subst \
+  7,7 ,$(subst 8,8 ,$(subst 9,9 ,$(subst a,a ,$(subst b,b ,$(subst c,c ,$(subst d,d ,$(subst e,e ,$(subst f,f ,$1))))))))))))))))
+checked_hash = $(if $(and $(filter 16,$(words $(call hex_split,$1))),$(filter 1,$(words $1))),$1,$(error \
+  could not hash $2 (got '$1')))
+hash_text = $(call checked_hash,$(shell printf '%s' '$1' | sha256sum | cut -c1-16),the options '$1')
+file_hash = $(call checked_hash,$(shell sha256sum < '$1' | cut -c1-16),$1)
 
 # Hashes are computed on first use only, so `make clean` needs no build.
 need_program = $(if $(wildcard $1),,$(error $1 not found: build first (scripts/setup.sh)))
@@ -104,10 +109,11 @@ cachesim_hash = $(or $(cachesim_hash_value),$(call need_program,$(CACHESIM))$(ev
 # built-in scene is its name, its geometry being part of the tracer binary.
 scene_arg = $(or $(scene_$1),$(error unknown scene '$1' (expected robot, kitchen, forest)))
 scene_hash = $(or $(scene_hash_$1),$(eval scene_hash_$1 := $(call compute_scene_hash,$1))$(scene_hash_$1))
-compute_scene_hash = $(if $(findstring /,$(call scene_arg,$1)),$(if $(wildcard $(scene_$1)),$(shell cd '$(dir $(scene_$1))' && find . -type f | LC_ALL=C sort | xargs sha256sum | sha256sum | cut -c1-16),$(error scene $1: $(scene_$1) not found (SHARED=$(SHARED)))),builtin-$(scene_$1))
+compute_scene_hash = $(if $(findstring /,$(call scene_arg,$1)),$(if $(wildcard $(scene_$1)),$(call checked_hash,$(shell \
+  cd '$(dir $(scene_$1))' && find . -type f | LC_ALL=C sort | xargs -r sha256sum | sha256sum | cut -c1-16),scene $1),$(error scene $1: $(scene_$1) not found (SHARED=$(SHARED)))),builtin-$(scene_$1))
 
 # Bytes of a size such as 16k or 1m, and half of it (the paper's split).
-size_bytes = $(shell echo $$(( $(subst k,*1024,$(subst m,*1048576,$1)) )))
+size_bytes = $(or $(shell echo $$(( $(subst k,*1024,$(subst m,*1048576,$1)) ))),$(error bad size '$1' (expected e.g. 4k)))
 half_size = $(shell echo $$(( $(call size_bytes,$1) / 2 )))
 
 # kd-tree build options: DEPTHLIMIT TRAVERSAL INTERSECTION EMPTYBONUS.

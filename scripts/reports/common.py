@@ -167,3 +167,24 @@ def parameter_text(params, header):
             f"{kd['traversal_cost']:g}, intersection cost {kd['intersection_cost']:g}, empty bonus "
             f"{kd['empty_bonus']:g}, depth limit "
             + ("tracer default 8 + 1.3 log2 N" if not kd["max_depth"] else str(kd["max_depth"])))
+
+
+def size_label(size_bytes):
+    """4096 -> '4KB' (sizes as the paper writes them)."""
+    size_bytes = int(size_bytes)
+    if size_bytes % 1024 == 0:
+        return f"{size_bytes // 1024}KB"
+    return f"{size_bytes}B"
+
+
+def paper_name(scene):
+    return PAPER_SCENES.get(scene, scene)
+
+
+def size_bytes(text):
+    """'16k' -> 16384, '1m' -> 1048576, '512' -> 512."""
+    text = str(text).lower()
+    for suffix, factor in (("k", 1024), ("m", 1 << 20)):
+        if text.endswith(suffix):
+            return int(text[:-1]) * factor
+    return int(text)
