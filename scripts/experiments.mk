@@ -130,7 +130,7 @@ trace = $(call define_trace,$(TRACES)/$1-$(call hash_text,$(tracer_hash) $(call 
 define_trace = $(if $(defined_$1),,$(eval $(call trace_rule,$1,$2,$3,$(words $(all_traces) x)))$(eval defined_$1 := 1)$(eval all_traces += $1))$1
 define trace_rule
 $1: | $(TRACES)/.dir
-	@echo "render [trace $4 of $$(words $$(all_traces))] $2 $3" >&2
+	@echo "render [$$(words $$(wildcard $$(to_render)) x) of $$(words $$(to_render))] $2 $3" >&2
 	@$(RUN) $(TRACER) render $(call scene_arg,$2) -q $3 -o $$@
 endef
 
@@ -295,6 +295,9 @@ frames_lines := $(common_params) param;frame_width=$(FRAME_WIDTH) param;frame_he
   hybrid_for,$z)),--size $z --block $(BLOCK) --assoc 1 --scheme single$(comma)split --split-level auto))))
 $(eval $(call study_rule,frames))
 endif
+
+# The traces this make renders (progress: which of them this one is).
+to_render := $(filter-out $(wildcard $(all_traces)),$(all_traces))
 
 clean:
 	rm -rf $(OUT)/traces $(addprefix $(OUT)/,$(ALL_TARGETS) calibration-grid)

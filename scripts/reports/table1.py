@@ -94,7 +94,8 @@ helps = sum(c["our_better"] == "split" for c in ordered)
 first = ordered[0]
 depths = ", ".join(f"{common.PAPER_SCENES.get(s, s).split(' (')[0]} {cells[(s, sizes[0])]['tree_depth_limit']}"
                    for s in scenes)
-ks = ", ".join(f"{z.upper()}B: K={cells[(scenes[0], z)]['split_level']}" for z in sizes)
+ks = "; ".join(common.paper_name(s).split(" (")[0] + " " + "/".join(cells[(s, z)]["split_level"] for z in sizes)
+               for s in scenes)
 caption = (
     "Table 1 of Nah et al., \"A Split Node Cache Scheme for Fast Ray Tracing\" (RT'08), reproduced: "
     "node-cache miss ratio in percent without (one cache) and with the split scheme; each cell is "
@@ -104,14 +105,14 @@ caption = (
     f"Fixed by the paper: ray depth {first['max_ray_depth']}, {first['block']}-byte blocks, "
     f"direct-mapped, sizes are the total of both caches, split half and half (high / low), the "
     f"high-level cache retains its levels for the frame (loads not counted as misses).\n\n"
-    f"Left open by the paper, our choice: {first['width']}x{first['height']} pixels (the paper: "
-    f"800x600), animation frame {first['frame']}, {first['pixel_order']} pixel order, one Whitted "
+    f"Left open by the paper, our choice: {first['width']}x{first['height']} pixels"
+    f"{'' if (first['width'], first['height']) == ('800', '600') else ' (the paper: 800x600)'}, animation frame {first['frame']}, {first['pixel_order']} pixel order, one Whitted "
     f"ray tree per pixel; kd-tree by SAH with traversal cost {first['traversal_cost']:g}, "
     f"intersection cost {first['intersection_cost']:g}, empty bonus {first['empty_bonus']:g}, depth "
     f"limit {'8 + 1.3 log2 N' if not first['_header']['kdtree']['max_depth'] else 'set'} ({depths}); "
     f"baseline layout ('without'): the same {first['layout_without']} layout as 'with', one cache of the "
-    f"full size; K (levels < K in the high cache) = the most levels that fit half the size ({ks}"
-    f"{'' if len(scenes) == 1 else ' for ' + common.PAPER_SCENES.get(scenes[0], scenes[0]).split(' (')[0]}); "
+    f"full size; K (levels < K in the high cache) = the most levels whose nodes fit half the size, "
+    f"K={'/'.join(z.upper() + 'B' for z in sizes)}: {ks}; "
     f"LRU (no effect when direct-mapped). The paper's Fairy Forest is not available: the built-in "
     f"procedural forest stands in.\n\n"
     f"The split helps in {helps} of {len(ordered)} cells here; its direction agrees with the paper's "
