@@ -14,10 +14,8 @@ def cells(rows, paper, tracetool):
     """One record per (phase, setting, scene, size) with ours and the paper's."""
     out = []
     for row in rows:
-        report, _ = common.read_cachesim(row["file"])
-        single, split = common.pick(report, scheme="single"), common.pick(report, scheme="split")
+        single, split, s, p = common.single_and_split(row["file"])
         header = common.trace_header(tracetool, single["trace"])
-        s, p = common.percent(single), common.percent(split)
         known = paper.get((row["scene"], row["size"]), {})
         record = {"phase": row["phase"], "setting": row["setting"]}
         record.update(zip(SETTING_COLUMNS, row["setting"].split(":")))

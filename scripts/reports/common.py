@@ -67,6 +67,13 @@ def percent(row):
     return 100.0 * int(row["misses"]) / int(row["fetches"])
 
 
+def single_and_split(path):
+    """The one single and one split row of a run, and their miss ratios (%)."""
+    report, _ = read_cachesim(path)
+    single, split = pick(report, scheme="single"), pick(report, scheme="split")
+    return single, split, percent(single), percent(split)
+
+
 def pick(rows, **match):
     found = [r for r in rows if all(r[k] == str(v) for k, v in match.items())]
     if len(found) != 1:

@@ -26,9 +26,7 @@ def t95(df):
 
 out = []
 for row in rows:
-    report, _ = common.read_cachesim(row["file"])
-    single, split = common.pick(report, scheme="single"), common.pick(report, scheme="split")
-    s, p = common.percent(single), common.percent(split)
+    single, split, s, p = common.single_and_split(row["file"])
     out.append({"scene": row["scene"], "size": int(single["size"]), "frame": int(row["frame"]),
                 "split_level": split["split_level"], "single_percent": f"{s:.4f}",
                 "split_percent": f"{p:.4f}", "split_minus_single": f"{p - s:+.4f}",

@@ -27,8 +27,8 @@ common.write_csv(os.path.join(args.out_dir, "levels.csv"), list(out[0]), out)
 
 text = ["# Misses per kd-tree level\n\n",
         "Share of all misses that fall on the levels above K (the high-level cache's levels) and "
-        "below, single cache against split; levels < K miss only when loaded under the split, "
-        "which is not counted. Per-level miss ratios are in levels.csv and the figures "
+        "below, single cache against split: under the split, levels < K never miss (they are loaded "
+        "once per frame, counted apart as loads). Per-level miss ratios are in levels.csv and the figures "
         f"levels-SCENE.png. {params['width']}x{params['height']}, frame {params['frame']}, "
         f"{params['block']}-byte blocks, direct-mapped, hybrid layout, K = auto.\n\n"]
 body = []

@@ -15,10 +15,8 @@ STUDIES = {"K": "K (levels in the high-level cache; hybrid layout built for it)"
 
 out = []
 for row in rows:
-    report, _ = common.read_cachesim(row["file"])
-    single, split = common.pick(report, scheme="single"), common.pick(report, scheme="split")
+    single, split, s, p = common.single_and_split(row["file"])
     header = common.trace_header(tracetool, single["trace"])
-    s, p = common.percent(single), common.percent(split)
     out.append({"scene": row["scene"], "study": row["study"], "value": row["value"],
                 "width": header["render"]["width"], "height": header["render"]["height"],
                 "tree_depth_limit": common.tree_depth_limit(header), "split_level": split["split_level"],

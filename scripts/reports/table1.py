@@ -17,11 +17,8 @@ scenes = list(dict.fromkeys(r["scene"] for r in rows))
 sizes = list(dict.fromkeys(r["size"] for r in rows))
 cells = {}
 for row in rows:
-    report, _ = common.read_cachesim(row["file"])
-    single = common.pick(report, scheme="single")
-    split = common.pick(report, scheme="split")
+    single, split, ours_without, ours_with = common.single_and_split(row["file"])
     header = common.trace_header(tracetool, single["trace"])
-    ours_without, ours_with = common.percent(single), common.percent(split)
     known = paper.get((row["scene"], row["size"]), {})
     paper_without, paper_with, paper_better = known.get("without"), known.get("with"), known.get("better")
     our_better = common.better_of(ours_without, ours_with)

@@ -13,12 +13,7 @@
 namespace nodetrace::testing {
 namespace {
 
-// Single-quoted for /bin/sh (test paths hold no quote).
-std::string quoted(const std::filesystem::path& path) {
-  std::string text = "'";
-  text.append(path.string()).append("'");
-  return text;
-}
+std::string quoted(const std::filesystem::path& path) { return shell_quoted(path); }
 
 // A small AFF scene standing in for `robot`, so the tests need no ../shared.
 constexpr const char* kTinyScene = R"(v
