@@ -140,8 +140,8 @@ define_sim = $(if $(defined_$1),,$(eval $(call sim_rule,$1,$2,$3))$(eval defined
 define sim_rule
 $1: $2 | $(dir $1).dir
 	@echo "simulate $(notdir $2) $3" >&2
-	@$(RUN) $(CACHESIM) run $2 $3 --format csv > $$@.tmp
-	@mv $$@.tmp $$@
+	@$(RUN) $(CACHESIM) run $2 $3 --format csv > $$@.tmp$$$$$$$$ && mv $$@.tmp$$$$$$$$ $$@ \
+	  || { rm -f $$@.tmp$$$$$$$$; exit 1; }
 endef
 sim_files = $(filter %.csv,$(subst =, ,$(subst ;, ,$1)))
 
@@ -277,7 +277,8 @@ calibration_lines := $(calibration-grid_lines) param;cal_final_width=$(CAL_FINAL
   $(call cal_rows,$(CAL_FINAL_WIDTH),$(CAL_FINAL_HEIGHT),$(CAL_FINAL),final)
 $(eval $(call study_rule,calibration))
 else
-calibration: calibration-grid
+# Under `all`, after the others: its final traces may be theirs (a make of its own).
+calibration: calibration-grid $(if $(filter all,$(goals)),$(filter-out calibration,$(ALL_TARGETS)))
 	@best="$$(cat $(OUT)/calibration-grid/best.txt)"; \
 	  if [ -z "$$best" ]; then echo "calibration: $(OUT)/calibration-grid/best.txt is empty (CAL_BEST=$(CAL_BEST))" >&2; exit 1; fi; \
 	  $(MAKE) --no-print-directory -f $(MK_FILE) calibration CAL_FINAL="$$best"
