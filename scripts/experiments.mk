@@ -86,10 +86,6 @@ scene_forest := forest
 empty :=
 space := $(empty) $(empty)
 comma := ,
-define newline
-
-
-endef
 join_commas = $(subst $(space),$(comma),$(strip $1))
 
 # Hashes are 16 hex digits; anything else (a failed shell) stops make.
@@ -147,10 +143,9 @@ sim_files = $(filter %.csv,$(subst =, ,$(subst ;, ,$1)))
 
 # A target's manifest: one line KIND;key=value;... per word of $($1_lines),
 # the file rewritten only when its content changed.
-manifest_text = $(subst $(space),$(newline),$(strip $1))$(newline)
 define manifest_rule
 $(OUT)/$1/manifest.txt: FORCE | $(OUT)/$1/.dir
-	$$(file >$$@.tmp,$$(call manifest_text,$$($1_lines)))
+	@printf '%s\n' $$(foreach line,$$($1_lines),'$$(line)') > $$@.tmp
 	@if cmp -s $$@.tmp $$@; then rm -f $$@.tmp; else mv -f $$@.tmp $$@; fi
 endef
 
