@@ -15,7 +15,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 
-packages=(cmake g++ make pkg-config zstd libzstd-dev libxxhash-dev libcli11-dev libfmt-dev
+packages=(cmake g++ make pkg-config zstd python3-matplotlib libzstd-dev libxxhash-dev libcli11-dev libfmt-dev
           libtinyobjloader-dev nlohmann-json3-dev libpng-dev libgtest-dev libgmock-dev)
 missing=()
 for package in "${packages[@]}"; do

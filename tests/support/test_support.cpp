@@ -47,6 +47,12 @@ TempDir::~TempDir() {
   std::filesystem::remove_all(path_, ignored);
 }
 
+std::string shell_quoted(const std::filesystem::path& path) {
+  std::string text = "'";
+  text.append(path.string()).append("'");
+  return text;
+}
+
 CommandResult run_command(const std::string& command, const std::string& input) {
   TempDir dir;
   const auto in_path = dir / "stdin";

@@ -40,6 +40,9 @@ struct CommandResult {
   std::string err;  // standard error
 };
 
+// `path` single-quoted for /bin/sh (test paths hold no quote).
+std::string shell_quoted(const std::filesystem::path& path);
+
 // Runs `command` with /bin/sh, optionally feeding `input` on stdin.
 CommandResult run_command(const std::string& command, const std::string& input = {});
 

@@ -1,0 +1,197 @@
+"""What every experiment report shares: its manifest, cachesim's CSV, the
+trace headers, the paper's numbers, and deterministic files and figures."""
+
+import argparse
+import csv
+import io
+import json
+import math
+import os
+import subprocess
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+# The paper's scene names for ours (the forest stands in for Fairy Forest).
+PAPER_SCENES = {"robot": "Robot", "kitchen": "Kitchen", "forest": "Fairy Forest (forest stands in)"}
+
+
+def arguments(description):
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("manifest", help="the target's manifest.txt, written by scripts/experiments.mk")
+    parser.add_argument("out_dir", help="folder for the CSV, Markdown and figures")
+    parser.add_argument("--paper", required=True, help="scripts/paper-table1.csv")
+    return parser.parse_args()
+
+
+def read_manifest(path):
+    """params (name -> text) and rows (dicts with 'file') of a manifest."""
+    params, rows = {}, []
+    with open(path, encoding="utf-8") as stream:
+        for number, line in enumerate(stream, 1):
+            line = line.strip()
+            if not line:
+                continue
+            kind, *fields = line.split(";")
+            values = {}
+            for field in fields:
+                key, sep, value = field.partition("=")
+                if not sep:
+                    sys.exit(f"{path}:{number}: expected key=value, got '{field}'")
+                values[key] = value
+            if kind == "param":
+                params.update(values)
+            elif kind == "row":
+                rows.append(values)
+            else:
+                sys.exit(f"{path}:{number}: expected a param or row line, got '{kind}'")
+    return params, rows
+
+
+def read_cachesim(path):
+    """cachesim run --format csv: the main table, and the per-level table if any."""
+    with open(path, encoding="utf-8") as stream:
+        text = stream.read()
+    tables = [part for part in text.split("\n\n") if part.strip()]
+    parsed = [list(csv.DictReader(io.StringIO(part))) for part in tables]
+    if not parsed or not parsed[0]:
+        sys.exit(f"{path}: no cachesim rows")
+    return parsed[0], (parsed[1] if len(parsed) > 1 else [])
+
+
+def percent(row):
+    """A report row's miss ratio in percent, from the integer counts."""
+    return 100.0 * int(row["misses"]) / int(row["fetches"])
+
+
+def single_and_split(path):
+    """The one single and one split row of a run, and their miss ratios (%)."""
+    report, _ = read_cachesim(path)
+    single, split = pick(report, scheme="single"), pick(report, scheme="split")
+    return single, split, percent(single), percent(split)
+
+
+def pick(rows, **match):
+    found = [r for r in rows if all(r[k] == str(v) for k, v in match.items())]
+    if len(found) != 1:
+        sys.exit(f"expected one cachesim row with {match}, found {len(found)}")
+    return found[0]
+
+
+_headers = {}
+
+
+def trace_header(tracetool, trace):
+    """The JSON header of a trace container (tracetool info)."""
+    if trace not in _headers:
+        done = subprocess.run([tracetool, "info", "--format", "json", trace],
+                              check=True, capture_output=True, text=True)
+        _headers[trace] = json.loads(done.stdout)["header"]
+    return _headers[trace]
+
+
+def tree_depth_limit(header):
+    """The kd-tree depth limit a trace was built with (the tracer's default
+    is 8 + 1.3 log2 N, rounded half away from zero)."""
+    limit = header["kdtree"]["max_depth"]
+    if limit:
+        return limit
+    triangles = header["scene"]["triangles"]
+    return 8 if triangles < 2 else 8 + math.floor(1.3 * math.log2(triangles) + 0.5)
+
+
+def read_paper(path):
+    """(scene, size) -> {'without': float|None, 'with': float|None, 'better': str|None}."""
+    with open(path, encoding="utf-8") as stream:
+        lines = [line for line in stream if not line.startswith("#")]
+    table = {}
+    for row in csv.DictReader(lines):
+        def number(text):
+            return float(text) if text else None
+        table[(row["scene"], row["size"])] = {
+            "paper_scene": row["paper_scene"],
+            "without": number(row["without_percent"]),
+            "with": number(row["with_percent"]),
+            "better": row["better"] or None,
+        }
+    return table
+
+
+def better_of(single, split):
+    """Which scheme has the lower miss ratio ('tie' when equal)."""
+    if split < single:
+        return "split"
+    if split > single:
+        return "single"
+    return "tie"
+
+
+def fmt(value, digits=2, signed=False):
+    if value is None:
+        return ""
+    return f"{value:+.{digits}f}" if signed else f"{value:.{digits}f}"
+
+
+def write_atomic(path, text):
+    """Written to a temporary name and renamed, so no half file is left."""
+    temporary = path + ".tmp"
+    with open(temporary, "w", encoding="utf-8", newline="\n") as stream:
+        stream.write(text)
+    os.replace(temporary, path)
+
+
+def write_csv(path, columns, rows):
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(columns)
+    for row in rows:
+        writer.writerow(["" if row.get(c) is None else row[c] for c in columns])
+    write_atomic(path, buffer.getvalue())
+
+
+def markdown_table(header, rows):
+    lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
+    lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
+    return "\n".join(lines) + "\n"
+
+
+def save_figure(figure, path):
+    """PNG with no software or time stamp, so a re-run gives the same bytes."""
+    temporary = path + ".tmp.png"
+    figure.savefig(temporary, dpi=100, metadata={"Software": None})
+    plt.close(figure)
+    os.replace(temporary, path)
+
+
+def parameter_text(params, header):
+    """The parameters the paper leaves open, as this run chose them."""
+    kd = header["kdtree"]
+    return (f"{params['width']}x{params['height']}, frame {params['frame']}, ray depth "
+            f"{params['max_ray_depth']}, scanline pixel order; kd-tree SAH traversal cost "
+            f"{kd['traversal_cost']:g}, intersection cost {kd['intersection_cost']:g}, empty bonus "
+            f"{kd['empty_bonus']:g}, depth limit "
+            + ("tracer default 8 + 1.3 log2 N" if not kd["max_depth"] else str(kd["max_depth"])))
+
+
+def size_label(size_bytes):
+    """4096 -> '4KB' (sizes as the paper writes them)."""
+    size_bytes = int(size_bytes)
+    if size_bytes % 1024 == 0:
+        return f"{size_bytes // 1024}KB"
+    return f"{size_bytes}B"
+
+
+def paper_name(scene):
+    return PAPER_SCENES.get(scene, scene)
+
+
+def size_bytes(text):
+    """'16k' -> 16384, '1m' -> 1048576, '512' -> 512."""
+    text = str(text).lower()
+    for suffix, factor in (("k", 1024), ("m", 1 << 20)):
+        if text.endswith(suffix):
+            return int(text[:-1]) * factor
+    return int(text)

@@ -1,0 +1,193 @@
+// scripts/experiments.mk at a tiny size: rebuilds are decided by content
+// (what changes the records renders again, nothing else does), a table is
+// never stale, and outputs are the same bytes from a re-run, whatever -j.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "test_support.hpp"
+
+namespace nodetrace::testing {
+namespace {
+
+std::string quoted(const std::filesystem::path& path) { return shell_quoted(path); }
+
+// A small AFF scene standing in for `robot`, so the tests need no ../shared.
+constexpr const char* kTinyScene = R"(v
+from 0 1 6
+at 0 0 0
+up 0 1 0
+angle 40
+hither 0.1
+resolution 32 24
+l 2 4 5
+f 0.8 0.3 0.2 0.7 0.3 20 0 1
+p 4
+-2 -1 -2
+2 -1 -2
+2 -1 2
+-2 -1 2
+f 0.2 0.6 0.9 0.6 0.4 30 0.5 1
+p 3
+-1 -1 0
+1 -1 0
+0 1 0
+p 3
+-1 -1 -1
+0 1 -1
+1 -1 -1
+p 3
+0.5 -1 1
+1.5 -1 1
+1 0.5 0.5
+)";
+
+int count_lines_with(const std::string& text, const std::string& word) {
+  std::istringstream lines(text);
+  int count = 0;
+  for (std::string line; std::getline(lines, line);) count += line.find(word) != std::string::npos;
+  return count;
+}
+
+class ExperimentsMakeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    scene_ = dir_ / "scene" / "tiny.aff";
+    std::filesystem::create_directories(scene_.parent_path());
+    write_file(scene_, kTinyScene);
+    // RUN: the launcher of every render and simulation; this one logs them.
+    launcher_ = dir_ / "log-run.sh";
+    write_file(launcher_, "#!/bin/sh\necho \"$*\" >> " + quoted(log_) + "\nexec \"$@\"\n");
+    std::filesystem::permissions(launcher_, std::filesystem::perms::owner_all);
+  }
+
+  // Runs `make -f scripts/experiments.mk TARGET` into `out`; returns what the
+  // launcher saw (one line per render or simulation).
+  std::string make(const std::string& arguments, const std::filesystem::path& out, bool expect_ok = true) {
+    std::filesystem::remove(log_);
+    const auto build = std::filesystem::path(NODETRACE_BIN_DIR).parent_path();
+    const auto result = run_command(
+        "env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL make --no-print-directory -C " +
+        quoted(NODETRACE_SOURCE_DIR) + " -f scripts/experiments.mk BUILD=" + quoted(build) +
+        " OUT=" + quoted(out) + " RUN=" + quoted(launcher_) + " scene_robot=" + quoted(scene_) +
+        " SCENES=robot SIZES='1k 4k' " + arguments + " 2>&1");
+    if (expect_ok) {
+      EXPECT_EQ(result.exit_code, 0) << result.out;
+    }
+    output_ = result.out;
+    return std::filesystem::exists(log_) ? read_file(log_) : std::string();
+  }
+
+  TempDir dir_;
+  std::filesystem::path scene_, launcher_, log_ = dir_ / "run.log";
+  std::string output_;
+};
+
+TEST_F(ExperimentsMakeTest, SecondRunRendersAndSimulatesNothing) {
+  const auto out = dir_ / "out";
+  const auto first = make("table1 WIDTH=32 HEIGHT=24", out);
+  EXPECT_EQ(count_lines_with(first, "tracer render"), 2) << first;
+  EXPECT_EQ(count_lines_with(first, "cachesim run"), 2) << first;
+  const auto table = read_file(out / "table1" / "table1.csv");
+  const auto second = make("table1 WIDTH=32 HEIGHT=24", out);
+  EXPECT_EQ(second, "");
+  EXPECT_EQ(read_file(out / "table1" / "table1.csv"), table);
+  EXPECT_NE(output_.find("| Size |"), std::string::npos) << "the table is printed: " << output_;
+}
+
+TEST_F(ExperimentsMakeTest, ChangingWidthChangesTheTableAndChangingBackRendersNothing) {
+  const auto out = dir_ / "out";
+  make("table1 WIDTH=32 HEIGHT=24", out);
+  const auto narrow = read_file(out / "table1" / "table1.csv");
+  const auto wider = make("table1 WIDTH=40 HEIGHT=24", out);
+  EXPECT_EQ(count_lines_with(wider, "tracer render"), 2) << wider;
+  const auto wide = read_file(out / "table1" / "table1.csv");
+  EXPECT_NE(wide, narrow);
+  EXPECT_NE(wide.find(",40,24,"), std::string::npos) << wide;
+  EXPECT_EQ(narrow.find(",40,24,"), std::string::npos) << narrow;
+  // Back to the first width: its traces are still there, the table is its own again.
+  const auto back = make("table1 WIDTH=32 HEIGHT=24", out);
+  EXPECT_EQ(count_lines_with(back, "tracer render"), 0) << back;
+  EXPECT_EQ(read_file(out / "table1" / "table1.csv"), narrow);
+}
+
+TEST_F(ExperimentsMakeTest, SceneContentAndTracerOptionsDecideARenderNotFileTimes) {
+  const auto out = dir_ / "out";
+  make("table1 WIDTH=32 HEIGHT=24", out);
+  // Same bytes, new time: nothing to do.
+  write_file(scene_, kTinyScene);
+  std::filesystem::last_write_time(scene_, std::filesystem::file_time_type::clock::now());
+  EXPECT_EQ(make("table1 WIDTH=32 HEIGHT=24", out), "");
+  // A file of the scene's folder changes: every trace of the scene renders again.
+  write_file(scene_, std::string(kTinyScene) + "p 3\n-2 0 -2\n-1 0 -2\n-1 1 -2\n");
+  EXPECT_EQ(count_lines_with(make("table1 WIDTH=32 HEIGHT=24", out), "tracer render"), 2);
+  // A kd-tree option changes the records too.
+  EXPECT_EQ(count_lines_with(make("table1 WIDTH=32 HEIGHT=24 TRAVERSAL_COST=2", out), "tracer render"), 2);
+}
+
+TEST_F(ExperimentsMakeTest, OutputsAreTheSameBytesFromARerunWithAnyJobCount) {
+  const auto serial = dir_ / "serial";
+  const auto parallel = dir_ / "parallel";
+  make("table1 baselines WIDTH=32 HEIGHT=24", serial);
+  make("-j2 table1 baselines WIDTH=32 HEIGHT=24", parallel);
+  for (const std::string file : {"table1/table1.csv", "table1/table1.md", "table1/table1.png",
+                                 "baselines/baselines.csv", "baselines/baselines.md",
+                                 "baselines/baselines.png"}) {
+    ASSERT_TRUE(std::filesystem::exists(serial / file)) << file;
+    EXPECT_TRUE(read_file(serial / file) == read_file(parallel / file)) << file << " differs";
+  }
+}
+
+TEST_F(ExperimentsMakeTest, TableShowsThePapersNumbersDirectionsAndParameters) {
+  const auto out = dir_ / "out";
+  make("table1 WIDTH=32 HEIGHT=24 SIZES='4k 16k'", out);
+  const auto markdown = read_file(out / "table1" / "table1.md");
+  EXPECT_NE(markdown.find("/ 1.82 ("), std::string::npos) << "Robot 16 KB 'without' beside ours: " << markdown;
+  EXPECT_NE(markdown.find("/ hurts ("), std::string::npos) << "Robot 4 KB: the paper's split hurts: " << markdown;
+  for (const std::string stated : {"32x24", "traversal cost 1", "intersection cost 1.5", "empty bonus 0.2",
+                                   "depth limit", "baseline layout", "K=", "animation frame 0"}) {
+    EXPECT_NE(markdown.find(stated), std::string::npos) << stated << " is not stated: " << markdown;
+  }
+  const auto csv = read_file(out / "table1" / "table1.csv");
+  for (const std::string column : {"without_paper", "direction_agrees", "tree_depth_limit", "traversal_cost",
+                                   "intersection_cost", "empty_bonus", "layout_without", "split_level", "frame"}) {
+    EXPECT_NE(csv.substr(0, csv.find('\n')).find(column), std::string::npos) << column;
+  }
+}
+
+TEST_F(ExperimentsMakeTest, AnUnknownSceneStopsMakeWithAMessage) {
+  make("table1 SCENES=nosuch", dir_ / "out", false);
+  EXPECT_NE(output_.find("unknown scene 'nosuch'"), std::string::npos) << output_;
+}
+
+// Every target once, on the BART scenes of ../shared (CI), at a tiny size.
+TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
+  NODETRACE_SHARED_OR_SKIP(shared);
+  const auto out = dir_ / "all";
+  const auto build = std::filesystem::path(NODETRACE_BIN_DIR).parent_path();
+  const auto result = run_command(
+      "env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL make --no-print-directory -j2 -C " + quoted(NODETRACE_SOURCE_DIR) +
+      " -f scripts/experiments.mk all BUILD=" + quoted(build) + " SHARED=" + quoted(shared) + " OUT=" +
+      quoted(out) + " WIDTH=32 HEIGHT=24 SCENES=robot SENS_WIDTH=32 SENS_HEIGHT=24"
+      " SENS_K='4 8' SENS_TREE_DEPTHS='16 24' SENS_RESOLUTIONS='16x12 32x24'"
+      " CAL_SCENES=robot CAL_WIDTH=16 CAL_HEIGHT=12 CAL_TREE_DEPTHS='16 default' CAL_COSTS=1:1.5"
+      " CAL_EMPTY_BONUSES=0.2 CAL_BEST=1 CAL_FINAL_WIDTH=32 CAL_FINAL_HEIGHT=24"
+      " FRAME_SCENES='robot kitchen' FRAME_WIDTH=16 FRAME_HEIGHT=12 FRAME_STEP=400 2>&1");
+  ASSERT_EQ(result.exit_code, 0) << result.out;
+  for (const std::string file :
+       {"table1/table1.md", "table1/table1.png", "baselines/baselines.md", "baselines/baselines.png",
+        "assoc/assoc.md", "assoc/assoc.png", "levels/levels.md", "levels/levels-robot.png",
+        "sensitivity/sensitivity.md", "sensitivity/sensitivity.png", "calibration-grid/best.txt",
+        "calibration/calibration.md", "calibration/calibration.png", "frames/frames.md", "frames/frames.png"}) {
+    EXPECT_TRUE(std::filesystem::exists(out / file)) << file;
+  }
+  const auto frames = read_file(out / "frames" / "frames.csv");
+  EXPECT_EQ(count_lines_with(frames, "robot,"), 2) << frames;
+  EXPECT_EQ(count_lines_with(frames, "kitchen,"), 2) << frames;
+}
+
+}  // namespace
+}  // namespace nodetrace::testing
