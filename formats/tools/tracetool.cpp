@@ -14,6 +14,7 @@
 
 #include "nodetrace/formats/error.hpp"
 #include "nodetrace/formats/reader.hpp"
+#include "nodetrace/formats/standard_output.hpp"
 #include "nodetrace/formats/writer.hpp"
 
 namespace formats = nodetrace::formats;
@@ -291,9 +292,7 @@ int run_convert(const std::string& in, const std::string& out, const ConvertOpti
   return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app{"tracetool: inspect, print, verify and convert nodetrace / Dinero IV traces"};
   app.require_subcommand(1);
   const std::vector<std::string> forms = {"din", "xdin", "binary"};
@@ -371,3 +370,7 @@ int main(int argc, char** argv) {
   }
   return 2;
 }
+
+}  // namespace
+
+int main(int argc, char** argv) { return formats::finish_standard_output("tracetool", run(argc, argv)); }
