@@ -141,6 +141,7 @@ struct Chunk {
   detail::ByteBuffer bytes;  // the decompressed record bytes (containers: hashed in order)
   bool bad_record = false;
   detail::RecordError record_error;
+  std::uint64_t ignored_fields = 0;  // records whose trailing fields were ignored
   std::string frame_error;  // damage found before parsing
 };
 
@@ -152,7 +153,7 @@ struct Stock {
 Chunk parse_chunk(const std::string& bytes, detail::ParseSettings settings, Stock& stock) {
   Chunk chunk;
   chunk.records = stock.records.take();
-  chunk.bad_record = !detail::parse_records(bytes, settings, chunk.records, chunk.record_error);
+  chunk.bad_record = !detail::parse_records(bytes, settings, chunk.records, chunk.record_error, chunk.ignored_fields);
   return chunk;
 }
 
@@ -193,7 +194,8 @@ Chunk decode_data_frame(const std::string& frame, detail::ParseSettings settings
     }
   }
   chunk.records = stock.records.take();
-  chunk.bad_record = !detail::parse_records(bytes.view(), settings, chunk.records, chunk.record_error);
+  chunk.bad_record =
+      !detail::parse_records(bytes.view(), settings, chunk.records, chunk.record_error, chunk.ignored_fields);
   chunk.bytes = std::move(bytes);
   return chunk;
 }
@@ -225,6 +227,7 @@ class Reader final : public TraceReader {
   bool tags_are_levels() const override { return settings_.tags_are_levels; }
   const std::optional<TraceTrailer>& trailer() const override { return trailer_; }
   std::uint64_t record_bytes() const override { return record_bytes_; }
+  std::uint64_t records_with_ignored_fields() const override { return ignored_fields_; }
   std::string_view input_kind() const override {
     return mode_ == Mode::Container ? "container" : mode_ == Mode::PlainZstd ? "zstd" : "plain";
   }
@@ -264,6 +267,7 @@ class Reader final : public TraceReader {
                                       records_delivered_ + chunk.record_error.record_in_chunk + 1,
                                       chunk.record_error.message));
       }
+      ignored_fields_ += chunk.ignored_fields;
       if (chunk.records.empty() && !pending_marker_) continue;
       batch.first_record = records_delivered_;
       records_delivered_ += chunk.records.size();
@@ -762,6 +766,7 @@ class Reader final : public TraceReader {
   std::string tail_;         // plain zstd: the last bytes read
   std::string carry_;
   std::uint64_t record_bytes_ = 0;
+  std::uint64_t ignored_fields_ = 0;
 };
 
 }  // namespace

@@ -118,6 +118,18 @@ std::optional<formats::RecordForm> form_option(const std::string& name) {
   return formats::parse_form_name(name);
 }
 
+// A conversion keeps only the fields it read: say how many records lost
+// others (DESIGN.md: simulation ignores them, a conversion says so).
+void warn_of_dropped_fields(const formats::TraceReader& reader) {
+  const std::uint64_t dropped = reader.records_with_ignored_fields();
+  if (dropped == 0) return;
+  fmt::print(stderr,
+             "tracetool: warning: {}: {} record{} had fields after the {} (e.g. a level tag) that were dropped; "
+             "pass --tags-are-levels to keep a tag field of node levels\n",
+             reader.source_name(), dropped, dropped == 1 ? "" : "s",
+             reader.form() == formats::RecordForm::ExtendedDin ? "size" : "address");
+}
+
 int run_info(const std::string& path, const std::string& format, bool tags_are_levels, const std::string& form) {
   auto reader = formats::TraceReader::open(path, reader_options(tags_are_levels, form_option(form)));
   nlohmann::json info = nlohmann::json::object();
@@ -234,6 +246,7 @@ int run_cat(const std::string& path, const std::string& tags, const std::string&
     writer->write(kept);
   }
   writer->finish();
+  warn_of_dropped_fields(*reader);
   return 0;
 }
 
@@ -289,6 +302,7 @@ int run_convert(const std::string& in, const std::string& out, const ConvertOpti
     if (options.form == reader->form()) writer->add_totals(totals);
   }
   writer->finish();
+  warn_of_dropped_fields(*reader);
   return 0;
 }
 
