@@ -75,9 +75,15 @@ class Input {
       end_ -= begin_;
       begin_ = 0;
     }
-    if (buffer_.size() < count) buffer_.resize(std::max<std::size_t>(count, buffer_.size() * 2));
-    if (buffer_.size() < (1u << 20)) buffer_.resize(1u << 20);
+    // 1 MiB, or less for a smaller file (a whole small file in one read
+    // without touching a megabyte of pages).
+    const std::size_t least = seekable_ ? static_cast<std::size_t>(std::clamp<std::uint64_t>(size_ + 1, 4096, 1u << 20))
+                                        : std::size_t{1} << 20;
+    if (buffer_.size() < least) buffer_.resize(least);
     while (end_ < count && !eof_) {
+      // Grown as bytes arrive, never to a size only claimed: a damaged
+      // length field costs no more memory than the bytes that are there.
+      if (end_ == buffer_.size()) buffer_.resize(std::min(count, buffer_.size() * 2));
       const ssize_t got = ::read(fd_, buffer_.data() + end_, buffer_.size() - end_);
       if (got < 0) {
         if (errno == EINTR) continue;
