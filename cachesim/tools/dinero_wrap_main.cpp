@@ -9,6 +9,7 @@
 #include <new>
 #include <string_view>
 
+#include "nodetrace/formats/standard_output.hpp"
 #include "nodetrace/cachesim/report.hpp"
 #include "nodetrace/cachesim/wrap.hpp"
 #include "nodetrace/formats/error.hpp"
@@ -127,7 +128,7 @@ int exec_subcommand(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   // A Dinero IV that quits early must give us EPIPE, not kill us.
   std::signal(SIGPIPE, SIG_IGN);
   if (argc < 2) {
@@ -144,3 +145,5 @@ int main(int argc, char** argv) {
   std::fprintf(stderr, "dinero-wrap: unknown subcommand '%s'\n\n%s", argv[1], kUsage);
   return 2;
 }
+
+int main(int argc, char** argv) { return nodetrace::formats::finish_standard_output("dinero-wrap", run(argc, argv)); }

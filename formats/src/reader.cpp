@@ -75,9 +75,15 @@ class Input {
       end_ -= begin_;
       begin_ = 0;
     }
-    if (buffer_.size() < count) buffer_.resize(std::max<std::size_t>(count, buffer_.size() * 2));
-    if (buffer_.size() < (1u << 20)) buffer_.resize(1u << 20);
+    // 1 MiB, or less for a smaller file (a whole small file in one read
+    // without touching a megabyte of pages).
+    const std::size_t least = seekable_ ? static_cast<std::size_t>(std::clamp<std::uint64_t>(size_ + 1, 4096, 1u << 20))
+                                        : std::size_t{1} << 20;
+    if (buffer_.size() < least) buffer_.resize(least);
     while (end_ < count && !eof_) {
+      // Grown as bytes arrive, never to a size only claimed: a damaged
+      // length field costs no more memory than the bytes that are there.
+      if (end_ == buffer_.size()) buffer_.resize(std::min(count, buffer_.size() * 2));
       const ssize_t got = ::read(fd_, buffer_.data() + end_, buffer_.size() - end_);
       if (got < 0) {
         if (errno == EINTR) continue;
@@ -141,6 +147,7 @@ struct Chunk {
   detail::ByteBuffer bytes;  // the decompressed record bytes (containers: hashed in order)
   bool bad_record = false;
   detail::RecordError record_error;
+  std::uint64_t ignored_fields = 0;  // records whose trailing fields were ignored
   std::string frame_error;  // damage found before parsing
 };
 
@@ -152,7 +159,7 @@ struct Stock {
 Chunk parse_chunk(const std::string& bytes, detail::ParseSettings settings, Stock& stock) {
   Chunk chunk;
   chunk.records = stock.records.take();
-  chunk.bad_record = !detail::parse_records(bytes, settings, chunk.records, chunk.record_error);
+  chunk.bad_record = !detail::parse_records(bytes, settings, chunk.records, chunk.record_error, chunk.ignored_fields);
   return chunk;
 }
 
@@ -193,7 +200,8 @@ Chunk decode_data_frame(const std::string& frame, detail::ParseSettings settings
     }
   }
   chunk.records = stock.records.take();
-  chunk.bad_record = !detail::parse_records(bytes.view(), settings, chunk.records, chunk.record_error);
+  chunk.bad_record =
+      !detail::parse_records(bytes.view(), settings, chunk.records, chunk.record_error, chunk.ignored_fields);
   chunk.bytes = std::move(bytes);
   return chunk;
 }
@@ -225,6 +233,7 @@ class Reader final : public TraceReader {
   bool tags_are_levels() const override { return settings_.tags_are_levels; }
   const std::optional<TraceTrailer>& trailer() const override { return trailer_; }
   std::uint64_t record_bytes() const override { return record_bytes_; }
+  std::uint64_t records_with_ignored_fields() const override { return ignored_fields_; }
   std::string_view input_kind() const override {
     return mode_ == Mode::Container ? "container" : mode_ == Mode::PlainZstd ? "zstd" : "plain";
   }
@@ -264,6 +273,7 @@ class Reader final : public TraceReader {
                                       records_delivered_ + chunk.record_error.record_in_chunk + 1,
                                       chunk.record_error.message));
       }
+      ignored_fields_ += chunk.ignored_fields;
       if (chunk.records.empty() && !pending_marker_) continue;
       batch.first_record = records_delivered_;
       records_delivered_ += chunk.records.size();
@@ -317,6 +327,10 @@ class Reader final : public TraceReader {
       }
     } else {
       const std::uint32_t magic = load_le32(input_.data());
+      first_bytes_.assign(input_.data(), 4);
+      if (magic != detail::kHeaderMagic && input_.seekable() && ends_with_container_footer()) {
+        fail_damaged_header_magic("the file");
+      }
       if (magic == detail::kHeaderMagic) {
         mode_ = Mode::Container;
         open_container();
@@ -339,6 +353,48 @@ class Reader final : public TraceReader {
       throw UsageError(fmt::format("{}: binary records carry no tag, so their tags cannot be node levels", name_));
     }
     pool_ = std::make_unique<detail::ThreadPool>(threads_);
+  }
+
+  // True when the last bytes of the (seekable) file are a container footer
+  // leading to a trailer frame: the file is a container, whatever its first
+  // bytes say.
+  bool ends_with_container_footer() {
+    const std::uint64_t size = input_.size();
+    if (size < detail::kSkippableHeaderSize + detail::kFooterSize) return false;
+    return footer_leads_to_trailer(input_.read_at(size - detail::kFooterSize, detail::kFooterSize), size);
+  }
+
+  bool footer_leads_to_trailer(std::string_view footer, std::uint64_t size) {
+    if (load_le32(footer.data() + 16) != detail::kFooterMagic || load_le32(footer.data() + 12) != detail::kContainerVersion) {
+      return false;
+    }
+    const std::uint64_t json_size = load_le32(footer.data() + 8);
+    if (!input_.seekable()) return true;  // a stream cannot look back; the footer's magic and version say enough
+    if (json_size + detail::kFooterSize + detail::kSkippableHeaderSize > size) return false;
+    const std::string frame = input_.read_at(size - detail::kFooterSize - json_size - detail::kSkippableHeaderSize,
+                                             detail::kSkippableHeaderSize);
+    return load_le32(frame.data()) == detail::kTrailerMagic && load_le32(frame.data() + 4) == json_size + detail::kFooterSize;
+  }
+
+  // A container whose header magic (bytes 0-3) is damaged: names the first
+  // byte that differs from 50 2A 4D 18.
+  [[noreturn]] void fail_damaged_header_magic(const char* what) const {
+    std::string expected;
+    detail::append_le32(expected, detail::kHeaderMagic);
+    std::size_t byte = 0;
+    while (byte + 1 < expected.size() && first_bytes_[byte] == expected[byte]) ++byte;
+    fail(fmt::format("damaged container: byte {} is {:#04x} where the header magic 50 2A 4D 18 has {:#04x} ({} ends "
+                     "with a container trailer)",
+                     byte, static_cast<unsigned char>(first_bytes_[byte]), static_cast<unsigned char>(expected[byte]),
+                     what));
+  }
+
+  // Plain zstd streams: keeps the last bytes read, to find a container's
+  // footer at the end of a stream whose header magic is damaged.
+  void remember_tail(const char* data, std::size_t count) {
+    tail_.append(data + (count > detail::kFooterSize ? count - detail::kFooterSize : 0),
+                 std::min(count, detail::kFooterSize));
+    if (tail_.size() > detail::kFooterSize) tail_.erase(0, tail_.size() - detail::kFooterSize);
   }
 
   // Reads one whole skippable frame at the current position into `payload`.
@@ -380,6 +436,17 @@ class Reader final : public TraceReader {
     }
     const auto form = header_.form();
     if (!form) fail("header's \"records\" is not din, xdin or binary");
+    // "tag" is "node-level" or absent; a "node-level" under another key is a
+    // damaged "tag" (which would make the levels look like no tags at all).
+    const auto tag = header_.json.find("tag");
+    if (tag != header_.json.end() && !header_.tags_are_levels()) {
+      fail(fmt::format("damaged header: \"tag\" is {}, not \"node-level\"", tag->dump()));
+    }
+    for (const auto& [key, value] : header_.json.items()) {
+      if (key != "tag" && value == "node-level") {
+        fail(fmt::format("damaged header: key \"{}\" holds \"node-level\", the value of \"tag\"", key));
+      }
+    }
     settings_.form = *form;
     settings_.tags_are_levels = options_.tags_are_levels || header_.tags_are_levels();
     header_end_ = input_.offset();
@@ -526,6 +593,9 @@ class Reader final : public TraceReader {
       const std::size_t before = output.pos;
       const std::size_t available = input_.fill_some();
       if (available == 0) {
+        if (tail_.size() == detail::kFooterSize && footer_leads_to_trailer(tail_, input_.offset())) {
+          fail_damaged_header_magic("the stream");
+        }
         if (zstd_status_ != 0) fail(fmt::format("truncated: the zstd stream ends inside a frame at byte {}", input_.offset()));
         break;
       }
@@ -539,6 +609,7 @@ class Reader final : public TraceReader {
         fail(fmt::format("damaged zstd data in the zstd frame that starts at byte {} ({})", zstd_frame_start_,
                          ZSTD_getErrorName(zstd_status_)));
       }
+      remember_tail(input_.data(), in.pos);
       input_.consume(in.pos);
       if (in.pos == 0 && output.pos == before) break;  // no progress: let the caller come back
     }
@@ -703,8 +774,11 @@ class Reader final : public TraceReader {
   std::unique_ptr<ZSTD_DStream, DStreamDeleter> zstd_;
   std::size_t zstd_status_ = 0;
   std::string first_plain_;
+  std::string first_bytes_;  // the input's first 4 bytes
+  std::string tail_;         // plain zstd: the last bytes read
   std::string carry_;
   std::uint64_t record_bytes_ = 0;
+  std::uint64_t ignored_fields_ = 0;
 };
 
 }  // namespace

@@ -131,7 +131,7 @@ bool read_tag(const char* p, const char* end, Tag& tag, std::string& message) {
 // General parser for one line (without its newline), any layout Dinero IV
 // accepts.
 bool parse_line(const char* p, const char* end, const ParseSettings& settings, Record& record,
-                std::string& message) {
+                std::string& message, bool& ignored_fields) {
   p = skip_blanks(p, end);
   if (p == end) {
     message = "short line";
@@ -207,6 +207,7 @@ bool parse_line(const char* p, const char* end, const ParseSettings& settings, R
   }
   record.tag = kTagNone;
   if (settings.tags_are_levels) return read_tag(p, end, record.tag, message);
+  ignored_fields = skip_blanks(p, end) != end;
   return true;  // whatever follows is ignored, as Dinero IV ignores it
 }
 
@@ -264,20 +265,22 @@ std::size_t fast_lines(const char* begin, const char* end, bool tags_are_levels,
 
 using FastParser = std::size_t (*)(const char*, const char*, bool, std::vector<Record>&);
 
-// Picks the fast parser for the layout of the line at `p`, or nullptr.
-FastParser choose_fast_parser(const char* p, const char* end, const ParseSettings& settings) {
+// Picks the fast parser for the layout of the line at `p`, or nullptr;
+// `tagged` tells whether its lines carry a tag field.
+FastParser choose_fast_parser(const char* p, const char* end, const ParseSettings& settings, bool& tagged) {
   const void* newline = std::memchr(p, '\n', static_cast<std::size_t>(std::min<std::ptrdiff_t>(end - p, 64)));
   if (!newline) return nullptr;
   const auto length = static_cast<const char*>(newline) - p + 1;
   const bool extended = settings.form == RecordForm::ExtendedDin;
   for (const int digits : {8, 16}) {
     const int untagged = digits + (extended ? 5 : 3);
-    const int tagged = untagged + 3;
+    const int tagged_length = untagged + 3;
     if (length == untagged && !settings.tags_are_levels) {
       if (digits == 8) return extended ? &fast_lines<8, true, false> : &fast_lines<8, false, false>;
       return extended ? &fast_lines<16, true, false> : &fast_lines<16, false, false>;
     }
-    if (length == tagged) {
+    if (length == tagged_length) {
+      tagged = true;
       if (digits == 8) return extended ? &fast_lines<8, true, true> : &fast_lines<8, false, true>;
       return extended ? &fast_lines<16, true, true> : &fast_lines<16, false, true>;
     }
@@ -315,28 +318,34 @@ bool parse_binary(std::string_view bytes, std::vector<Record>& out, RecordError&
 }  // namespace
 
 bool parse_records(std::string_view bytes, const ParseSettings& settings, std::vector<Record>& out,
-                   RecordError& error) {
+                   RecordError& error, std::uint64_t& ignored_fields) {
   if (settings.form == RecordForm::Binary) return parse_binary(bytes, out, error);
   const char* p = bytes.data();
   const char* const end = p + bytes.size();
   const std::size_t first = out.size();
-  FastParser fast = p < end ? choose_fast_parser(p, end, settings) : nullptr;
+  bool fast_tagged = false;
+  FastParser fast = p < end ? choose_fast_parser(p, end, settings, fast_tagged) : nullptr;
+  const bool fast_ignores_tags = fast_tagged && !settings.tags_are_levels;
   if (fast) {
     out.reserve(out.size() + bytes.size() / 11 + 1);
   }
   while (p < end) {
     if (fast) {
+      const std::size_t before = out.size();
       p += fast(p, end, settings.tags_are_levels, out);
+      if (fast_ignores_tags) ignored_fields += out.size() - before;
       if (p == end) break;
     }
     // One line the fast path did not take.
     const char* newline = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
     const char* line_end = newline ? newline : end;
     Record record;
-    if (!parse_line(p, line_end, settings, record, error.message)) {
+    bool ignored = false;
+    if (!parse_line(p, line_end, settings, record, error.message, ignored)) {
       error.record_in_chunk = out.size() - first;
       return false;
     }
+    ignored_fields += ignored;
     out.push_back(record);
     p = newline ? newline + 1 : end;
   }

@@ -31,9 +31,11 @@ struct ParseSettings {
 // record, the last one may lack its newline when `final`; when not `final`
 // the bytes must end with a newline (callers cut chunks there). Binary: the
 // size must be a multiple of 8 unless `final` reports the short record.
-// Returns false and fills `error` on the first bad record.
+// Returns false and fills `error` on the first bad record. When tags are not
+// levels, adds to `ignored_fields` the records whose line went on after its
+// significant fields (a tag, a comment: ignored, as Dinero IV ignores them).
 bool parse_records(std::string_view bytes, const ParseSettings& settings,
-                   std::vector<Record>& out, RecordError& error);
+                   std::vector<Record>& out, RecordError& error, std::uint64_t& ignored_fields);
 
 // Guesses din or extended din from the first record's first character.
 RecordForm detect_text_form(std::string_view first_bytes);

@@ -1,23 +1,18 @@
 #include "nodetrace/formats/writer.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
 #include <xxhash.h>
 #include <zstd.h>
 
 #include <fmt/format.h>
 
 #include <array>
-#include <cerrno>
-#include <cstring>
 #include <deque>
-#include <filesystem>
 #include <future>
 #include <vector>
 
 #include "container.hpp"
 #include "nodetrace/formats/error.hpp"
+#include "nodetrace/formats/output_file.hpp"
 #include "text_codec.hpp"
 #include "thread_pool.hpp"
 
@@ -96,7 +91,7 @@ class Writer final : public TraceWriter {
     tag_counts_.resize(std::size_t{1} << 16);
     XXH64_reset(record_hash_.get(), 0);
     XXH64_reset(content_hash_.get(), 0);
-    open_output();
+    out_ = std::make_unique<OutputFile>(path_);
     if (container_) {
       header["container"] = {{"name", detail::kContainerName}, {"version", detail::kContainerVersion}};
       header["records"] = std::string(form_name(options_.form));
@@ -117,8 +112,7 @@ class Writer final : public TraceWriter {
       if (item.job.valid()) item.job.wait();
     }
     queue_.clear();
-    if (fd_ > 1) ::close(fd_);
-    if (!temp_path_.empty()) ::unlink(temp_path_.c_str());
+    // out_'s destructor removes the temporary.
   }
 
   void begin_frame(const FrameMarker& marker) override {
@@ -185,16 +179,7 @@ class Writer final : public TraceWriter {
       trailer.content_hash = XXH64_digest(content_hash_.get());
       emit(detail::encode_trailer(trailer), false);
     }
-    if (fd_ > 1) {
-      if (::close(fd_) != 0) fail(fmt::format("cannot write: {}", std::strerror(errno)));
-      fd_ = -1;
-    }
-    if (!temp_path_.empty()) {
-      if (::rename(temp_path_.c_str(), path_.c_str()) != 0) {
-        throw IoError(fmt::format("{}: cannot rename the finished output into place: {}", name_, std::strerror(errno)));
-      }
-      temp_path_.clear();
-    }
+    out_->commit();
     finished_ = true;
   }
 
@@ -260,20 +245,6 @@ class Writer final : public TraceWriter {
     if (finished_) throw UsageError(fmt::format("{}: the writer is already finished", name_));
   }
 
-  void open_output() {
-    if (path_ == "-") {
-      fd_ = 1;
-      return;
-    }
-    const std::filesystem::path target(path_);
-    const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : ".";
-    std::string pattern = (dir / fmt::format(".{}.tmp-XXXXXX", target.filename().string())).string();
-    fd_ = ::mkstemp(pattern.data());
-    if (fd_ < 0) throw IoError(fmt::format("{}: cannot create a file in {}: {}", name_, dir.string(), std::strerror(errno)));
-    ::fchmod(fd_, 0644);
-    temp_path_ = pattern;
-  }
-
   void submit_pending() {
     if (pending_records_ == 0) return;
     Item item;
@@ -336,15 +307,7 @@ class Writer final : public TraceWriter {
 
   void emit(std::string_view bytes, bool hashed) {
     if (hashed) XXH64_update(content_hash_.get(), bytes.data(), bytes.size());
-    std::size_t done = 0;
-    while (done < bytes.size()) {
-      const ssize_t wrote = ::write(fd_, bytes.data() + done, bytes.size() - done);
-      if (wrote < 0) {
-        if (errno == EINTR) continue;
-        throw IoError(fmt::format("{}: cannot write: {}", name_, std::strerror(errno)));
-      }
-      done += static_cast<std::size_t>(wrote);
-    }
+    out_->write(bytes);
     offset_ += bytes.size();
   }
 
@@ -358,8 +321,7 @@ class Writer final : public TraceWriter {
   bool container_ = false;
   bool levels_ = false;
   bool finished_ = false;
-  int fd_ = -1;
-  std::string temp_path_;
+  std::unique_ptr<OutputFile> out_;
   std::shared_ptr<Stock> stock_ = std::make_shared<Stock>();
   std::unique_ptr<detail::ThreadPool> pool_;
   std::deque<Item> queue_;

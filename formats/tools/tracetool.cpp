@@ -16,6 +16,7 @@
 #include "nodetrace/formats/error.hpp"
 #include "nodetrace/formats/option_limits.hpp"
 #include "nodetrace/formats/reader.hpp"
+#include "nodetrace/formats/standard_output.hpp"
 #include "nodetrace/formats/writer.hpp"
 
 namespace formats = nodetrace::formats;
@@ -117,6 +118,18 @@ formats::ReaderOptions reader_options(bool tags_are_levels, std::optional<format
 std::optional<formats::RecordForm> form_option(const std::string& name) {
   if (name.empty()) return std::nullopt;
   return formats::parse_form_name(name);
+}
+
+// A conversion keeps only the fields it read: say how many records lost
+// others (DESIGN.md: simulation ignores them, a conversion says so).
+void warn_of_dropped_fields(const formats::TraceReader& reader) {
+  const std::uint64_t dropped = reader.records_with_ignored_fields();
+  if (dropped == 0) return;
+  fmt::print(stderr,
+             "tracetool: warning: {}: {} record{} had fields after the {} (e.g. a level tag) that were dropped; "
+             "pass --tags-are-levels to keep a tag field of node levels\n",
+             reader.source_name(), dropped, dropped == 1 ? "" : "s",
+             reader.form() == formats::RecordForm::ExtendedDin ? "size" : "address");
 }
 
 int run_info(const std::string& path, const std::string& format, bool tags_are_levels, const std::string& form) {
@@ -235,6 +248,7 @@ int run_cat(const std::string& path, const std::string& tags, const std::string&
     writer->write(kept);
   }
   writer->finish();
+  warn_of_dropped_fields(*reader);
   return 0;
 }
 
@@ -301,12 +315,11 @@ int run_convert(const std::string& in, const std::string& out, const ConvertOpti
     if (options.form == reader->form()) writer->add_totals(totals);
   }
   writer->finish();
+  warn_of_dropped_fields(*reader);
   return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app{"tracetool: inspect, print, verify and convert nodetrace / Dinero IV traces"};
   app.require_subcommand(1);
   const std::vector<std::string> forms = {"din", "xdin", "binary"};
@@ -391,3 +404,7 @@ int main(int argc, char** argv) {
   }
   return 2;
 }
+
+}  // namespace
+
+int main(int argc, char** argv) { return formats::finish_standard_output("tracetool", run(argc, argv)); }

@@ -13,6 +13,7 @@
 namespace nodetrace::formats {
 namespace {
 
+using nodetrace::testing::program;
 using nodetrace::testing::read_file;
 using nodetrace::testing::run_command;
 using nodetrace::testing::TempDir;
@@ -318,6 +319,51 @@ TEST_F(Container, EveryFlippedByteIsDetected) {
     EXPECT_EQ(message.rfind(path("d.din.zst"), 0), 0u) << message;
   }
   EXPECT_EQ(detected, tried);
+}
+
+TEST_F(Container, DamagedHeaderMagicIsADamagedContainerByItsFooter) {
+  const std::string original = small_container(path("t.din.zst"));
+  // Every one-bit flip of the header magic, 0x50 -> 0x51..0x5F (still
+  // skippable-frame magics, which zstd tools skip) included.
+  for (std::size_t byte = 0; byte < 4; ++byte) {
+    for (int bit = 0; bit < 8; ++bit) {
+      std::string damaged = original;
+      damaged[byte] = static_cast<char>(damaged[byte] ^ (1 << bit));
+      write_file(path("d.din.zst"), damaged);
+      const std::string message = read_error(path("d.din.zst"));
+      EXPECT_EQ(message.rfind(path("d.din.zst") + ": damaged container: byte " + std::to_string(byte) + " is ", 0), 0u)
+          << "byte " << byte << " bit " << bit << ": " << message;
+    }
+  }
+  std::string damaged = original;
+  damaged[0] = 0x5F;
+  write_file(path("d.din.zst"), damaged);
+  EXPECT_EQ(read_error(path("d.din.zst")),
+            path("d.din.zst") +
+                ": damaged container: byte 0 is 0x5f where the header magic 50 2A 4D 18 has 0x50 (the file ends with a "
+                "container trailer)");
+  // Through a pipe the footer is seen at the end of the stream.
+  const auto piped = run_command("'" + program("tracetool").string() + "' verify - < '" + path("d.din.zst") + "'");
+  EXPECT_EQ(piped.exit_code, 1);
+  EXPECT_NE(piped.err.find("<stdin>: damaged container: byte 0 is 0x5f"), std::string::npos) << piped.err;
+}
+
+TEST_F(Container, DamagedTagKeyIsADamagedHeaderNotUntaggedRecords) {
+  const std::string original = small_container(path("t.din.zst"));
+  const std::size_t key = original.find("\"tag\":\"node-level\"");
+  ASSERT_NE(key, std::string::npos);
+  for (std::size_t at = key + 1; at < key + 4; ++at) {
+    std::string damaged = original;
+    damaged[at] = static_cast<char>(damaged[at] ^ 0x01);
+    write_file(path("d.din.zst"), damaged);
+    const std::string message = read_error(path("d.din.zst"));
+    EXPECT_NE(message.find("damaged header: key "), std::string::npos) << message;
+  }
+  std::string damaged = original;
+  damaged[key + 8] = static_cast<char>(damaged[key + 8] ^ 0x01);  // in "node-level"
+  write_file(path("d.din.zst"), damaged);
+  EXPECT_NE(read_error(path("d.din.zst")).find("damaged header: \"tag\" is \"nnde-level\""), std::string::npos)
+      << read_error(path("d.din.zst"));
 }
 
 TEST_F(Container, TruncationIsDetected) {

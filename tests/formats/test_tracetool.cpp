@@ -1,6 +1,8 @@
 // tracetool end to end: exit codes, messages, filtering, conversion.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include "formats_test_util.hpp"
 #include "test_support.hpp"
 
@@ -159,6 +161,35 @@ TEST_F(Tracetool, InfoOnPlainTracesReads) {
   EXPECT_EQ(info.at("bytes_per_record"), 8.0);
   const auto table = run("info " + path("t.din.zst"));
   EXPECT_NE(table.out.find("records              101"), std::string::npos) << table.out;
+}
+
+TEST_F(Tracetool, DroppedTrailingFieldsAreCountedOnStandardError) {
+  // Fixed-width tagged lines (the fast path) and free-form ones.
+  std::string text;
+  char line[32];
+  for (int i = 0; i < 50; ++i) {
+    std::snprintf(line, sizeof line, "0 %08x %02d\n", 0x1000 + 8 * i, i % 10);
+    text += line;
+  }
+  text += "0 2000\n1 2004  \n0 2008 comment here\n";
+  write_file(dir_ / "tagged.din", text);
+  // 50 tagged lines and the comment; trailing blanks are no field.
+  const std::string warning = "51 records had fields after the address (e.g. a level tag) that were dropped; "
+                              "pass --tags-are-levels to keep a tag field of node levels";
+  for (const std::string& command : {"convert " + path("tagged.din") + " " + path("out.din.zst"),
+                                     "cat " + path("tagged.din")}) {
+    const auto result = run(command);
+    EXPECT_EQ(result.exit_code, 0) << command << "\n" << result.err;
+    EXPECT_EQ(result.err, "tracetool: warning: " + (dir_ / "tagged.din").string() + ": " + warning + "\n")
+        << command;
+  }
+  // With --tags-are-levels the tags are kept: nothing is dropped.
+  write_file(dir_ / "levels.din", text.substr(0, text.find("0 2000")));
+  const auto kept = run("convert --tags-are-levels " + path("levels.din") + " " + path("levels.din.zst"));
+  EXPECT_EQ(kept.exit_code, 0) << kept.err;
+  EXPECT_EQ(kept.err, "");
+  const auto untagged = run("cat " + path("t.din.zst"));
+  EXPECT_EQ(untagged.err, "");
 }
 
 }  // namespace

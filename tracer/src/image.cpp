@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 
 #include "nodetrace/formats/error.hpp"
+#include "nodetrace/formats/output_file.hpp"
 
 namespace nodetrace::tracer {
 
@@ -23,16 +23,32 @@ std::uint8_t to_byte(float value) {
 }  // namespace
 
 void write_png(const Image& image, const std::string& path) {
-  const std::string temporary = path + ".tmp";
-  std::FILE* file = std::fopen(temporary.c_str(), "wb");
-  if (!file) throw formats::IoError(path + ": cannot open for writing");
+  // The one output rule of every program: a temporary renamed into place for
+  // a file, a device or FIFO written directly (formats/output_file.hpp).
+  formats::OutputFile out(path);
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   std::vector<std::uint8_t> row(static_cast<std::size_t>(image.width) * 3);
+  struct Sink {
+    formats::OutputFile* out;
+    std::string error;
+  } sink{&out, {}};
   volatile bool ok = png && info;
   if (ok && setjmp(png_jmpbuf(png))) ok = false;
   if (ok) {
-    png_init_io(png, file);
+    png_set_write_fn(
+        png, &sink,
+        [](png_structp writing, png_bytep data, png_size_t length) {
+          auto* target = static_cast<Sink*>(png_get_io_ptr(writing));
+          try {
+            target->out->write(std::string_view(reinterpret_cast<const char*>(data), length));
+          } catch (const std::exception& error) {
+            target->error = error.what();
+          }
+          // libpng's own error path (longjmp), taken outside the handler.
+          if (!target->error.empty()) png_error(writing, "write failed");
+        },
+        [](png_structp) {});
     png_set_IHDR(png, info, static_cast<png_uint_32>(image.width),
                  static_cast<png_uint_32>(image.height), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
@@ -49,17 +65,8 @@ void write_png(const Image& image, const std::string& path) {
     png_write_end(png, nullptr);
   }
   png_destroy_write_struct(png ? &png : nullptr, info ? &info : nullptr);
-  if (std::fclose(file) != 0) ok = false;
-  if (!ok) {
-    std::remove(temporary.c_str());
-    throw formats::IoError(path + ": cannot write PNG");
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) {
-    std::remove(temporary.c_str());
-    throw formats::IoError(path + ": cannot rename into place: " + error.message());
-  }
+  if (!ok) throw formats::IoError(sink.error.empty() ? path + ": cannot write PNG" : sink.error);
+  out.commit();
 }
 
 }  // namespace nodetrace::tracer

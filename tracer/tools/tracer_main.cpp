@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <string_view>
 
+#include "nodetrace/formats/standard_output.hpp"
 #include "commands.hpp"
 
 namespace {
@@ -20,7 +21,7 @@ constexpr const char* kUsage =
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   if (argc < 2) {
     std::fputs(kUsage, stderr);
     return 2;
@@ -37,3 +38,5 @@ int main(int argc, char** argv) {
   std::fprintf(stderr, "tracer: unknown subcommand '%s'\n\n%s", argv[1], kUsage);
   return 2;
 }
+
+int main(int argc, char** argv) { return nodetrace::formats::finish_standard_output("tracer", run(argc, argv)); }

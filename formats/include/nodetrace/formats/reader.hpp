@@ -67,6 +67,10 @@ class TraceReader {
 
   // Bytes of record data (decompressed text or binary records) read so far.
   virtual std::uint64_t record_bytes() const { return 0; }
+  // Records delivered so far whose line went on after the fields that were
+  // read (e.g. a level tag in a trace not read with tags_are_levels): what a
+  // conversion of them drops.
+  virtual std::uint64_t records_with_ignored_fields() const { return 0; }
   // What the input is: "container", "zstd" (plain zstd) or "plain".
   virtual std::string_view input_kind() const { return "plain"; }
 };

@@ -34,8 +34,9 @@ struct WriterOptions {
 
 class TraceWriter {
  public:
-  // `path` "-" writes to standard output; a file is written under a
-  // temporary name and renamed by finish(). `header` is the producer's part of
+  // `path` is opened by OutputFile's rule (output_file.hpp): "-" is
+  // standard output, a device or FIFO is written directly, a file is written
+  // under a temporary name and renamed into place by finish(). `header` is the producer's part of
   // the container header (scene, render, layout, ...); the writer adds
   // "container", "records" and "tag" itself. Ignored for plain output.
   static std::unique_ptr<TraceWriter> create(const std::string& path, nlohmann::json header,
@@ -52,7 +53,7 @@ class TraceWriter {
   // Extra totals known only at the end (ray-kind counts, ...), merged into the
   // trailer's "totals" object.
   virtual void add_totals(const nlohmann::json& totals) = 0;
-  // Writes the trailer, flushes, and renames the temporary file into place.
+  // Writes the trailer and commits the output (fsync and rename for a file).
   virtual void finish() = 0;
 };
 
