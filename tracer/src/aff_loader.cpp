@@ -846,6 +846,8 @@ class AffParser {
   std::map<std::array<float, 14>, std::uint32_t> material_index_;
   std::unordered_map<std::string, std::string> files_;
   std::uint64_t hash_ = kFnvOffset;
+  std::size_t files_parsed_ = 0, triangles_ = 0;
+  std::uint64_t bytes_parsed_ = 0;
   TriangleChecks checks_;
 
  public:
