@@ -53,8 +53,12 @@ TEST(SceneChecks, AffOverflowingAndZeroAreaTriangles) {
   nodetrace::testing::TempDir dir;
   const auto path = dir.path() / "big.aff";
   nodetrace::testing::write_file(path, "p 3\n0 0 0\n1 0 0\n0 1e39 0\n");
-  EXPECT_EQ(error_of(path.string()), path.string() + ":4: triangle vertex coordinate inf is beyond the supported "
-                                     "range of -2^62 to 2^62 (about +-4.6e18) (it overflows single precision)");
+  // The tokenizer refuses a number that overflows single precision before any triangle is made.
+  EXPECT_EQ(error_of(path.string()), path.string() + ":4: expected polygon vertex coordinate (a number of at most "
+                                     "3.40282e+38 in magnitude), got '1e39'");
+  nodetrace::testing::write_file(path, "p 3\n0 0 0\n1 0 0\n0 5e18 0\n");
+  EXPECT_EQ(error_of(path.string()), path.string() + ":4: triangle vertex coordinate 4.99999999e+18 is beyond the "
+                                     "supported range of -2^62 to 2^62 (about +-4.6e18)");
   nodetrace::testing::write_file(path, "p 3\n0 0 0\n1 0 0\n0 1 0\np 3\n0 0 0\n1 0 0\n2 0 0\np 3\n0 0 0\n0 0 0\n0 0 0\n");
   const auto source = open_scene(path.string());
   EXPECT_EQ(source->at_time(0).triangles.size(), 1u);
