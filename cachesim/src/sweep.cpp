@@ -18,168 +18,21 @@ using formats::Record;
 using formats::Tag;
 using formats::UsageError;
 
-std::string_view scheme_name(Scheme scheme) {
-  return scheme == Scheme::Single ? "single" : "split";
-}
-
-std::optional<Scheme> parse_scheme_name(std::string_view name) {
-  if (name == "single") return Scheme::Single;
-  if (name == "split") return Scheme::Split;
-  return std::nullopt;
-}
-
-std::string_view high_policy_name(HighPolicy policy) {
-  return policy == HighPolicy::Retain ? "retain" : "cache";
-}
-
-std::optional<HighPolicy> parse_high_policy_name(std::string_view name) {
-  if (name == "retain") return HighPolicy::Retain;
-  if (name == "cache") return HighPolicy::Cache;
-  return std::nullopt;
-}
-
-std::uint32_t parse_assoc(std::string_view text) {
-  if (text == "full") return 0;
-  std::uint32_t value = 0;
-  const auto [next, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc{} || next != text.data() + text.size() || value == 0) {
-    throw UsageError(fmt::format(
-        "'{}' is not an associativity: expected a positive number of ways or 'full'", text));
-  }
-  return value;
-}
-
-namespace {
-
-std::uint32_t resolve_ways(std::uint32_t assoc, std::uint64_t size, std::uint32_t block) {
-  if (assoc != 0) return assoc;
-  return static_cast<std::uint32_t>(std::max<std::uint64_t>(1, size / block));
-}
-
-}  // namespace
-
-std::vector<NodeCacheConfig> expand_configurations(const SweepOptions& options) {
-  std::vector<NodeCacheConfig> configs;
-  for (const std::uint64_t size : options.sizes) {
-    for (const std::uint32_t block : options.blocks) {
-      for (const std::uint32_t assoc : options.assocs) {
-        for (const ReplacementPolicy policy : options.policies) {
-          for (const Scheme scheme : options.schemes) {
-            NodeCacheConfig base;
-            base.scheme = scheme;
-            base.size = size;
-            base.block = block;
-            base.policy = policy;
-            base.count_loads = options.count_loads;
-            if (scheme == Scheme::Single) {
-              base.assoc = resolve_ways(assoc, size, block);
-              validate_geometry({size, block, base.assoc, policy}, fmt::format("{}-byte cache", size));
-              configs.push_back(base);
-              continue;
-            }
-            std::uint64_t high = 0;
-            if (options.high_size) {
-              high = *options.high_size;
-            } else if (options.low_size) {
-              if (*options.low_size >= size) {
-                throw UsageError(fmt::format("--low-size {} leaves nothing of the total size {} for "
-                                             "the high-level cache",
-                                             *options.low_size, size));
-              }
-              high = size - *options.low_size;
-            } else {
-              high = size / 2;
-            }
-            std::uint64_t low = 0;
-            if (options.low_size) {
-              low = *options.low_size;
-            } else if (high < size) {
-              low = size - high;
-            } else {
-              throw UsageError(fmt::format("--high-size {} leaves nothing of the total size {} for "
-                                           "the low-level cache",
-                                           high, size));
-            }
-            base.high_size = high;
-            base.low_size = low;
-            base.size = high + low;
-            base.assoc = resolve_ways(assoc, low, block);
-            const std::uint32_t high_assoc = options.high_assoc.value_or(assoc);
-            base.high_assoc = resolve_ways(high_assoc, high, block);
-            validate_geometry({low, block, base.assoc, policy},
-                              fmt::format("low-level cache of {} bytes", low));
-            for (const auto& split_level : options.split_levels) {
-              for (const HighPolicy high_policy : options.high_policies) {
-                NodeCacheConfig config = base;
-                config.split_level = split_level;
-                config.high_policy = high_policy;
-                const std::string what = fmt::format("high-level cache of {} bytes", high);
-                if (high_policy == HighPolicy::Cache) {
-                  validate_geometry({high, block, config.high_assoc, policy}, what);
-                } else {
-                  validate_geometry({high, block, 1, policy}, what);
-                }
-                configs.push_back(config);
-              }
-            }
-          }
-        }
-      }
-    }
-  }
-  return configs;
-}
-
-std::uint32_t auto_split_level(const std::vector<std::uint64_t>& nodes_per_level,
-                               std::uint64_t node_size, std::uint64_t high_size) {
-  std::uint64_t bytes = 0;
-  std::uint32_t level = 0;
-  for (const std::uint64_t nodes : nodes_per_level) {
-    if (nodes > (high_size - bytes) / std::max<std::uint64_t>(node_size, 1)) break;
-    bytes += nodes * node_size;
-    ++level;
-  }
-  return level;
-}
-
-TraceContext trace_context(const formats::TraceReader& reader, std::string trace_column) {
-  TraceContext context;
-  context.trace = std::move(trace_column);
-  context.source_name = reader.source_name();
-  context.form = reader.form();
-  context.tags_are_levels = reader.tags_are_levels();
-  const nlohmann::json& header = reader.header().json;
-  if (header.is_object()) {
-    const auto layout = header.find("layout");
-    if (layout != header.end() && layout->is_object()) {
-      const auto split_level = layout->find("split_level");
-      if (split_level != layout->end() && split_level->is_number_unsigned()) {
-        context.layout_split_level = split_level->get<std::uint32_t>();
-      }
-      const auto node_size = layout->find("node_size");
-      if (node_size != layout->end() && node_size->is_number_unsigned() &&
-          node_size->get<std::uint64_t>() > 0) {
-        context.node_size = node_size->get<std::uint64_t>();
-      }
-    }
-  }
-  return context;
-}
-
 // ---------------------------------------------------------------------------
 // Per-configuration simulators.
 
 class ConfigSimulator {
  public:
   virtual ~ConfigSimulator() = default;
-  virtual void begin_frame(std::uint64_t animation_frame) = 0;
+  // An animation frame begins; `split_level` is its K (split only).
+  virtual void begin_frame(std::uint64_t animation_frame, std::uint32_t split_level) = 0;
   // `first_record`: 0-based number of records[0] in the trace (for errors).
   virtual void feed(const Record* records, std::size_t count, std::uint64_t first_record,
                     const PreparedBatch& prepared) = 0;
   virtual ResultRow result() const = 0;
   virtual void append_level_rows(std::vector<LevelRow>& rows) const = 0;
 
-  // Configurations with equal group keys (same kind, block, split level, all
+  // Configurations with equal group keys (same kind, block, rule for K, all
   // direct mapped) can be simulated together by one loop over the records:
   // the leader's feed_group(members) is then feed() of each member, on chunks
   // of demand fetches of one block each (returns false for other chunks,
@@ -307,8 +160,9 @@ class Simulator final : public ConfigSimulator {
     table_.assign(dummy_slot_ + 1, NodeCache::kInvalid);
   }
 
-  void begin_frame(std::uint64_t animation_frame) override {
+  void begin_frame(std::uint64_t animation_frame, std::uint32_t split_level) override {
     animation_frame_ = animation_frame;
+    split_level_ = split_level;
     if constexpr (kRetain) {
       retained_.clear();
       std::fill(table_.begin() + static_cast<std::ptrdiff_t>(high_offset_), table_.end(),
@@ -334,8 +188,13 @@ class Simulator final : public ConfigSimulator {
       return {};
     } else {
       if (!low_direct_) return {};
-      return fmt::format("{}/{}/{}/{}/{}/{}", kSplit, kRetain, kAlignedDin, config_.block,
-                         split_level_, config_.count_loads);
+      // Members must share K in every animation frame: the same given K, or
+      // auto for the same high-cache size.
+      const std::string k_rule = config_.split_level
+                                     ? std::to_string(*config_.split_level)
+                                     : fmt::format("auto{}", kSplit ? config_.high_size : 0);
+      return fmt::format("{}/{}/{}/{}/{}/{}", kSplit, kRetain, kAlignedDin, config_.block, k_rule,
+                         config_.count_loads);
     }
   }
 
@@ -688,65 +547,30 @@ std::unique_ptr<ConfigSimulator> make_simulator(const NodeCacheConfig& config,
 
 // ---------------------------------------------------------------------------
 
-Sweep::Sweep(std::vector<NodeCacheConfig> configs, TraceContext context, bool per_level)
-    : configs_(std::move(configs)), context_(std::move(context)), per_level_(per_level) {
-  const bool has_split = std::any_of(configs_.begin(), configs_.end(), [](const auto& config) {
-    return config.scheme == Scheme::Split;
-  });
-  needs_levels_ = has_split || per_level_;
+Sweep::Sweep(std::vector<NodeCacheConfig> configs, TraceContext context, bool per_level,
+             bool per_frame)
+    : configs_(std::move(configs)),
+      context_(std::move(context)),
+      per_level_(per_level),
+      per_frame_(per_frame) {
+  const bool split = has_split(configs_);
+  needs_levels_ = split || per_level_;
   if (needs_levels_ && !context_.tags_are_levels) {
-    throw UsageError(fmt::format(
-        "{}: {} needs the node level of every record, but this trace's records are untagged "
-        "(no container header says \"tag\": \"node-level\"); if the field after the address "
-        "holds node levels, pass --tags-are-levels",
-        context_.source_name, has_split ? "the split scheme" : "--per-level"));
+    throw_untagged_trace(context_, split ? "the split scheme" : "--per-level");
   }
 }
 
 Sweep::~Sweep() = default;
 
-std::uint32_t resolve_split_level(const NodeCacheConfig& config,
-                                  const formats::FrameMarker* first_marker,
-                                  const TraceContext& context) {
-  if (config.split_level) return *config.split_level;
-  if (first_marker == nullptr || first_marker->nodes_per_level.empty()) {
-    throw UsageError(fmt::format(
-        "{}: --split-level auto needs the nodes_per_level of animation-frame markers, which this "
-        "trace does not have; give an explicit split level, e.g. --split-level 8",
-        context.source_name));
-  }
-  return auto_split_level(first_marker->nodes_per_level, context.node_size, config.high_size);
-}
-
-std::optional<std::string> split_level_note(const NodeCacheConfig& config,
-                                            std::uint32_t split_level,
-                                            const TraceContext& context) {
-  if (config.scheme != Scheme::Split || !context.layout_split_level ||
-      *context.layout_split_level == split_level) {
-    return std::nullopt;
-  }
-  return fmt::format(
-      "{}: {}-byte high cache: split level {} ({}) differs from the layout's split_level {} in "
-      "the trace header",
-      context.trace, config.high_size, split_level, config.split_level ? "given" : "auto",
-      *context.layout_split_level);
-}
-
 void Sweep::start(const formats::RecordBatch& first_batch) {
   started_ = true;
-  const formats::FrameMarker* marker = first_batch.marker ? &*first_batch.marker : nullptr;
-  for (const NodeCacheConfig& config : configs_) {
-    std::uint32_t split_level = 0;
-    if (config.scheme == Scheme::Split) {
-      split_level = resolve_split_level(config, marker, context_);
-      if (auto note = split_level_note(config, split_level, context_)) {
-        if (std::find(notes_.begin(), notes_.end(), *note) == notes_.end()) {
-          notes_.push_back(std::move(*note));
-        }
-      }
-    }
-    simulators_.push_back(make_simulator(config, split_level, context_, per_level_));
+  plan_ = std::make_unique<SplitLevelPlan>(configs_, context_);
+  plan_->begin_frame(first_batch.marker ? &*first_batch.marker : nullptr);
+  for (std::size_t i = 0; i < configs_.size(); ++i) {
+    simulators_.push_back(make_simulator(configs_[i], plan_->current(i), context_, per_level_));
   }
+  open_frames_.assign(simulators_.size(), OpenFrame{});
+  frame_rows_.assign(simulators_.size(), {});
   // Parts of about equal cost (a split configuration does about twice the
   // work of a single one), filled greedily, the costliest first.
   const std::size_t part_count =
@@ -795,13 +619,60 @@ void Sweep::set_parts(std::size_t parts) { requested_parts_ = std::max<std::size
 std::size_t Sweep::part_count() const { return parts_.size(); }
 
 void Sweep::begin_batch(const formats::RecordBatch& batch) {
-  if (!started_) start(batch);
+  if (!started_) {
+    start(batch);
+  } else if (batch.marker) {
+    plan_->begin_frame(&*batch.marker);  // throws here, in trace order, for a bad marker
+  }
+}
+
+namespace {
+
+ResultRow counts_since(const ResultRow& now, const ResultRow& before) {
+  ResultRow row = now;
+  row.refs -= before.refs;
+  row.fetches -= before.fetches;
+  row.misses -= before.misses;
+  row.high_refs -= before.high_refs;
+  row.high_misses -= before.high_misses;
+  if (row.high_loads) *row.high_loads -= before.high_loads.value_or(0);
+  row.low_refs -= before.low_refs;
+  row.low_misses -= before.low_misses;
+  return row;
+}
+
+}  // namespace
+
+void Sweep::change_frame(std::size_t s, const formats::FrameMarker* marker) {
+  OpenFrame& open = open_frames_[s];
+  if (per_frame_ && open.open) {
+    ResultRow row = counts_since(simulators_[s]->result(), open.at_start);
+    row.split_level = open.split_level;
+    frame_rows_[s].push_back(FrameRow{open.frame, std::move(row)});
+  }
+  if (marker == nullptr) {  // records before any marker: animation frame 0, K of the start
+    open.frame = 0;
+    open.split_level = plan_->first(s);
+  } else {
+    const NodeCacheConfig& config = configs_[s];
+    // As the plan resolved it on the reader's thread, which may be ahead.
+    open.frame = marker->frame;
+    open.split_level =
+        config.scheme == Scheme::Split ? resolve_split_level(config, marker, context_) : 0;
+    simulators_[s]->begin_frame(marker->frame, open.split_level);
+  }
+  open.open = true;
+  if (per_frame_) open.at_start = simulators_[s]->result();
 }
 
 void Sweep::feed_part(const formats::RecordBatch& batch, std::size_t part_index) {
   Part& part = parts_.at(part_index);
-  if (batch.marker) {
-    for (const std::size_t s : part.simulators) simulators_[s]->begin_frame(batch.marker->frame);
+  for (const std::size_t s : part.simulators) {
+    if (batch.marker) {
+      change_frame(s, &*batch.marker);
+    } else if (!open_frames_[s].open) {
+      change_frame(s, nullptr);
+    }
   }
   const Record* const records = batch.records.data();
   const std::size_t count = batch.records.size();
@@ -856,10 +727,8 @@ void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t firs
         ++part.other_stream_records;
         demand_only = false;
       } else if (needs_levels_) {
-        throw FormatError(fmt::format(
-            "{}: record {}: no node-level tag, but the split scheme and --per-level route every "
-            "record by its level (expected `LABEL ADDRESS LEVEL`)",
-            context_.source_name, first_record + i + 1));
+        throw_untagged_record(context_, first_record + i + 1,
+                              "the split scheme and --per-level route");
       }
     }
   }
@@ -870,19 +739,29 @@ void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t firs
 TraceResult Sweep::finish() {
   if (!started_) start(formats::RecordBatch{});
   TraceResult result;
-  for (const auto& simulator : simulators_) {
-    result.rows.push_back(simulator->result());
-    if (per_level_) simulator->append_level_rows(result.level_rows);
+  for (std::size_t s = 0; s < simulators_.size(); ++s) {
+    ResultRow row = simulators_[s]->result();
+    row.split_level = plan_->first(s);
+    result.rows.push_back(std::move(row));
+    if (per_level_) simulators_[s]->append_level_rows(result.level_rows);
+  }
+  if (per_frame_) {
+    for (std::size_t s = 0; s < simulators_.size(); ++s) {
+      if (!open_frames_[s].open) change_frame(s, nullptr);  // a trace without records
+      change_frame(s, nullptr);  // closes the last frame
+    }
+    // Every simulator saw the same frames: frame by frame, configurations in order.
+    const std::size_t frames = frame_rows_.empty() ? 0 : frame_rows_[0].size();
+    for (std::size_t f = 0; f < frames; ++f) {
+      for (const auto& rows : frame_rows_) result.frame_rows.push_back(rows[f]);
+    }
   }
   // Every part sees every record; part 0's count is the trace's.
   const std::uint64_t other_stream_records = parts_.empty() ? 0 : parts_[0].other_stream_records;
   result.other_stream_records = other_stream_records;
-  result.notes = notes_;
+  result.notes = plan_->notes();
   if (other_stream_records > 0) {
-    result.notes.push_back(fmt::format(
-        "{}: {} records tagged p or t (primitive lists, triangles) counted apart, not simulated "
-        "by the node caches",
-        context_.trace, other_stream_records));
+    result.notes.push_back(other_streams_note(context_.trace, other_stream_records));
   }
   return result;
 }

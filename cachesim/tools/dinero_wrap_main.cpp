@@ -71,7 +71,7 @@ int run_subcommand(int argc, char** argv) {
     std::vector<ResultRow> rows;
     std::vector<std::string> notes;
     for (const std::string& trace : line.traces) {
-      TraceResult result = wrap::wrap_run(trace, configs, trace, sweep.per_level, options);
+      TraceResult result = wrap::wrap_run(trace, configs, trace, sweep.per_level, options, sweep.per_frame);
       rows.insert(rows.end(), result.rows.begin(), result.rows.end());
       notes.insert(notes.end(), result.notes.begin(), result.notes.end());
     }

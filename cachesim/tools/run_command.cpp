@@ -35,6 +35,7 @@ int run_command(int argc, char** argv) {
     const std::vector<NodeCacheConfig> configs = expand_configurations(options);
     std::vector<ResultRow> rows;
     std::vector<LevelRow> levels;
+    std::vector<FrameRow> frames;
     std::vector<std::string> notes;
     // Long runs show progress when standard error is a terminal.
     const bool show_progress = ::isatty(STDERR_FILENO) != 0;
@@ -53,13 +54,15 @@ int run_command(int argc, char** argv) {
     for (const std::string& trace : line.traces) {
       current_trace = trace;
       auto reader = formats::TraceReader::open(trace, reader_options(line));
-      TraceResult result = run_sweep(*reader, configs, trace, options.per_level, progress);
+      TraceResult result =
+          run_sweep(*reader, configs, trace, options.per_level, progress, options.per_frame);
       if (show_progress) std::fputs("\r\033[K", stderr);
       rows.insert(rows.end(), result.rows.begin(), result.rows.end());
       levels.insert(levels.end(), result.level_rows.begin(), result.level_rows.end());
+      frames.insert(frames.end(), result.frame_rows.begin(), result.frame_rows.end());
       notes.insert(notes.end(), result.notes.begin(), result.notes.end());
     }
-    print_report(rows, levels, notes, line);
+    print_report(rows, levels, notes, line, frames);
     return 0;
   } catch (const formats::UsageError& error) {
     std::fprintf(stderr, "cachesim run: %s\n", error.what());

@@ -150,13 +150,20 @@ TEST(Sweep, HighLevelsThatDoNotFitAreAnErrorNamingTheSizes) {
 }
 
 TEST(Sweep, AutoSplitLevelFromMarkers) {
+  // The shared K-sizing, counting bytes of contiguous levels.
+  auto auto_split_level = [](std::vector<std::uint64_t> nodes_per_level, std::uint64_t node_size,
+                             std::uint64_t high_size) {
+    formats::LevelPlacement placement;
+    placement.node_size = node_size;
+    return formats::split_level_for_capacity(nodes_per_level, placement, high_size);
+  };
   EXPECT_EQ(auto_split_level({1, 2, 4, 8}, 8, 32), 2u);   // 8 + 16 = 24 <= 32 < 56
   EXPECT_EQ(auto_split_level({1, 2, 4, 8}, 8, 56), 3u);
   EXPECT_EQ(auto_split_level({1, 2, 4, 8}, 8, 4096), 4u);
   EXPECT_EQ(auto_split_level({1, 2}, 8, 4), 0u);
 
   TraceContext context = levels_context();
-  context.layout_split_level = 3;
+  context.layout.split_level = 3;
   const TraceResult result = run({split(HighPolicy::Retain, std::nullopt)},
                                  {batch_of(traversal(), 0, {1, 2, 4, 8})}, context);
   EXPECT_EQ(result.rows[0].split_level, 2u);
