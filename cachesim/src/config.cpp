@@ -190,7 +190,8 @@ void SplitLevelPlan::begin_frame(const formats::FrameMarker* marker) {
   // frame), else the header's.
   std::optional<std::uint32_t> layout_level = context_.layout.split_level;
   const char* where = "in the trace header";
-  if (marker != nullptr && marker->layout_split_level()) {
+  if (marker != nullptr && marker->layout_split_level() &&
+      marker->layout_split_level() != layout_level) {
     layout_level = marker->layout_split_level();
     where = "in the animation-frame markers";
   }
