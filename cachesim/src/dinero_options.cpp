@@ -306,9 +306,9 @@ CacheConfig cache_config(const DineroOptions& o, int idu, int lev) {
   c.sub_block_size = o.sub_block_size[idu][lev];
   c.assoc = o.assoc[idu][lev];
   switch (o.replacement[idu][lev]) {
-    case 'f': c.replacement = Replacement::Fifo; break;
-    case 'r': c.replacement = Replacement::Random; break;
-    default: c.replacement = Replacement::Lru; break;
+    case 'f': c.replacement = ReplacementPolicy::Fifo; break;
+    case 'r': c.replacement = ReplacementPolicy::Random; break;
+    default: c.replacement = ReplacementPolicy::Lru; break;
   }
   switch (o.write_allocate[idu][lev]) {
     case 'n': c.write_allocate = WriteAllocate::Never; break;

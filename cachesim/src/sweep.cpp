@@ -125,7 +125,7 @@ class Simulator final : public ConfigSimulator {
         context_(context),
         split_level_(split_level),
         retained_(kRetain ? config.high_size / config.block : 0) {
-    const NodeCacheGeometry low{kSplit ? config.low_size : config.size, config.block, config.assoc,
+    const CacheGeometry low{kSplit ? config.low_size : config.size, config.block, config.assoc,
                                 config.policy};
     block_shift_ = static_cast<unsigned>(std::countr_zero(config.block));
     // Direct-mapped caches (and the retain filter) live in one flat table:
@@ -141,7 +141,7 @@ class Simulator final : public ConfigSimulator {
     if constexpr (kRetain) {
       high_sets = std::bit_ceil(std::max<std::uint64_t>(64, 4 * (config.high_size / config.block)));
     } else if constexpr (kSplit) {
-      const NodeCacheGeometry high{config.high_size, config.block, config.high_assoc,
+      const CacheGeometry high{config.high_size, config.block, config.high_assoc,
                                    config.policy};
       if (high.assoc == 1) {
         high_sets = high.size / high.block;

@@ -59,7 +59,7 @@ struct Job {
   std::size_t config = 0;
   Role role = Role::Single;
   std::uint32_t split_level = 0;
-  NodeCacheGeometry geometry;
+  CacheGeometry geometry;
   std::uint64_t refs = 0;
   std::uint64_t fetches = 0;
   std::uint64_t misses = 0;  // HighFrames: the loads, summed over frames
@@ -133,7 +133,7 @@ class RunningJob {
  private:
   void start() {
     std::vector<std::string> argv = options_.dinero;
-    NodeCacheGeometry geometry = job_.geometry;
+    CacheGeometry geometry = job_.geometry;
     for (auto& argument : dinero_cache_arguments(context_.form, geometry)) {
       argv.push_back(std::move(argument));
     }

@@ -7,37 +7,19 @@
 
 #include <cstdint>
 #include <optional>
-#include <string_view>
 #include <vector>
 
+#include "nodetrace/cachesim/cache_geometry.hpp"
+
 namespace nodetrace::cachesim {
-
-enum class ReplacementPolicy : std::uint8_t { Lru, Fifo, Random };
-
-std::string_view policy_name(ReplacementPolicy policy);  // lru, fifo, random
-std::optional<ReplacementPolicy> parse_policy_name(std::string_view name);
-// Dinero IV's -l1-urepl letter: l, f, r.
-char dinero_policy_letter(ReplacementPolicy policy);
-
-struct NodeCacheGeometry {
-  std::uint64_t size = 8192;  // bytes, a power of two
-  std::uint32_t block = 8;    // bytes, a power of two
-  std::uint32_t assoc = 1;    // ways; size / block is fully associative
-  ReplacementPolicy policy = ReplacementPolicy::Lru;
-};
-
-// Throws formats::UsageError naming `what` (e.g. "low-level cache") when the
-// geometry cannot be built: sizes not powers of two, block larger than the
-// cache, associativity not dividing the blocks into a power-of-two of sets.
-void validate_geometry(const NodeCacheGeometry& geometry, std::string_view what);
 
 class NodeCache {
  public:
   static constexpr std::uint64_t kInvalid = ~std::uint64_t{0};
 
-  explicit NodeCache(const NodeCacheGeometry& geometry, std::uint64_t seed = 0x5eed);
+  explicit NodeCache(const CacheGeometry& geometry, std::uint64_t seed = 0x5eed);
 
-  const NodeCacheGeometry& geometry() const { return geometry_; }
+  const CacheGeometry& geometry() const { return geometry_; }
   unsigned block_shift() const { return block_shift_; }
   std::uint64_t blocks() const { return tags_.size(); }
 
@@ -66,7 +48,7 @@ class NodeCache {
  private:
   bool access_associative(std::uint64_t block);
 
-  NodeCacheGeometry geometry_;
+  CacheGeometry geometry_;
   unsigned block_shift_ = 0;
   std::uint32_t assoc_ = 1;
   std::uint64_t set_mask_ = 0;

@@ -82,7 +82,7 @@ struct WrapOptions {
 // The Dinero IV arguments of a cache: -informat, -l1-usize, -l1-ubsize,
 // -l1-uassoc, -l1-urepl.
 std::vector<std::string> dinero_cache_arguments(formats::RecordForm form,
-                                                const NodeCacheGeometry& geometry);
+                                                const CacheGeometry& geometry);
 
 // `cachesim run` answered by Dinero IV for the trace at `path`: read once per
 // group of at most `jobs` processes ("-", standard input, is read once, so
