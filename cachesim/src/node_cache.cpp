@@ -12,14 +12,12 @@ namespace nodetrace::cachesim {
 NodeCache::NodeCache(const CacheGeometry& geometry, std::uint64_t seed)
     : geometry_(geometry), random_state_(seed | 1) {
   validate_geometry(geometry, "cache");
-  block_shift_ = static_cast<unsigned>(std::countr_zero(geometry.block));
   assoc_ = geometry.assoc;
   const std::uint64_t blocks = geometry.size / geometry.block;
   set_mask_ = blocks / assoc_ - 1;
   tags_.assign(blocks, kInvalid);
 }
 
-void NodeCache::flush() { std::fill(tags_.begin(), tags_.end(), kInvalid); }
 
 bool NodeCache::access_associative(std::uint64_t block) {
   std::uint64_t* const ways = tags_.data() + (block & set_mask_) * assoc_;

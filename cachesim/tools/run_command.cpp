@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "commands.hpp"
+#include "exit_status.hpp"
 #include "nodetrace/cachesim/report.hpp"
 #include "nodetrace/cachesim/sweep.hpp"
 #include "nodetrace/formats/error.hpp"
@@ -30,7 +31,7 @@ int run_command(int argc, char** argv) {
   } catch (const CLI::ParseError& error) {
     return app.exit(error) == 0 ? 0 : 2;  // CLI11 has its own codes; ours: 2
   }
-  try {
+  return exit_status_of("cachesim run", [&] {
     const SweepOptions options = sweep_options(line);
     const std::vector<NodeCacheConfig> configs = expand_configurations(options);
     std::vector<ResultRow> rows;
@@ -64,16 +65,7 @@ int run_command(int argc, char** argv) {
     }
     print_report(rows, levels, notes, line, frames);
     return 0;
-  } catch (const formats::UsageError& error) {
-    std::fprintf(stderr, "cachesim run: %s\n", error.what());
-    return 2;
-  } catch (const formats::FormatError& error) {
-    std::fprintf(stderr, "cachesim run: %s\n", error.what());
-    return 1;
-  } catch (const formats::IoError& error) {
-    std::fprintf(stderr, "cachesim run: %s\n", error.what());
-    return 1;
-  }
+  });
 }
 
 }  // namespace nodetrace::cachesim::cli

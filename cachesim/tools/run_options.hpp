@@ -104,10 +104,10 @@ std::vector<T> parse_list(const std::vector<std::string>& texts, const char* opt
 inline SweepOptions sweep_options(const RunCommandLine& line) {
   SweepOptions options;
   options.sizes.clear();
-  for (const auto& text : line.sizes) options.sizes.push_back(formats::parse_byte_size(text));
+  for (const auto& text : line.sizes) options.sizes.push_back(formats::parse_byte_size(text, "--size"));
   options.blocks.clear();
   for (const auto& text : line.blocks) {
-    const std::uint64_t block = formats::parse_byte_size(text);
+    const std::uint64_t block = formats::parse_byte_size(text, "--block");
     if (block > (1u << 30)) throw formats::UsageError(fmt::format("--block {} is too large", text));
     options.blocks.push_back(static_cast<std::uint32_t>(block));
   }
@@ -131,8 +131,8 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
     }
     options.split_levels.push_back(level);
   }
-  if (!line.high_size.empty()) options.high_size = formats::parse_byte_size(line.high_size);
-  if (!line.low_size.empty()) options.low_size = formats::parse_byte_size(line.low_size);
+  if (!line.high_size.empty()) options.high_size = formats::parse_byte_size(line.high_size, "--high-size");
+  if (!line.low_size.empty()) options.low_size = formats::parse_byte_size(line.low_size, "--low-size");
   if (!line.high_assoc.empty()) options.high_assoc = parse_assoc(line.high_assoc);
   options.count_loads = line.count_loads;
   options.per_level = line.per_level;

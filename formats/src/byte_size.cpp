@@ -34,4 +34,12 @@ std::uint64_t parse_byte_size(std::string_view text) {
   return value * scale;
 }
 
+std::uint64_t parse_byte_size(std::string_view text, std::string_view option) {
+  try {
+    return parse_byte_size(text);
+  } catch (const UsageError& error) {
+    throw UsageError(fmt::format("{}: {}", option, error.what()));
+  }
+}
+
 }  // namespace nodetrace::formats

@@ -193,6 +193,16 @@ TEST(SweepCommand, AutoSplitLevelOnDflWithLargerBlocksFits) {
       << result.out;
 }
 
+TEST(SweepCommand, BadSizeNamesTheOption) {
+  for (const std::string option : {"--size", "--block", "--high-size", "--low-size"}) {
+    const auto result = run_command(cachesim() + " run - --scheme split " + option + " 3x", "");
+    EXPECT_EQ(result.exit_code, 2) << option;
+    EXPECT_NE(result.err.find("cachesim run: " + option + ": '3x' is not a size"),
+              std::string::npos)
+        << result.err;
+  }
+}
+
 TEST(SweepCommand, FitsErrorNamesTheSizes) {
   testing::TempDir dir;
   write_two_frame_container(dir / "tree.din.zst", 3);

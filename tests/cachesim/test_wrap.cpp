@@ -247,6 +247,13 @@ TEST(WrapExec, PrintsDineroOutputUnchanged) {
   EXPECT_EQ(result.out, testing::read_file(shared / "dinero-golden" / "kd1-d8k-b8-a1.out"));
 }
 
+TEST(WrapExec, TakesNoTagsAreLevelsOption) {
+  // exec feeds addresses only, so a tag option would do nothing.
+  const auto result = run_command(quoted(program("dinero-wrap")) + " exec - --tags-are-levels " +
+                                  stand_in() + " -- -l1-dsize 8k -l1-dbsize 8");
+  EXPECT_EQ(result.exit_code, 2);
+}
+
 TEST(WrapRun, RealDineroIVWhenOnPath) {
   NODETRACE_SHARED_OR_SKIP(shared);
   const auto which = run_command("command -v dineroIV");

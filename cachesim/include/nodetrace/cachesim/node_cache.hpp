@@ -19,11 +19,7 @@ class NodeCache {
 
   explicit NodeCache(const CacheGeometry& geometry, std::uint64_t seed = 0x5eed);
 
-  const CacheGeometry& geometry() const { return geometry_; }
-  unsigned block_shift() const { return block_shift_; }
-  std::uint64_t blocks() const { return tags_.size(); }
-
-  // References block number `block` (address >> block_shift()); returns true
+  // References block number `block` (address >> log2(block size)); returns true
   // on a miss, after which the block is resident.
   bool access(std::uint64_t block) {
     if (assoc_ == 1) {
@@ -35,21 +31,13 @@ class NodeCache {
     return access_associative(block);
   }
 
-  // For callers' own direct-mapped fast loops: the tag of set s is
-  // direct_tags()[s & set_mask()] (one way per set only).
-  bool direct_mapped() const { return assoc_ == 1; }
-  std::uint64_t* direct_tags() { return tags_.data(); }
-  std::uint64_t set_mask() const { return set_mask_; }
-
   // Removes `block` if resident (Dinero IV's invalidate records).
   void invalidate(std::uint64_t block);
-  void flush();
 
  private:
   bool access_associative(std::uint64_t block);
 
   CacheGeometry geometry_;
-  unsigned block_shift_ = 0;
   std::uint32_t assoc_ = 1;
   std::uint64_t set_mask_ = 0;
   // sets * assoc block numbers. For LRU and FIFO each set is ordered most

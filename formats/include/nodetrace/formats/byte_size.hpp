@@ -12,5 +12,7 @@ namespace nodetrace::formats {
 // Throws UsageError saying what was expected for anything else (zero,
 // negative, overflow, other suffixes).
 std::uint64_t parse_byte_size(std::string_view text);
+// The same, the error starting with the option's name ("--size: '3x' is ...").
+std::uint64_t parse_byte_size(std::string_view text, std::string_view option);
 
 }  // namespace nodetrace::formats
