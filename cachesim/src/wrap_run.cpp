@@ -242,7 +242,7 @@ TraceResult wrap_run(const std::string& path, const std::vector<NodeCacheConfig>
       for (std::size_t r = 0; r < batch.records.size(); ++r) {
         const Record& record = batch.records[r];
         const Tag tag = record.tag;
-        if (tag == formats::kTagPrimitiveList || tag == formats::kTagTriangle) {
+        if (is_other_stream(tag)) {
           other_stream_records += first_pass;
           continue;
         }

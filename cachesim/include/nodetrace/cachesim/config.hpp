@@ -78,6 +78,11 @@ struct TraceContext {
 // Fills a TraceContext from an opened reader.
 TraceContext trace_context(const formats::TraceReader& reader, std::string trace_column);
 
+// Records of the other streams (tags p, t): counted apart, never simulated.
+constexpr bool is_other_stream(formats::Tag tag) {
+  return tag == formats::kTagPrimitiveList || tag == formats::kTagTriangle;
+}
+
 // Whether a configuration list routes records by level (has a split one).
 bool has_split(const std::vector<NodeCacheConfig>& configs);
 
