@@ -10,6 +10,7 @@
 
 #include "commands.hpp"
 #include "exit_status.hpp"
+#include "nodetrace/cachesim/curve.hpp"
 #include "nodetrace/cachesim/report.hpp"
 #include "nodetrace/cachesim/sweep.hpp"
 #include "nodetrace/formats/error.hpp"
@@ -17,6 +18,33 @@
 #include "run_options.hpp"
 
 namespace nodetrace::cachesim::cli {
+
+namespace {
+
+int curve_command(const RunCommandLine& line, const SweepOptions& options) {
+  if (options.policies.size() != 1 || options.split_levels.size() != 1) {
+    throw formats::UsageError("--curve takes one --policy and one --split-level");
+  }
+  CurveOptions curve;
+  curve.blocks = options.blocks;
+  curve.assocs = options.assocs;
+  curve.schemes = options.schemes;
+  curve.policy = options.policies[0];
+  curve.split_level = options.split_levels[0];
+  curve.high_size = options.high_size;
+  std::vector<CurvePoint> points;
+  for (const std::string& trace : line.traces) {
+    auto reader = formats::TraceReader::open(trace, reader_options(line));
+    const std::vector<CurvePoint> more = run_curve(*reader, curve, trace);
+    points.insert(points.end(), more.begin(), more.end());
+  }
+  const std::string csv = format_curve(points, curve.policy);
+  std::fwrite(csv.data(), 1, csv.size(), stdout);
+  std::fflush(stdout);
+  return 0;
+}
+
+}  // namespace
 
 int run_command(int argc, char** argv) {
   CLI::App app{
@@ -33,6 +61,7 @@ int run_command(int argc, char** argv) {
   }
   return exit_status_of("cachesim run", [&] {
     const SweepOptions options = sweep_options(line);
+    if (line.curve) return curve_command(line, options);
     const std::vector<NodeCacheConfig> configs = expand_configurations(options);
     std::vector<ResultRow> rows;
     std::vector<LevelRow> levels;
