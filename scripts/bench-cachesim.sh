@@ -74,7 +74,8 @@ seconds() {
 wall_and_cpu() {
   local out
   out=$(mktemp)
-  /usr/bin/time -f '%e %U %S' -o "$out" "$@" >/dev/null
+  # Notes on standard error are not timing output.
+  /usr/bin/time -f '%e %U %S' -o "$out" "$@" >/dev/null 2>/dev/null
   awk '{ printf "%.3f %.3f\n", $1, $2 + $3 }' "$out"
   rm -f "$out"
 }
