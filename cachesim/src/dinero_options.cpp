@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "nodetrace/cachesim/dinero.hpp"
+#include "nodetrace/formats/byte_size.hpp"
 #include "nodetrace/formats/error.hpp"
 
 namespace nodetrace::cachesim {
@@ -56,50 +57,17 @@ std::optional<Prefixed> level_prefix(std::string_view opt) {
 // Dinero's argscale_uint: decimal digits, an optional k/m/g (either case)
 // suffix; the value is kept in 32 bits as Dinero's unsigned int is.
 bool scaled_uint(std::string_view arg, std::uint32_t& value) {
-  if (arg.empty() || !std::isdigit(static_cast<unsigned char>(arg[0]))) return false;
-  std::uint64_t x = 0;
-  std::size_t i = 0;
-  for (; i < arg.size() && std::isdigit(static_cast<unsigned char>(arg[i])); ++i) {
-    if (x > (~std::uint64_t{0} - 9) / 10) return false;
-    x = x * 10 + static_cast<std::uint64_t>(arg[i] - '0');
-  }
-  int shift = 0;
-  if (i < arg.size()) {
-    switch (arg[i]) {
-      case 'k': case 'K': shift = 10; break;
-      case 'm': case 'M': shift = 20; break;
-      case 'g': case 'G': shift = 30; break;
-      default: return false;
-    }
-    if (i + 1 != arg.size()) return false;
-    if ((x >> (64 - shift)) != 0) return false;
-    x <<= shift;
-  }
-  value = static_cast<std::uint32_t>(x);
+  const std::optional<std::uint64_t> x = formats::parse_scaled_number(arg);
+  if (!x) return false;
+  value = static_cast<std::uint32_t>(*x);
   return true;
 }
 
 // Dinero's argscale_uintd (kept as a double there; exact integers here).
 bool scaled_count(std::string_view arg, std::uint64_t& value) {
-  std::uint64_t x = 0;
-  std::size_t i = 0;
-  for (; i < arg.size() && std::isdigit(static_cast<unsigned char>(arg[i])); ++i) {
-    if (x > (~std::uint64_t{0} - 9) / 10) return false;
-    x = x * 10 + static_cast<std::uint64_t>(arg[i] - '0');
-  }
-  if (i == 0) return false;
-  if (i < arg.size()) {
-    int shift = 0;
-    switch (arg[i]) {
-      case 'k': case 'K': shift = 10; break;
-      case 'm': case 'M': shift = 20; break;
-      case 'g': case 'G': shift = 30; break;
-      default: return false;
-    }
-    if (i + 1 != arg.size() || (x >> (64 - shift)) != 0) return false;
-    x <<= shift;
-  }
-  value = x;
+  const std::optional<std::uint64_t> x = formats::parse_scaled_number(arg);
+  if (!x) return false;
+  value = *x;
   return true;
 }
 
@@ -306,9 +274,9 @@ CacheConfig cache_config(const DineroOptions& o, int idu, int lev) {
   c.sub_block_size = o.sub_block_size[idu][lev];
   c.assoc = o.assoc[idu][lev];
   switch (o.replacement[idu][lev]) {
-    case 'f': c.replacement = Replacement::Fifo; break;
-    case 'r': c.replacement = Replacement::Random; break;
-    default: c.replacement = Replacement::Lru; break;
+    case 'f': c.replacement = ReplacementPolicy::Fifo; break;
+    case 'r': c.replacement = ReplacementPolicy::Random; break;
+    default: c.replacement = ReplacementPolicy::Lru; break;
   }
   switch (o.write_allocate[idu][lev]) {
     case 'n': c.write_allocate = WriteAllocate::Never; break;

@@ -30,14 +30,10 @@ const std::optional<CacheConfig>& level_cache(const LevelConfig& level, int kind
   }
 }
 
+// The shared geometry checks, then what only Dinero's caches have.
 void validate_cache(const CacheConfig& c, const std::string& name) {
+  validate_geometry(c.geometry(), name);
   auto fail = [&](const std::string& what) { throw formats::UsageError(name + ": " + what); };
-  if (c.size == 0 || !std::has_single_bit(c.size)) {
-    fail(fmt::format("size {} is not a power of two", c.size));
-  }
-  if (c.block_size == 0 || !std::has_single_bit(c.block_size)) {
-    fail(fmt::format("block size {} is not a power of two", c.block_size));
-  }
   const std::uint32_t sub = c.effective_sub_block_size();
   if (!std::has_single_bit(sub)) fail(fmt::format("sub-block size {} is not a power of two", sub));
   if (sub > c.block_size) {
@@ -47,20 +43,9 @@ void validate_cache(const CacheConfig& c, const std::string& name) {
     fail(fmt::format("{} sub-blocks per block; at most 32 are allowed", c.block_size / sub));
   }
   if (sub > 32768) fail(fmt::format("sub-block size {} is above 32768", sub));
-  if (c.assoc == 0) fail("associativity must be at least 1");
-  const std::uint64_t blocks = c.size / c.block_size;
-  if (c.size < c.block_size) {
-    fail(fmt::format("size {} is smaller than the block size {}", c.size, c.block_size));
-  }
-  if (c.assoc > blocks) {
-    fail(fmt::format("associativity {} is above the {} blocks of the cache", c.assoc, blocks));
-  }
-  if (c.size % (std::uint64_t{c.block_size} * c.assoc) != 0) {
-    fail(fmt::format("size {} is not a multiple of block size {} x associativity {}", c.size,
-                     c.block_size, c.assoc));
-  }
   // Each block costs a few dozen bytes of simulator memory (twice with ccc).
   constexpr std::uint64_t kMaxBlocks = std::uint64_t{1} << 26;
+  const std::uint64_t blocks = c.size / c.block_size;
   if (blocks > kMaxBlocks) {
     fail(fmt::format("{} blocks are more than this simulator holds (at most {})", blocks, kMaxBlocks));
   }

@@ -131,7 +131,7 @@ void Cache::unindex_node(std::uint32_t stack, std::uint32_t node) {
 std::uint32_t Cache::replace(std::uint32_t stack, std::uint64_t block, std::uint32_t hit) {
   Stack& s = stacks_[stack];
   if (hit != kNone) {
-    if (config_.replacement == Replacement::Lru) move_to_top(stack, hit);
+    if (config_.replacement == ReplacementPolicy::Lru) move_to_top(stack, hit);
     return hit;
   }
   const std::uint32_t node = nodes_[s.top].up;
@@ -139,7 +139,7 @@ std::uint32_t Cache::replace(std::uint32_t stack, std::uint64_t block, std::uint
   nodes_[node].block = block;
   index_node(stack, node);
   s.top = node;
-  if (config_.replacement == Replacement::Random && nodes_[nodes_[node].up].valid != 0) {
+  if (config_.replacement == ReplacementPolicy::Random && nodes_[nodes_[node].up].valid != 0) {
     const std::uint32_t older = s.size - 1;
     move_to_bottom(stack, nth_from_top(stack, 2 + static_cast<std::uint32_t>(random_() % older)));
   }

@@ -9,57 +9,15 @@
 
 namespace nodetrace::cachesim {
 
-std::string_view policy_name(ReplacementPolicy policy) {
-  switch (policy) {
-    case ReplacementPolicy::Lru: return "lru";
-    case ReplacementPolicy::Fifo: return "fifo";
-    case ReplacementPolicy::Random: return "random";
-  }
-  return "lru";
-}
-
-std::optional<ReplacementPolicy> parse_policy_name(std::string_view name) {
-  if (name == "lru" || name == "l") return ReplacementPolicy::Lru;
-  if (name == "fifo" || name == "f") return ReplacementPolicy::Fifo;
-  if (name == "random" || name == "r") return ReplacementPolicy::Random;
-  return std::nullopt;
-}
-
-char dinero_policy_letter(ReplacementPolicy policy) { return policy_name(policy)[0]; }
-
-void validate_geometry(const NodeCacheGeometry& geometry, std::string_view what) {
-  using formats::UsageError;
-  if (geometry.size == 0 || !std::has_single_bit(geometry.size)) {
-    throw UsageError(fmt::format("{}: size {} is not a power of two", what, geometry.size));
-  }
-  if (geometry.block == 0 || !std::has_single_bit(geometry.block)) {
-    throw UsageError(fmt::format("{}: block size {} is not a power of two", what, geometry.block));
-  }
-  if (geometry.block > geometry.size) {
-    throw UsageError(fmt::format("{}: block size {} is larger than the cache size {}", what,
-                                 geometry.block, geometry.size));
-  }
-  const std::uint64_t blocks = geometry.size / geometry.block;
-  if (geometry.assoc == 0 || geometry.assoc > blocks || blocks % geometry.assoc != 0 ||
-      !std::has_single_bit(blocks / geometry.assoc)) {
-    throw UsageError(fmt::format(
-        "{}: associativity {} does not divide the {} blocks of {} bytes into a power-of-two "
-        "number of sets",
-        what, geometry.assoc, blocks, geometry.size));
-  }
-}
-
-NodeCache::NodeCache(const NodeCacheGeometry& geometry, std::uint64_t seed)
+NodeCache::NodeCache(const CacheGeometry& geometry, std::uint64_t seed)
     : geometry_(geometry), random_state_(seed | 1) {
   validate_geometry(geometry, "cache");
-  block_shift_ = static_cast<unsigned>(std::countr_zero(geometry.block));
   assoc_ = geometry.assoc;
   const std::uint64_t blocks = geometry.size / geometry.block;
   set_mask_ = blocks / assoc_ - 1;
   tags_.assign(blocks, kInvalid);
 }
 
-void NodeCache::flush() { std::fill(tags_.begin(), tags_.end(), kInvalid); }
 
 bool NodeCache::access_associative(std::uint64_t block) {
   std::uint64_t* const ways = tags_.data() + (block & set_mask_) * assoc_;

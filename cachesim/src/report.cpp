@@ -29,6 +29,15 @@ const std::vector<std::string>& level_report_columns() {
   return columns;
 }
 
+const std::vector<std::string>& frame_report_columns() {
+  static const std::vector<std::string> columns = [] {
+    std::vector<std::string> with_frame = report_columns();
+    with_frame.insert(with_frame.begin() + 1, "frame");
+    return with_frame;
+  }();
+  return columns;
+}
+
 std::string miss_ratio_text(std::uint64_t misses, std::uint64_t fetches) {
   if (fetches == 0) return "0.000000";
   // Rounded half up: floor((2 * 10^6 * misses + fetches) / (2 * fetches)).
@@ -135,7 +144,13 @@ std::string format_cells(const std::vector<std::string>& columns,
 
 bool is_level_text_column(std::size_t column) { return column == 0 || column == 1; }
 
-std::string format_json_object(const std::string& rows_json, const std::string& levels_json) {
+// The main table's text columns, one place further after `frame`.
+bool is_frame_text_column(std::size_t column) {
+  return column == 0 || (column > 1 && is_text_column(column - 1));
+}
+
+// {"key": table, ...} of JSON arrays, each indented one level.
+std::string format_json_object(const std::vector<std::pair<std::string, std::string>>& tables) {
   auto indent = [](const std::string& text) {
     std::string out;
     for (std::size_t i = 0; i < text.size(); ++i) {
@@ -144,11 +159,14 @@ std::string format_json_object(const std::string& rows_json, const std::string& 
     }
     return out;
   };
-  std::string rows_part = indent(rows_json);
-  std::string levels_part = indent(levels_json);
-  rows_part.pop_back();
-  levels_part.pop_back();
-  return "{\n  \"results\": " + rows_part + ",\n  \"levels\": " + levels_part + "\n}\n";
+  std::string out = "{";
+  for (std::size_t t = 0; t < tables.size(); ++t) {
+    std::string part = indent(tables[t].second);
+    part.pop_back();
+    out += t ? ",\n  \"" : "\n  \"";
+    out += tables[t].first + "\": " + part;
+  }
+  return out + "\n}\n";
 }
 
 }  // namespace
@@ -190,6 +208,12 @@ std::vector<std::string> level_report_cells(const LevelRow& row) {
           std::to_string(row.misses)};
 }
 
+std::vector<std::string> frame_report_cells(const FrameRow& row) {
+  std::vector<std::string> cells = report_cells(row.row);
+  cells.insert(cells.begin() + 1, std::to_string(row.frame));
+  return cells;
+}
+
 std::string format_rows(const std::vector<ResultRow>& rows, ReportFormat format) {
   std::vector<std::vector<std::string>> cells;
   cells.reserve(rows.size());
@@ -204,14 +228,28 @@ std::string format_level_rows(const std::vector<LevelRow>& rows, ReportFormat fo
   return format_cells(level_report_columns(), cells, format, is_level_text_column);
 }
 
+std::string format_frame_rows(const std::vector<FrameRow>& rows, ReportFormat format) {
+  std::vector<std::vector<std::string>> cells;
+  cells.reserve(rows.size());
+  for (const FrameRow& row : rows) cells.push_back(frame_report_cells(row));
+  return format_cells(frame_report_columns(), cells, format, is_frame_text_column);
+}
+
 std::string format_report(const std::vector<ResultRow>& rows,
                           const std::vector<LevelRow>& level_rows, bool per_level,
-                          ReportFormat format) {
-  const std::string main_table = format_rows(rows, format);
-  if (!per_level) return main_table;
-  const std::string level_table = format_level_rows(level_rows, format);
-  if (format == ReportFormat::Json) return format_json_object(main_table, level_table);
-  return main_table + "\n" + level_table;
+                          ReportFormat format, const std::vector<FrameRow>& frame_rows,
+                          bool per_frame) {
+  std::vector<std::pair<std::string, std::string>> tables{{"results", format_rows(rows, format)}};
+  if (per_level) tables.emplace_back("levels", format_level_rows(level_rows, format));
+  if (per_frame) tables.emplace_back("frames", format_frame_rows(frame_rows, format));
+  if (tables.size() == 1) return tables[0].second;
+  if (format == ReportFormat::Json) return format_json_object(tables);
+  std::string out;
+  for (std::size_t t = 0; t < tables.size(); ++t) {
+    if (t) out += "\n";
+    out += tables[t].second;
+  }
+  return out;
 }
 
 }  // namespace nodetrace::cachesim

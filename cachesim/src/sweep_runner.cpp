@@ -14,8 +14,8 @@ namespace nodetrace::cachesim {
 
 TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheConfig>& configs,
                       const std::string& trace_column, bool per_level,
-                      const SweepProgress& progress) {
-  Sweep sweep(configs, trace_context(reader, trace_column), per_level);
+                      const SweepProgress& progress, bool per_frame) {
+  Sweep sweep(configs, trace_context(reader, trace_column), per_level, per_frame);
   const std::size_t cores = std::max(1u, std::thread::hardware_concurrency());
   // The reader decodes on one thread per core too: half the cores simulate
   // (measured on 2 cores: a second simulating thread was no faster).
@@ -78,8 +78,8 @@ TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheC
       if (!more) break;
       const std::uint64_t records_read =
           batches[index].first_record + batches[index].records.size();
-      // The first batch starts the sweep (K = auto reads its marker) before
-      // any worker runs.
+      // The first batch starts the sweep before any worker runs; every batch
+      // advances K per animation frame here, in trace order.
       sweep.begin_batch(batches[index]);
       if (workers.empty()) {
         full_batches.resize(sweep.part_count());

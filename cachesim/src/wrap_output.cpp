@@ -144,7 +144,7 @@ std::vector<DineroCacheStats> parse_dinero_output(std::string_view output) {
 }
 
 std::vector<std::string> dinero_cache_arguments(formats::RecordForm form,
-                                                const NodeCacheGeometry& geometry) {
+                                                const CacheGeometry& geometry) {
   // Binary traces are fed as extended din text, which keeps address and size.
   const char informat = form == formats::RecordForm::Din ? 'd' : 'D';
   return {"-informat", std::string(1, informat),

@@ -59,7 +59,7 @@ struct Job {
   std::size_t config = 0;
   Role role = Role::Single;
   std::uint32_t split_level = 0;
-  NodeCacheGeometry geometry;
+  CacheGeometry geometry;
   std::uint64_t refs = 0;
   std::uint64_t fetches = 0;
   std::uint64_t misses = 0;  // HighFrames: the loads, summed over frames
@@ -133,7 +133,7 @@ class RunningJob {
  private:
   void start() {
     std::vector<std::string> argv = options_.dinero;
-    NodeCacheGeometry geometry = job_.geometry;
+    CacheGeometry geometry = job_.geometry;
     for (auto& argument : dinero_cache_arguments(context_.form, geometry)) {
       argv.push_back(std::move(argument));
     }
@@ -162,44 +162,38 @@ unsigned jobs_at_a_time(const WrapOptions& options) {
 }  // namespace
 
 TraceResult wrap_run(const std::string& path, const std::vector<NodeCacheConfig>& configs,
-                     const std::string& trace_column, bool per_level, const WrapOptions& options) {
+                     const std::string& trace_column, bool per_level, const WrapOptions& options,
+                     bool per_frame) {
   if (per_level) {
     throw formats::UsageError(
         "--per-level: Dinero IV reports no counts per node level; use cachesim run for the "
         "per-level table");
+  }
+  if (per_frame) {
+    throw formats::UsageError(
+        "--per-frame: Dinero IV reports totals only, and its low caches are not flushed between "
+        "animation frames; use cachesim run for the per-frame table");
   }
   // Planning: the header and the first batch (its marker gives K = auto).
   auto reader = formats::TraceReader::open(path, options.reader);
   const TraceContext context = trace_context(*reader, trace_column);
   RecordBatch first_batch;
   const bool has_records = reader->next(first_batch);
-  const bool needs_levels = std::any_of(configs.begin(), configs.end(), [](const auto& config) {
-    return config.scheme == Scheme::Split;
-  });
-  if (needs_levels && !context.tags_are_levels) {
-    throw formats::UsageError(fmt::format(
-        "{}: the split scheme needs the node level of every record, but this trace's records "
-        "are untagged (no container header says \"tag\": \"node-level\"); if the field after "
-        "the address holds node levels, pass --tags-are-levels",
-        context.source_name));
-  }
+  const bool needs_levels = has_split(configs);
+  if (needs_levels && !context.tags_are_levels) throw_untagged_trace(context, "the split scheme");
   TraceResult result;
   std::vector<Job> jobs;
-  std::vector<std::uint32_t> split_levels(configs.size(), 0);
+  // K per animation frame: the plan follows the first pass's markers; the
+  // jobs of every pass re-resolve K at each marker.
+  SplitLevelPlan plan(configs, context);
+  plan.begin_frame(first_batch.marker ? &*first_batch.marker : nullptr);
   for (std::size_t i = 0; i < configs.size(); ++i) {
     const NodeCacheConfig& config = configs[i];
     if (config.scheme == Scheme::Single) {
       jobs.push_back({i, Role::Single, 0, {config.size, config.block, config.assoc, config.policy}});
       continue;
     }
-    const formats::FrameMarker* marker = first_batch.marker ? &*first_batch.marker : nullptr;
-    const std::uint32_t split_level = resolve_split_level(config, marker, context);
-    split_levels[i] = split_level;
-    if (auto note = split_level_note(config, split_level, context)) {
-      if (std::find(result.notes.begin(), result.notes.end(), *note) == result.notes.end()) {
-        result.notes.push_back(std::move(*note));
-      }
-    }
+    const std::uint32_t split_level = plan.current(i);
     if (config.high_policy == HighPolicy::Retain) {
       const auto blocks = static_cast<std::uint32_t>(config.high_size / config.block);
       jobs.push_back({i, Role::HighFrames, split_level,
@@ -232,22 +226,28 @@ TraceResult wrap_run(const std::string& path, const std::vector<NodeCacheConfig>
     }
     char line[64];
     RecordBatch& batch = first_batch;
+    bool first_batch_of_pass = true;
     do {
       if (batch.marker) {
+        if (first_pass && !first_batch_of_pass) plan.begin_frame(&*batch.marker);
+        for (std::size_t j = group_start; j < group_end; ++j) {
+          const NodeCacheConfig& config = configs[jobs[j].config];
+          if (config.scheme == Scheme::Split) {
+            jobs[j].split_level = resolve_split_level(config, &*batch.marker, context);
+          }
+        }
         for (auto& job : running) job->begin_frame(batch.marker->frame);
       }
+      first_batch_of_pass = false;
       for (std::size_t r = 0; r < batch.records.size(); ++r) {
         const Record& record = batch.records[r];
         const Tag tag = record.tag;
-        if (tag == formats::kTagPrimitiveList || tag == formats::kTagTriangle) {
+        if (is_other_stream(tag)) {
           other_stream_records += first_pass;
           continue;
         }
         if (needs_levels && !formats::is_level(tag)) {
-          throw formats::FormatError(fmt::format(
-              "{}: record {}: no node-level tag, but the split scheme routes every record by "
-              "its level (expected `LABEL ADDRESS LEVEL`)",
-              context.source_name, batch.first_record + r + 1));
+          throw_untagged_record(context, batch.first_record + r + 1, "the split scheme routes");
         }
         const std::size_t length = format_line(record, context.form, line);
         for (std::size_t j = group_start; j < group_end; ++j) {
@@ -287,11 +287,12 @@ TraceResult wrap_run(const std::string& path, const std::vector<NodeCacheConfig>
       }
     }
     if (config.scheme == Scheme::Split) {
-      row.split_level = split_levels[i];
+      row.split_level = plan.first(i);
       row.misses = row.high_misses + row.low_misses;
     }
     result.rows.push_back(row);
   }
+  result.notes = plan.notes();
   if (std::any_of(configs.begin(), configs.end(), [](const auto& config) {
         return config.policy == ReplacementPolicy::Random;
       })) {
@@ -302,10 +303,7 @@ TraceResult wrap_run(const std::string& path, const std::vector<NodeCacheConfig>
   }
   result.other_stream_records = other_stream_records;
   if (other_stream_records > 0) {
-    result.notes.push_back(fmt::format(
-        "{}: {} records tagged p or t (primitive lists, triangles) counted apart, not simulated "
-        "by the node caches",
-        trace_column, other_stream_records));
+    result.notes.push_back(other_streams_note(trace_column, other_stream_records));
   }
   return result;
 }

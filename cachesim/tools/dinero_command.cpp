@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "exit_status.hpp"
 #include "nodetrace/cachesim/dinero.hpp"
 #include "nodetrace/formats/error.hpp"
 #include "nodetrace/formats/reader.hpp"
@@ -57,31 +58,15 @@ int dinero_command(int argc, char** argv) {
     case DineroOptions::Request::Contact: std::fputs(kAbout, stdout); return 0;
     case DineroOptions::Request::Simulate: break;
   }
-  try {
+  return exit_status_of("cachesim dinero", [&] {
     formats::ReaderOptions reader_options;
     reader_options.form = options.form;
     auto reader = formats::TraceReader::open(options.trace_path, reader_options);
     std::ios::sync_with_stdio(false);
     run_dinero(options, *reader, std::cout, std::cerr);
     std::cout.flush();
-  } catch (const formats::UsageError& e) {
-    std::cout.flush();
-    std::fprintf(stderr, "cachesim dinero: %s\n", e.what());
-    return 2;
-  } catch (const formats::FormatError& e) {
-    std::cout.flush();
-    std::fprintf(stderr, "cachesim dinero: %s\n", e.what());
-    return 1;
-  } catch (const formats::IoError& e) {
-    std::cout.flush();
-    std::fprintf(stderr, "cachesim dinero: %s\n", e.what());
-    return 1;
-  } catch (const std::exception& e) {
-    std::cout.flush();
-    std::fprintf(stderr, "cachesim dinero: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }
 
 }  // namespace nodetrace::cachesim::cli

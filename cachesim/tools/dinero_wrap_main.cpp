@@ -13,6 +13,7 @@
 #include "nodetrace/cachesim/report.hpp"
 #include "nodetrace/cachesim/wrap.hpp"
 #include "nodetrace/formats/error.hpp"
+#include "exit_status.hpp"
 #include "run_options.hpp"
 
 namespace {
@@ -30,22 +31,6 @@ constexpr const char* kUsage =
     "\n"
     "Dinero IV is found by --dinero CMD, $DINEROIV, or dineroIV on PATH.\n"
     "`dinero-wrap SUBCOMMAND --help` describes each.\n";
-
-template <typename Body>
-int guarded(const char* name, Body body) {
-  try {
-    return body();
-  } catch (const formats::UsageError& error) {
-    std::fprintf(stderr, "dinero-wrap %s: %s\n", name, error.what());
-    return 2;
-  } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "dinero-wrap %s: out of memory\n", name);
-    return 1;
-  } catch (const std::exception& error) {
-    std::fprintf(stderr, "dinero-wrap %s: %s\n", name, error.what());
-    return 1;
-  }
-}
 
 int run_subcommand(int argc, char** argv) {
   CLI::App app{
@@ -65,7 +50,7 @@ int run_subcommand(int argc, char** argv) {
   } catch (const CLI::ParseError& error) {
     return app.exit(error) == 0 ? 0 : 2;  // CLI11 has its own codes; ours: 2
   }
-  return guarded("run", [&] {
+  return cli::exit_status_of("dinero-wrap run", [&] {
     wrap::WrapOptions options;
     options.jobs = formats::check_thread_count(jobs, "--jobs", "processes");
     options.reader = cli::reader_options(line);
@@ -76,7 +61,7 @@ int run_subcommand(int argc, char** argv) {
     std::vector<ResultRow> rows;
     std::vector<std::string> notes;
     for (const std::string& trace : line.traces) {
-      TraceResult result = wrap::wrap_run(trace, configs, trace, sweep.per_level, options);
+      TraceResult result = wrap::wrap_run(trace, configs, trace, sweep.per_level, options, sweep.per_frame);
       rows.insert(rows.end(), result.rows.begin(), result.rows.end());
       notes.insert(notes.end(), result.notes.begin(), result.notes.end());
     }
@@ -101,25 +86,22 @@ int exec_subcommand(int argc, char** argv) {
       "dinero-wrap exec"};
   std::string trace;
   std::string dinero;
-  bool tags_are_levels = false;
   std::string informat;
   app.add_option("trace", trace, "Trace file; - is standard input")->required();
   app.add_option("--dinero", dinero,
                  "Dinero IV command (default: $DINEROIV, or dineroIV on PATH)");
   app.add_option("--informat", informat, "Record form of a plain trace: din, xdin or binary")
       ->check(CLI::IsMember({"din", "xdin", "binary"}));
-  app.add_flag("--tags-are-levels", tags_are_levels, "Accepted for symmetry with run");
   app.footer("Example: dinero-wrap exec t.din.zst -- -l1-dsize 8k -l1-dbsize 8 -l1-dassoc 1");
   try {
     app.parse(separator, argv);
   } catch (const CLI::ParseError& error) {
     return app.exit(error) == 0 ? 0 : 2;  // CLI11 has its own codes; ours: 2
   }
-  return guarded("exec", [&] {
+  return cli::exit_status_of("dinero-wrap exec", [&] {
     wrap::WrapOptions options;
     options.dinero = wrap::find_dinero(dinero.empty() ? std::nullopt
                                                       : std::optional<std::string>(dinero));
-    options.reader.tags_are_levels = tags_are_levels;
     if (!informat.empty()) options.reader.form = formats::parse_form_name(informat);
     std::fflush(stdout);
     return wrap::wrap_exec(trace, dinero_arguments, options);

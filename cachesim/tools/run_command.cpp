@@ -10,6 +10,8 @@
 #include <new>
 
 #include "commands.hpp"
+#include "exit_status.hpp"
+#include "nodetrace/cachesim/curve.hpp"
 #include "nodetrace/cachesim/report.hpp"
 #include "nodetrace/cachesim/sweep.hpp"
 #include "nodetrace/formats/error.hpp"
@@ -17,6 +19,33 @@
 #include "run_options.hpp"
 
 namespace nodetrace::cachesim::cli {
+
+namespace {
+
+int curve_command(const RunCommandLine& line, const SweepOptions& options) {
+  if (options.policies.size() != 1 || options.split_levels.size() != 1) {
+    throw formats::UsageError("--curve takes one --policy and one --split-level");
+  }
+  CurveOptions curve;
+  curve.blocks = options.blocks;
+  curve.assocs = options.assocs;
+  curve.schemes = options.schemes;
+  curve.policy = options.policies[0];
+  curve.split_level = options.split_levels[0];
+  curve.high_size = options.high_size;
+  std::vector<CurvePoint> points;
+  for (const std::string& trace : line.traces) {
+    auto reader = formats::TraceReader::open(trace, reader_options(line));
+    const std::vector<CurvePoint> more = run_curve(*reader, curve, trace);
+    points.insert(points.end(), more.begin(), more.end());
+  }
+  const std::string csv = format_curve(points, curve.policy);
+  std::fwrite(csv.data(), 1, csv.size(), stdout);
+  std::fflush(stdout);
+  return 0;
+}
+
+}  // namespace
 
 int run_command(int argc, char** argv) {
   CLI::App app{
@@ -31,11 +60,13 @@ int run_command(int argc, char** argv) {
   } catch (const CLI::ParseError& error) {
     return app.exit(error) == 0 ? 0 : 2;  // CLI11 has its own codes; ours: 2
   }
-  try {
+  return exit_status_of("cachesim run", [&] {
     const SweepOptions options = sweep_options(line);
+    if (line.curve) return curve_command(line, options);
     const std::vector<NodeCacheConfig> configs = expand_configurations(options);
     std::vector<ResultRow> rows;
     std::vector<LevelRow> levels;
+    std::vector<FrameRow> frames;
     std::vector<std::string> notes;
     // Long runs show progress when standard error is a terminal.
     const bool show_progress = ::isatty(STDERR_FILENO) != 0;
@@ -54,30 +85,17 @@ int run_command(int argc, char** argv) {
     for (const std::string& trace : line.traces) {
       current_trace = trace;
       auto reader = formats::TraceReader::open(trace, reader_options(line));
-      TraceResult result = run_sweep(*reader, configs, trace, options.per_level, progress);
+      TraceResult result =
+          run_sweep(*reader, configs, trace, options.per_level, progress, options.per_frame);
       if (show_progress) std::fputs("\r\033[K", stderr);
       rows.insert(rows.end(), result.rows.begin(), result.rows.end());
       levels.insert(levels.end(), result.level_rows.begin(), result.level_rows.end());
+      frames.insert(frames.end(), result.frame_rows.begin(), result.frame_rows.end());
       notes.insert(notes.end(), result.notes.begin(), result.notes.end());
     }
-    print_report(rows, levels, notes, line);
+    print_report(rows, levels, notes, line, frames);
     return 0;
-  } catch (const formats::UsageError& error) {
-    std::fprintf(stderr, "cachesim run: %s\n", error.what());
-    return 2;
-  } catch (const formats::FormatError& error) {
-    std::fprintf(stderr, "cachesim run: %s\n", error.what());
-    return 1;
-  } catch (const formats::IoError& error) {
-    std::fprintf(stderr, "cachesim run: %s\n", error.what());
-    return 1;
-  } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "cachesim run: out of memory (the caches or trace frames are too large for this machine)\n");
-    return 1;
-  } catch (const std::exception& error) {  // anything else, e.g. no thread to start
-    std::fprintf(stderr, "cachesim run: %s\n", error.what());
-    return 1;
-  }
+  });
 }
 
 }  // namespace nodetrace::cachesim::cli

@@ -48,6 +48,8 @@ struct RunCommandLine {
   bool count_loads = false;
   bool tags_are_levels = false;
   bool per_level = false;
+  bool per_frame = false;
+  bool curve = false;
   std::string format = "table";
   std::string informat;  // plain traces: din, xdin, binary
   unsigned threads = 0;  // decoding threads; 0 = one per core
@@ -90,6 +92,12 @@ inline void add_run_options(CLI::App& app, RunCommandLine& line) {
                "Read the tag field of a plain trace as the node level");
   app.add_flag("--per-level", line.per_level,
                "Add a table of references and misses per node level");
+  app.add_flag("--per-frame", line.per_frame,
+               "Add a table of the counts of each animation frame (each with its own K)");
+  app.add_flag("--curve", line.curve,
+               "Instead: miss ratio of every power-of-two size up to 64 MB (CSV), per --block and "
+               "--assoc, single caches and the split scheme's low cache (K from --split-level, "
+               "or auto for --high-size)");
   app.add_option("--format", line.format, "Report format")
       ->check(CLI::IsMember({"table", "csv", "json"}))
       ->capture_default_str();
@@ -119,7 +127,7 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
   for (const auto& text : line.sizes) options.sizes.push_back(cache_size(text, "--size"));
   options.blocks.clear();
   for (const auto& text : line.blocks) {
-    const std::uint64_t block = formats::parse_byte_size(text);
+    const std::uint64_t block = formats::parse_byte_size(text, "--block");
     if (block > (1u << 30)) throw formats::UsageError(fmt::format("--block {} is too large", text));
     options.blocks.push_back(static_cast<std::uint32_t>(block));
   }
@@ -158,6 +166,7 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
   if (!line.high_assoc.empty()) options.high_assoc = parse_assoc(line.high_assoc);
   options.count_loads = line.count_loads;
   options.per_level = line.per_level;
+  options.per_frame = line.per_frame;
   return options;
 }
 
@@ -172,9 +181,11 @@ inline formats::ReaderOptions reader_options(const RunCommandLine& line) {
 // Prints the report and its notes: under a table, or on standard error so
 // that CSV and JSON stay machine-readable.
 inline void print_report(const std::vector<ResultRow>& rows, const std::vector<LevelRow>& levels,
-                         const std::vector<std::string>& notes, const RunCommandLine& line) {
+                         const std::vector<std::string>& notes, const RunCommandLine& line,
+                         const std::vector<FrameRow>& frames = {}) {
   const ReportFormat format = parse_report_format(line.format).value_or(ReportFormat::Table);
-  const std::string report = format_report(rows, levels, line.per_level, format);
+  const std::string report =
+      format_report(rows, levels, line.per_level, format, frames, line.per_frame);
   std::fwrite(report.data(), 1, report.size(), stdout);
   for (const std::string& note : notes) {
     std::fprintf(format == ReportFormat::Table ? stdout : stderr, "note: %s\n", note.c_str());

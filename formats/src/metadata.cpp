@@ -1,6 +1,7 @@
 #include "nodetrace/formats/metadata.hpp"
 
 #include <fmt/format.h>
+#include <algorithm>
 
 #include "nodetrace/formats/error.hpp"
 
@@ -69,6 +70,13 @@ FrameMarker FrameMarker::from_json(const nlohmann::json& json) {
   return marker;
 }
 
+std::optional<std::uint32_t> FrameMarker::layout_split_level() const {
+  if (!extra.is_object()) return std::nullopt;
+  const auto found = extra.find("split_level");
+  if (found == extra.end() || !found->is_number_unsigned()) return std::nullopt;
+  return found->get<std::uint32_t>();
+}
+
 std::optional<RecordForm> TraceHeader::form() const {
   const auto found = json.find("records");
   if (found == json.end() || !found->is_string()) return std::nullopt;
@@ -83,6 +91,77 @@ bool TraceHeader::tags_are_levels() const {
 bool TraceHeader::announces_trailer() const {
   const auto found = json.find("trailer");
   return found != json.end() && found->is_boolean() && found->get<bool>();
+}
+
+LayoutInfo TraceHeader::layout() const {
+  LayoutInfo info;
+  if (!json.is_object()) return info;
+  const auto layout = json.find("layout");
+  if (layout == json.end() || !layout->is_object()) return info;
+  if (const auto name = layout->find("name"); name != layout->end() && name->is_string()) {
+    info.name = name->get<std::string>();
+  }
+  if (const auto k = layout->find("split_level"); k != layout->end() && k->is_number_unsigned()) {
+    info.split_level = k->get<std::uint32_t>();
+  }
+  if (const auto size = layout->find("node_size");
+      size != layout->end() && size->is_number_unsigned() && size->get<std::uint64_t>() > 0) {
+    info.node_size = size->get<std::uint64_t>();
+  }
+  if (const auto base = layout->find("node_base"); base != layout->end() && base->is_number_unsigned()) {
+    info.node_base = base->get<std::uint64_t>();
+  }
+  return info;
+}
+
+LevelPlacement level_placement(const LayoutInfo& layout, std::optional<std::uint32_t> frame_split_level,
+                               std::uint64_t block) {
+  LevelPlacement placement;
+  placement.node_size = layout.node_size;
+  placement.node_base = layout.node_base;
+  placement.block = block;
+  if (layout.name == "bfl") {
+    placement.contiguous_levels = ~std::uint32_t{0};
+  } else if (layout.name == "hybrid") {
+    placement.contiguous_levels = frame_split_level.value_or(layout.split_level.value_or(0));
+  } else {
+    placement.contiguous_levels = 0;
+  }
+  return placement;
+}
+
+std::uint32_t split_level_for_capacity(std::span<const std::uint64_t> nodes_per_level,
+                                       const LevelPlacement& placement, std::uint64_t capacity_bytes) {
+  const std::uint64_t block = placement.block == 0 ? 1 : placement.block;
+  const std::uint64_t node_size = placement.node_size == 0 ? 1 : placement.node_size;
+  const std::uint64_t capacity = capacity_bytes / block;
+  // A node on its own: aligned nodes and blocks of power-of-two sizes nest,
+  // anything else may straddle one more block.
+  const bool nested = placement.node_base % std::min(node_size, block) == 0 &&
+                      (node_size % block == 0 || block % node_size == 0);
+  const std::uint64_t blocks_per_node = nested ? std::max<std::uint64_t>(1, node_size / block)
+                                               : node_size / block + 2;
+  std::uint64_t contiguous_nodes = 0;
+  std::uint64_t scattered_blocks = 0;
+  std::uint32_t k = 0;
+  for (const std::uint64_t count : nodes_per_level) {
+    if (k < placement.contiguous_levels) {
+      contiguous_nodes += count;
+    } else {
+      if (count > (capacity + 1) / blocks_per_node) break;
+      scattered_blocks += count * blocks_per_node;
+    }
+    std::uint64_t blocks = scattered_blocks;
+    if (contiguous_nodes > 0) {
+      if (contiguous_nodes > (capacity_bytes + block) / node_size + 1) break;  // no overflow below
+      const std::uint64_t first = placement.node_base / block;
+      const std::uint64_t last = (placement.node_base + contiguous_nodes * node_size - 1) / block;
+      blocks += last - first + 1;
+    }
+    if (blocks > capacity) break;
+    ++k;
+  }
+  return k;
 }
 
 }  // namespace nodetrace::formats

@@ -26,7 +26,7 @@ Record of_type(AccessType type, std::uint64_t address, std::uint32_t size = 4) {
 }
 
 CacheConfig cache(std::uint64_t size, std::uint32_t block, std::uint32_t assoc,
-                  Replacement replacement = Replacement::Lru) {
+                  ReplacementPolicy replacement = ReplacementPolicy::Lru) {
   CacheConfig c;
   c.size = size;
   c.block_size = block;
@@ -60,7 +60,7 @@ TEST(Engine, LruKeepsTheRecentlyUsedBlock) {
 
 TEST(Engine, FifoEvictsTheOldestInsertion) {
   // A B A C B: C evicts A (inserted first, the hit does not count), B hits.
-  const Stats s = run(single_level(cache(16, 8, 2, Replacement::Fifo)),
+  const Stats s = run(single_level(cache(16, 8, 2, ReplacementPolicy::Fifo)),
                       {read(0), read(8), read(0), read(16), read(8)});
   EXPECT_EQ(s.misses[kRead], 3u);
 }
@@ -71,8 +71,8 @@ TEST(Engine, RandomIsDeterministicAndBeatsLruOnACycle) {
   std::vector<Record> cycle;
   for (int i = 0; i < 300; ++i) cycle.push_back(read(static_cast<std::uint64_t>(i % 3) * 8));
   const Stats lru = run(single_level(cache(16, 8, 2)), cycle);
-  const Stats random1 = run(single_level(cache(16, 8, 2, Replacement::Random)), cycle);
-  const Stats random2 = run(single_level(cache(16, 8, 2, Replacement::Random)), cycle);
+  const Stats random1 = run(single_level(cache(16, 8, 2, ReplacementPolicy::Random)), cycle);
+  const Stats random2 = run(single_level(cache(16, 8, 2, ReplacementPolicy::Random)), cycle);
   EXPECT_EQ(lru.misses[kRead], 300u);
   EXPECT_LT(random1.misses[kRead], 300u);
   EXPECT_GE(random1.misses[kRead], 3u);

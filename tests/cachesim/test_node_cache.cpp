@@ -76,14 +76,14 @@ TEST(NodeCache, RejectsImpossibleGeometry) {
 }
 
 // Misses of `records` in a single cache, by the engine (the reference).
-std::uint64_t engine_misses(const std::vector<Record>& records, const NodeCacheGeometry& geometry,
+std::uint64_t engine_misses(const std::vector<Record>& records, const CacheGeometry& geometry,
                             formats::RecordForm form, std::uint64_t* fetches = nullptr) {
   CacheConfig cache;
   cache.size = geometry.size;
   cache.block_size = geometry.block;
   cache.assoc = geometry.assoc;
   cache.replacement =
-      geometry.policy == ReplacementPolicy::Fifo ? Replacement::Fifo : Replacement::Lru;
+      geometry.policy == ReplacementPolicy::Fifo ? ReplacementPolicy::Fifo : ReplacementPolicy::Lru;
   Hierarchy hierarchy(single_level(cache));
   hierarchy.access_batch(records, form);
   hierarchy.finish();
@@ -93,7 +93,7 @@ std::uint64_t engine_misses(const std::vector<Record>& records, const NodeCacheG
 }
 
 // The same by a single-scheme sweep of the node cache.
-ResultRow sweep_single(const std::vector<Record>& records, const NodeCacheGeometry& geometry,
+ResultRow sweep_single(const std::vector<Record>& records, const CacheGeometry& geometry,
                        formats::RecordForm form) {
   NodeCacheConfig config;
   config.size = geometry.size;
@@ -139,7 +139,7 @@ TEST(NodeCache, EqualsTheEngineOnRandomStreams) {
       for (const auto policy : {ReplacementPolicy::Lru, ReplacementPolicy::Fifo}) {
         for (const std::uint32_t block : {4u, 8u, 32u}) {
           for (const std::uint32_t assoc : assocs) {
-            NodeCacheGeometry geometry{2048, block, assoc == 0 ? 2048 / block : assoc, policy};
+            CacheGeometry geometry{2048, block, assoc == 0 ? 2048 / block : assoc, policy};
             SCOPED_TRACE(::testing::Message()
                          << "mixed " << mixed << " form " << formats::form_name(form)
                          << " policy " << policy_name(policy) << " block " << block
@@ -274,7 +274,7 @@ TEST(NodeCache, GoldenKdMissesOfDineroIV) {
   const std::vector<Record> records = golden_kd_records(shared);
   ASSERT_EQ(records.size(), 200000u);
   struct Case {
-    NodeCacheGeometry geometry;
+    CacheGeometry geometry;
     std::uint64_t misses;  // from dinero-golden/kd1-*.out
   };
   const std::vector<Case> cases{

@@ -150,13 +150,20 @@ TEST(Sweep, HighLevelsThatDoNotFitAreAnErrorNamingTheSizes) {
 }
 
 TEST(Sweep, AutoSplitLevelFromMarkers) {
+  // The shared K-sizing, counting bytes of contiguous levels.
+  auto auto_split_level = [](std::vector<std::uint64_t> nodes_per_level, std::uint64_t node_size,
+                             std::uint64_t high_size) {
+    formats::LevelPlacement placement;
+    placement.node_size = node_size;
+    return formats::split_level_for_capacity(nodes_per_level, placement, high_size);
+  };
   EXPECT_EQ(auto_split_level({1, 2, 4, 8}, 8, 32), 2u);   // 8 + 16 = 24 <= 32 < 56
   EXPECT_EQ(auto_split_level({1, 2, 4, 8}, 8, 56), 3u);
   EXPECT_EQ(auto_split_level({1, 2, 4, 8}, 8, 4096), 4u);
   EXPECT_EQ(auto_split_level({1, 2}, 8, 4), 0u);
 
   TraceContext context = levels_context();
-  context.layout_split_level = 3;
+  context.layout.split_level = 3;
   const TraceResult result = run({split(HighPolicy::Retain, std::nullopt)},
                                  {batch_of(traversal(), 0, {1, 2, 4, 8})}, context);
   EXPECT_EQ(result.rows[0].split_level, 2u);
@@ -164,6 +171,77 @@ TEST(Sweep, AutoSplitLevelFromMarkers) {
   EXPECT_NE(result.notes[0].find("split level 2 (auto) differs from the layout's split_level 3"),
             std::string::npos)
       << result.notes[0];
+}
+
+// Frame 0's tree {1, 2, 4, 8}: levels 0, 1 fit 32 bytes, K = 2. Frame 1's
+// tree {1, 4, ...}: level 1 alone is 32 bytes, K = 1, so its level-1 records
+// go to the low cache.
+TEST(Sweep, AutoSplitLevelIsResolvedPerAnimationFrame) {
+  Sweep sweep({split(HighPolicy::Retain, std::nullopt)}, levels_context(), false, true);
+  sweep.feed(batch_of(traversal(), 0, {1, 2, 4, 8}));
+  sweep.feed(batch_of(traversal(), 1, {1, 4, 4, 8}));
+  const TraceResult result = sweep.finish();
+  ASSERT_EQ(result.frame_rows.size(), 2u);
+  const ResultRow& first = result.frame_rows[0].row;
+  const ResultRow& second = result.frame_rows[1].row;
+  EXPECT_EQ(result.frame_rows[0].frame, 0u);
+  EXPECT_EQ(result.frame_rows[1].frame, 1u);
+  EXPECT_EQ(first.split_level, 2u);
+  EXPECT_EQ(first.high_refs, 6u);
+  EXPECT_EQ(first.low_refs, 3u);
+  EXPECT_EQ(first.high_loads, std::optional<std::uint64_t>(3));
+  EXPECT_EQ(first.low_misses, 3u);  // 32 m, 36 m, 32 m
+  EXPECT_EQ(second.split_level, 1u);
+  EXPECT_EQ(second.high_refs, 3u);
+  EXPECT_EQ(second.low_refs, 6u);
+  EXPECT_EQ(second.high_loads, std::optional<std::uint64_t>(1));
+  // Low cache (2 sets) kept from frame 0 with block 32 in set 0:
+  // 1 m, 32 h, 2 m, 36 m, 1 h, 32 m.
+  EXPECT_EQ(second.low_misses, 4u);
+  // The totals row: the sums, and the first frame's K.
+  const ResultRow& total = result.rows.at(0);
+  EXPECT_EQ(total.split_level, 2u);
+  EXPECT_EQ(total.high_refs, 9u);
+  EXPECT_EQ(total.low_refs, 9u);
+  EXPECT_EQ(total.high_loads, std::optional<std::uint64_t>(4));
+  EXPECT_EQ(total.low_misses, 7u);
+  EXPECT_EQ(total.misses, 7u);
+  bool noted = false;
+  for (const std::string& note : result.notes) {
+    noted = noted || note.find("split level (auto) from 1 to 2 over 2 animation frames") !=
+                         std::string::npos;
+  }
+  EXPECT_TRUE(noted);
+}
+
+// DFL slots of a complete 4-level tree: level 0 slot 0, level 1 slots 1 and
+// 8, level 2 slots 2, 5, 9, 12. With 16-byte blocks (two 8-byte nodes) levels
+// 0-2 occupy the blocks of slots {0,1}, {2}, {4,5}, {8,9}, {12}: 5 blocks, more
+// than a 64-byte high cache's 4, though their 56 bytes are fewer than 64.
+TEST(Sweep, AutoSplitLevelCountsTheBlocksOfScatteredLevels) {
+  TraceContext context = levels_context();
+  context.layout.name = "dfl";
+  NodeCacheConfig config = split(HighPolicy::Retain, std::nullopt);
+  config.block = 16;
+  config.high_size = 64;
+  config.low_size = 64;
+  config.size = 128;
+  const std::vector<std::vector<std::uint64_t>> paths{{0, 1, 2}, {0, 1, 5}, {0, 8, 9}, {0, 8, 12}};
+  std::vector<Record> records;
+  for (const auto& path : paths) {
+    for (std::size_t level = 0; level < path.size(); ++level) {
+      records.push_back(node(path[level] * 8, static_cast<formats::Tag>(level)));
+    }
+  }
+  const TraceResult result = run({config}, {batch_of(records, 0, {1, 2, 4, 8})}, context);
+  // Levels 0, 1 occupy at most 3 blocks (one per node): K = 2, and they fit.
+  EXPECT_EQ(result.rows.at(0).split_level, 2u);
+  EXPECT_EQ(result.rows.at(0).high_loads, std::optional<std::uint64_t>(2));
+  // The BFL layout keeps levels 0-2 in slots 0-6: 4 blocks, K = 3.
+  context.layout.name = "bfl";
+  formats::FrameMarker marker;
+  marker.nodes_per_level = {1, 2, 4, 8};
+  EXPECT_EQ(resolve_split_level(config, &marker, context), 3u);
 }
 
 TEST(Sweep, AutoSplitLevelWithoutMarkersAsksForK) {

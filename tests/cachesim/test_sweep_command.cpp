@@ -21,7 +21,9 @@ std::string cachesim() { return quoted(program("cachesim")); }
 
 // A two-frame container: a complete tree of 4 levels in BFL order at 0x1000
 // (15 nodes), each frame visiting it root to leaf for 200 rays.
-void write_two_frame_container(const std::filesystem::path& path, std::uint32_t layout_split) {
+void write_two_frame_container(const std::filesystem::path& path, std::uint32_t layout_split,
+                               const std::vector<std::vector<std::uint64_t>>& trees = {
+                                   {1, 2, 4, 8}, {1, 2, 4, 8}}) {
   formats::WriterOptions options;
   options.form = formats::RecordForm::Din;
   options.records_per_frame = 256;
@@ -31,7 +33,7 @@ void write_two_frame_container(const std::filesystem::path& path, std::uint32_t 
   for (std::uint64_t frame = 0; frame < 2; ++frame) {
     formats::FrameMarker marker;
     marker.frame = frame;
-    marker.nodes_per_level = {1, 2, 4, 8};
+    marker.nodes_per_level = trees.at(frame);
     marker.nodes = 15;
     marker.leaves = 8;
     marker.depth = 4;
@@ -70,6 +72,135 @@ TEST(SweepCommand, AutoSplitLevelFromContainerMarkersAndLayoutNote) {
   EXPECT_NE(result.err.find("split level 2 (auto) differs from the layout's split_level 3"),
             std::string::npos)
       << result.err;
+}
+
+std::vector<std::vector<std::string>> csv_table(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::size_t at = 0;
+  while (at < text.size()) {
+    const std::size_t end = text.find('\n', at);
+    const std::string line = text.substr(at, end - at);
+    at = end == std::string::npos ? text.size() : end + 1;
+    if (line.empty()) break;
+    std::vector<std::string> cells;
+    std::size_t from = 0;
+    while (true) {
+      const std::size_t comma = line.find(',', from);
+      cells.push_back(line.substr(from, comma - from));
+      if (comma == std::string::npos) break;
+      from = comma + 1;
+    }
+    rows.push_back(std::move(cells));
+  }
+  return rows;
+}
+
+// Frame 0's tree {1, 2, 4, 8}: levels 0-2 (56 bytes) fit a 64-byte high
+// cache, K = 3; frame 1's tree {1, 2, 8, 8}: levels 0-1 only, K = 2.
+TEST(SweepCommand, PerFrameRowsSumToTheTotalsAndUseEachFramesK) {
+  testing::TempDir dir;
+  write_two_frame_container(dir / "tree.din.zst", 3, {{1, 2, 4, 8}, {1, 2, 8, 8}});
+  const auto result = run_command(cachesim() + " run " + quoted(dir / "tree.din.zst") +
+                                  " --size 64,128 --scheme single,split --split-level auto "
+                                  "--high-policy retain,cache --per-frame --format csv");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::size_t blank = result.out.find("\n\n");
+  ASSERT_NE(blank, std::string::npos) << result.out;
+  const auto totals = csv_table(result.out.substr(0, blank + 1));
+  const auto frames = csv_table(result.out.substr(blank + 2));
+  ASSERT_EQ(totals.size(), 1u + 6u);
+  ASSERT_EQ(frames.size(), 1u + 2u * 6u);
+  std::vector<std::string> frame_header = totals[0];
+  frame_header.insert(frame_header.begin() + 1, "frame");
+  EXPECT_EQ(frames[0], frame_header);
+  const std::vector<std::string> counted{"refs",        "fetches",    "misses",   "high_refs",
+                                         "high_misses", "high_loads", "low_refs", "low_misses"};
+  auto column = [&](const std::string& name) {
+    return static_cast<std::size_t>(
+        std::find(totals[0].begin(), totals[0].end(), name) - totals[0].begin());
+  };
+  for (std::size_t config = 0; config < 6; ++config) {
+    const auto& total = totals[1 + config];
+    const auto& first = frames[1 + config];       // frame 0 rows come first
+    const auto& second = frames[1 + 6 + config];  // then frame 1's
+    EXPECT_EQ(first[1], "0");
+    EXPECT_EQ(second[1], "1");
+    for (const std::string& name : counted) {
+      const std::size_t c = column(name);
+      if (total[c].empty()) {
+        EXPECT_TRUE(first[c + 1].empty() && second[c + 1].empty()) << name;
+        continue;
+      }
+      EXPECT_EQ(std::stoull(first[c + 1]) + std::stoull(second[c + 1]), std::stoull(total[c]))
+          << "configuration " << config << ", " << name;
+    }
+    if (total[column("scheme")] == "split" && total[column("high_size")] == "64") {
+      EXPECT_EQ(first[column("split_level") + 1], "3");
+      EXPECT_EQ(second[column("split_level") + 1], "2");
+      EXPECT_EQ(total[column("split_level")], "3");  // the first frame's
+      // Frame 0 loads its 7 level 0-2 blocks, frame 1 its 3 level 0-1 blocks.
+      if (total[column("high_policy")] == "retain") {
+        EXPECT_EQ(first[column("high_loads") + 1], "7");
+        EXPECT_EQ(second[column("high_loads") + 1], "3");
+      }
+    }
+  }
+  EXPECT_NE(result.err.find("split level (auto) from 2 to 3 over 2 animation frames"),
+            std::string::npos)
+      << result.err;
+  // JSON holds the same table under "frames".
+  const auto json_run = run_command(cachesim() + " run " + quoted(dir / "tree.din.zst") +
+                                    " --size 128 --scheme split --per-frame --format json");
+  ASSERT_EQ(json_run.exit_code, 0) << json_run.err;
+  const auto json = nlohmann::json::parse(json_run.out);
+  ASSERT_EQ(json["frames"].size(), 2u);
+  EXPECT_EQ(json["frames"][1]["frame"], 1);
+  EXPECT_EQ(json["frames"][1]["split_level"], 2);
+  EXPECT_EQ(json["results"][0]["split_level"], 3);
+}
+
+// A DFL layout scatters the top levels: with 16-byte blocks (two nodes)
+// levels 0-2 of a complete tree occupy 5 blocks, more than a 64-byte high
+// cache holds though their 56 bytes fit; auto must pick K = 2, not abort.
+TEST(SweepCommand, AutoSplitLevelOnDflWithLargerBlocksFits) {
+  testing::TempDir dir;
+  formats::WriterOptions options;
+  options.form = formats::RecordForm::Din;
+  auto writer = formats::TraceWriter::create(
+      (dir / "dfl.din.zst").string(),
+      {{"layout", {{"name", "dfl"}, {"node_size", 8}, {"node_base", 0}}}}, options);
+  formats::FrameMarker marker;
+  marker.nodes_per_level = {1, 2, 4, 8};
+  writer->begin_frame(marker);
+  // Root-to-leaf paths in DFL slots.
+  const std::vector<std::vector<std::uint64_t>> paths{
+      {0, 1, 2, 3}, {0, 1, 2, 4}, {0, 1, 5, 6}, {0, 1, 5, 7},
+      {0, 8, 9, 10}, {0, 8, 9, 11}, {0, 8, 12, 13}, {0, 8, 12, 14}};
+  for (const auto& path : paths) {
+    for (std::size_t level = 0; level < path.size(); ++level) {
+      formats::Record record;
+      record.address = path[level] * 8;
+      record.tag = static_cast<formats::Tag>(level);
+      writer->write(record);
+    }
+  }
+  writer->finish();
+  const auto result = run_command(cachesim() + " run " + quoted(dir / "dfl.din.zst") +
+                                  " --size 128 --block 16 --scheme split --split-level auto "
+                                  "--format csv");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find(",split,128,16,1,lru,retain,64,64,2,32,32,"), std::string::npos)
+      << result.out;
+}
+
+TEST(SweepCommand, BadSizeNamesTheOption) {
+  for (const std::string option : {"--size", "--block", "--high-size", "--low-size"}) {
+    const auto result = run_command(cachesim() + " run - --scheme split " + option + " 3x", "");
+    EXPECT_EQ(result.exit_code, 2) << option;
+    EXPECT_NE(result.err.find("cachesim run: " + option + ": '3x' is not a size"),
+              std::string::npos)
+        << result.err;
+  }
 }
 
 TEST(SweepCommand, FitsErrorNamesTheSizes) {

@@ -154,7 +154,9 @@ TEST(WrapRun, EqualsCachesimRunOnMixedRecordsAndStdin) {
                   testing::read_file(shared / "dinero-golden" / "mm32.din.zst"));
 }
 
-void write_frames(const std::filesystem::path& path) {
+// `trees_differ`: each frame's marker gives another tree, so K = auto differs
+// between frames.
+void write_frames(const std::filesystem::path& path, bool trees_differ = false) {
   formats::WriterOptions options;
   options.form = formats::RecordForm::ExtendedDin;
   options.records_per_frame = 100;
@@ -165,6 +167,8 @@ void write_frames(const std::filesystem::path& path) {
     formats::FrameMarker marker;
     marker.frame = frame;
     marker.nodes_per_level = {1, 2, 4, 8, 16};
+    if (trees_differ && frame == 1) marker.nodes_per_level = {1, 2, 8, 8, 16};
+    if (trees_differ && frame == 2) marker.nodes_per_level = {1, 4, 4, 8, 16};
     writer->begin_frame(marker);
     for (std::uint64_t ray = 0; ray < 300; ++ray) {
       std::uint64_t slot = 0;
@@ -195,6 +199,34 @@ TEST(WrapRun, EqualsCachesimRunOnAContainerWithFrames) {
                                   " --size 128 --scheme split --count-loads --format csv");
 }
 
+TEST(WrapRun, EqualsCachesimRunWhenKChangesPerAnimationFrame) {
+  testing::TempDir dir;
+  write_frames(dir / "frames.xdin.zst", true);
+  const std::string arguments = quoted(dir / "frames.xdin.zst") +
+                                " --size 64,128 --scheme split --split-level auto "
+                                "--high-policy retain,cache --format csv";
+  expect_same_csv(stand_in(), arguments);
+  // K did change between frames (cachesim run's per-frame table says so).
+  const auto ours = run_command(quoted(program("cachesim")) + " run " + arguments);
+  EXPECT_NE(ours.err.find("64-byte high cache: split level (auto) from 2 to 3 over 3 animation frames"),
+            std::string::npos)
+      << ours.err;
+  const auto wrapped = run_command(quoted(program("dinero-wrap")) + " run " + arguments + " " +
+                                   stand_in());
+  EXPECT_EQ(wrapped.err, ours.err);
+}
+
+TEST(WrapRun, PerFrameIsAskedOfCachesimRun) {
+  testing::TempDir dir;
+  write_frames(dir / "frames.xdin.zst");
+  const auto result =
+      run_command(quoted(program("dinero-wrap")) + " run " + quoted(dir / "frames.xdin.zst") +
+                  " --per-frame " + stand_in());
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("use cachesim run for the per-frame table"), std::string::npos)
+      << result.err;
+}
+
 TEST(WrapRun, HighLevelsThatDoNotFitAreAnError) {
   testing::TempDir dir;
   write_frames(dir / "frames.xdin.zst");
@@ -213,6 +245,13 @@ TEST(WrapExec, PrintsDineroOutputUnchanged) {
       " -- -l1-dsize 8k -l1-dbsize 8 -l1-dassoc 1");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(result.out, testing::read_file(shared / "dinero-golden" / "kd1-d8k-b8-a1.out"));
+}
+
+TEST(WrapExec, TakesNoTagsAreLevelsOption) {
+  // exec feeds addresses only, so a tag option would do nothing.
+  const auto result = run_command(quoted(program("dinero-wrap")) + " exec - --tags-are-levels " +
+                                  stand_in() + " -- -l1-dsize 8k -l1-dbsize 8");
+  EXPECT_EQ(result.exit_code, 2);
 }
 
 TEST(WrapRun, RealDineroIVWhenOnPath) {

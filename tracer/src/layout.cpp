@@ -3,6 +3,8 @@
 #include <deque>
 #include <stdexcept>
 
+#include "nodetrace/formats/metadata.hpp"
+
 namespace nodetrace::tracer {
 
 std::string_view layout_name(LayoutKind kind) {
@@ -24,14 +26,10 @@ std::optional<LayoutKind> parse_layout_name(std::string_view name) {
 
 std::uint32_t split_level_for_high_size(std::span<const std::uint64_t> nodes_per_level,
                                         std::uint64_t high_size, std::uint32_t node_size) {
-  std::uint64_t bytes = 0;
-  std::uint32_t k = 0;
-  for (auto count : nodes_per_level) {
-    bytes += count * node_size;
-    if (bytes > high_size) break;
-    ++k;
-  }
-  return k;
+  // The BFL part is contiguous; counted in bytes (blocks of one byte).
+  formats::LevelPlacement placement;
+  placement.node_size = node_size;
+  return formats::split_level_for_capacity(nodes_per_level, placement, high_size);
 }
 
 namespace {

@@ -22,6 +22,7 @@
 #include <span>
 #include <vector>
 
+#include "nodetrace/cachesim/cache_geometry.hpp"
 #include "nodetrace/formats/record.hpp"
 
 namespace nodetrace::cachesim {
@@ -31,9 +32,6 @@ inline constexpr int kMaxLevels = 5;  // Dinero IV's MAX_LEV
 // Dinero's `T` in -lN-T...: unified, instruction or data cache.
 enum class CacheKind : std::uint8_t { Unified = 0, Instruction = 1, Data = 2 };
 
-// -lN-Trepl l|f|r. Random is seeded and deterministic; its choices are not
-// Dinero IV's (which uses the C library's random()).
-enum class Replacement : std::uint8_t { Lru, Fifo, Random };
 // -lN-Twalloc a|n|f: allocate on a write miss always, never, or only when the
 // write covers whole sub-blocks (no fetch needed).
 enum class WriteAllocate : std::uint8_t { Always, Never, NoFetch };
@@ -46,12 +44,13 @@ struct CacheConfig {
   std::uint32_t block_size = 0;      // bytes; power of two
   std::uint32_t sub_block_size = 0;  // bytes; power of two dividing block_size; 0 = block_size
   std::uint32_t assoc = 1;           // ways; size / block_size = fully associative
-  Replacement replacement = Replacement::Lru;
+  ReplacementPolicy replacement = ReplacementPolicy::Lru;
   WriteAllocate write_allocate = WriteAllocate::Always;  // ignored for instruction caches
   WriteBack write_back = WriteBack::Always;              // ignored for instruction caches
   bool classify_misses = false;  // -lN-Tccc: compulsory / capacity / conflict
-  std::uint64_t random_seed = 1;  // for Replacement::Random
+  std::uint64_t random_seed = 1;  // for ReplacementPolicy::Random
 
+  CacheGeometry geometry() const { return {size, block_size, assoc, replacement}; }
   std::uint32_t effective_sub_block_size() const {
     return sub_block_size == 0 ? block_size : sub_block_size;
   }

@@ -19,6 +19,7 @@ std::optional<ReportFormat> parse_report_format(std::string_view name);
 // The column names, in order.
 const std::vector<std::string>& report_columns();
 const std::vector<std::string>& level_report_columns();
+const std::vector<std::string>& frame_report_columns();  // the main ones, `frame` after `trace`
 
 // misses / fetches with six decimals, rounded half up, from integer counts
 // ("0.000000" when there are no fetches).
@@ -27,19 +28,24 @@ std::string miss_ratio_text(std::uint64_t misses, std::uint64_t fetches);
 // The cells of one row (empty strings for empty columns).
 std::vector<std::string> report_cells(const ResultRow& row);
 std::vector<std::string> level_report_cells(const LevelRow& row);
+std::vector<std::string> frame_report_cells(const FrameRow& row);
 
 // The main table alone.
 std::string format_rows(const std::vector<ResultRow>& rows, ReportFormat format);
 // The per-level table alone.
 std::string format_level_rows(const std::vector<LevelRow>& rows, ReportFormat format);
+// The per-frame table alone.
+std::string format_frame_rows(const std::vector<FrameRow>& rows, ReportFormat format);
 
 // The whole report: the main table, then (when `per_level`) the per-level
-// table, separated by a blank line in table and CSV form; in JSON an object
-// {"results": [...], "levels": [...]} when `per_level`, else the array alone.
+// table, then (when `per_frame`) the per-frame table, separated by a blank
+// line in table and CSV form; in JSON an object {"results": [...], "levels":
+// [...], "frames": [...]} of the tables asked for, or the main array alone.
 // Notes are not included (front ends print them: under the table, or on
 // standard error for CSV and JSON so that those stay machine-readable).
 std::string format_report(const std::vector<ResultRow>& rows,
                           const std::vector<LevelRow>& level_rows, bool per_level,
-                          ReportFormat format);
+                          ReportFormat format, const std::vector<FrameRow>& frame_rows = {},
+                          bool per_frame = false);
 
 }  // namespace nodetrace::cachesim

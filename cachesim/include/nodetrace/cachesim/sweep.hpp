@@ -10,64 +10,11 @@
 #include <string_view>
 #include <vector>
 
-#include "nodetrace/cachesim/node_cache.hpp"
+#include "nodetrace/cachesim/config.hpp"
 #include "nodetrace/formats/reader.hpp"
 #include "nodetrace/formats/record.hpp"
 
 namespace nodetrace::cachesim {
-
-enum class Scheme : std::uint8_t { Single, Split };
-enum class HighPolicy : std::uint8_t { Retain, Cache };
-
-std::string_view scheme_name(Scheme scheme);           // single, split
-std::optional<Scheme> parse_scheme_name(std::string_view name);
-std::string_view high_policy_name(HighPolicy policy);  // retain, cache
-std::optional<HighPolicy> parse_high_policy_name(std::string_view name);
-
-// Associativity: a number, or "full" (returned as 0: all blocks of the cache).
-std::uint32_t parse_assoc(std::string_view text);
-
-// One configuration of the report, before K = auto is resolved.
-struct NodeCacheConfig {
-  Scheme scheme = Scheme::Single;
-  std::uint64_t size = 8192;  // total: single cache, or high + low
-  std::uint32_t block = 8;
-  std::uint32_t assoc = 1;  // single / low cache ways (resolved, never 0)
-  ReplacementPolicy policy = ReplacementPolicy::Lru;
-  // Split scheme only.
-  HighPolicy high_policy = HighPolicy::Retain;
-  std::uint64_t high_size = 0;
-  std::uint64_t low_size = 0;
-  std::uint32_t high_assoc = 1;          // ways of the high cache under `cache`
-  std::optional<std::uint32_t> split_level;  // nullopt: auto
-  bool count_loads = false;              // retain: loads count as misses
-};
-
-// The command-line lists of `cachesim run` / `dinero-wrap run`.
-struct SweepOptions {
-  std::vector<std::uint64_t> sizes{8192};
-  std::vector<std::uint32_t> blocks{8};
-  std::vector<std::uint32_t> assocs{1};  // 0 = full
-  std::vector<ReplacementPolicy> policies{ReplacementPolicy::Lru};
-  std::vector<Scheme> schemes{Scheme::Single};
-  std::vector<std::optional<std::uint32_t>> split_levels{std::nullopt};  // nullopt = auto
-  std::vector<HighPolicy> high_policies{HighPolicy::Retain};
-  std::optional<std::uint64_t> high_size;
-  std::optional<std::uint64_t> low_size;
-  std::optional<std::uint32_t> high_assoc;  // 0 = full; default: assoc
-  bool count_loads = false;
-  bool per_level = false;
-};
-
-// Every combination, in report order (size, block, assoc, policy, scheme,
-// split level, high policy; innermost last). Validates each geometry; throws
-// formats::UsageError.
-std::vector<NodeCacheConfig> expand_configurations(const SweepOptions& options);
-
-// Largest K for which all nodes of levels < K (nodes_per_level, node_size
-// bytes each) fit in high_size bytes.
-std::uint32_t auto_split_level(const std::vector<std::uint64_t>& nodes_per_level,
-                               std::uint64_t node_size, std::uint64_t high_size);
 
 // One report row (DESIGN.md column list). Optional fields are the empty
 // columns (high / low columns of `single`, high_loads under `cache`).
@@ -95,36 +42,20 @@ struct LevelRow {
   std::uint64_t misses = 0;
 };
 
+// `--per-frame`: one configuration's counts in one animation frame (its
+// split_level is that frame's K).
+struct FrameRow {
+  std::uint64_t frame = 0;
+  ResultRow row;
+};
+
 struct TraceResult {
   std::vector<ResultRow> rows;
   std::vector<LevelRow> level_rows;
+  std::vector<FrameRow> frame_rows;  // frame by frame, configurations in report order
   std::uint64_t other_stream_records = 0;  // tagged p / t: counted, not simulated
   std::vector<std::string> notes;          // said under the table (or on stderr)
 };
-
-// What a sweep needs to know about its trace.
-struct TraceContext {
-  std::string trace;        // the report's `trace` column (argument as given)
-  std::string source_name;  // for error messages
-  formats::RecordForm form = formats::RecordForm::Din;
-  bool tags_are_levels = false;
-  std::optional<std::uint32_t> layout_split_level;  // header "layout"."split_level"
-  std::uint64_t node_size = 8;                      // header "layout"."node_size"
-};
-
-// Fills a TraceContext from an opened reader.
-TraceContext trace_context(const formats::TraceReader& reader, std::string trace_column);
-
-// K of a split configuration: the one given, or auto from the first
-// animation frame's marker (the one at the trace's first record; nullptr when
-// there is none). Throws formats::UsageError for auto without nodes_per_level.
-std::uint32_t resolve_split_level(const NodeCacheConfig& config,
-                                  const formats::FrameMarker* first_marker,
-                                  const TraceContext& context);
-// The report's note when K differs from the header's layout split_level.
-std::optional<std::string> split_level_note(const NodeCacheConfig& config,
-                                            std::uint32_t split_level,
-                                            const TraceContext& context);
 
 class ConfigSimulator;
 
@@ -142,13 +73,15 @@ struct PreparedBatch {
 // Simulates every configuration over batches fed in trace order.
 class Sweep {
  public:
-  Sweep(std::vector<NodeCacheConfig> configs, TraceContext context, bool per_level);
+  Sweep(std::vector<NodeCacheConfig> configs, TraceContext context, bool per_level,
+        bool per_frame = false);
   ~Sweep();
   Sweep(const Sweep&) = delete;
   Sweep& operator=(const Sweep&) = delete;
 
   // Throws formats::FormatError (untagged record where levels are needed) or
   // formats::UsageError (K = auto without markers; high levels that do not fit).
+  // K is resolved per animation frame, from each frame's marker.
   void feed(const formats::RecordBatch& batch);
   TraceResult finish();
 
@@ -173,7 +106,18 @@ class Sweep {
     std::uint64_t other_stream_records = 0;
   };
 
+  // One configuration's animation frame in progress (per_frame).
+  struct OpenFrame {
+    bool open = false;
+    std::uint64_t frame = 0;
+    std::uint32_t split_level = 0;
+    ResultRow at_start;  // the totals when it began
+  };
+
   void start(const formats::RecordBatch& first_batch);
+  // The simulator's frame ends (per_frame: its row is kept) and, with a
+  // marker, the next begins with that frame's K.
+  void change_frame(std::size_t simulator, const formats::FrameMarker* marker);
   // Fills part.prepared (and counts p / t records; throws for untagged ones).
   void prepare(const formats::Record* records, std::size_t count, std::uint64_t first_record,
                Part& part) const;
@@ -181,12 +125,15 @@ class Sweep {
   std::vector<NodeCacheConfig> configs_;
   TraceContext context_;
   bool per_level_ = false;
+  bool per_frame_ = false;
   bool needs_levels_ = false;
   bool started_ = false;
   std::size_t requested_parts_ = 1;
   std::vector<Part> parts_;
   std::vector<std::unique_ptr<ConfigSimulator>> simulators_;
-  std::vector<std::string> notes_;
+  std::unique_ptr<SplitLevelPlan> plan_;  // advanced by begin_batch, in trace order
+  std::vector<OpenFrame> open_frames_;                // per simulator, its part's thread
+  std::vector<std::vector<FrameRow>> frame_rows_;     // per simulator
 };
 
 // Called on the calling thread after each batch is read with the number of
@@ -198,6 +145,6 @@ using SweepProgress = std::function<void(std::uint64_t records_read)>;
 // configuration) simulate. Results do not depend on the number of threads.
 TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheConfig>& configs,
                       const std::string& trace_column, bool per_level,
-                      const SweepProgress& progress = {});
+                      const SweepProgress& progress = {}, bool per_frame = false);
 
 }  // namespace nodetrace::cachesim

@@ -82,14 +82,16 @@ struct WrapOptions {
 // The Dinero IV arguments of a cache: -informat, -l1-usize, -l1-ubsize,
 // -l1-uassoc, -l1-urepl.
 std::vector<std::string> dinero_cache_arguments(formats::RecordForm form,
-                                                const NodeCacheGeometry& geometry);
+                                                const CacheGeometry& geometry);
 
-// `cachesim run` answered by Dinero IV for the trace at `path` ("-": standard
-// input, spooled to a temporary file since the trace is read once per group
-// of processes). Throws formats::UsageError for --per-level, WrapError,
-// formats::FormatError / IoError.
+// `cachesim run` answered by Dinero IV for the trace at `path`: read once per
+// group of at most `jobs` processes ("-", standard input, is read once, so
+// then every process runs in that one pass). K is resolved per animation
+// frame as `cachesim run` does. Throws formats::UsageError for --per-level and
+// --per-frame, WrapError, formats::FormatError / IoError.
 TraceResult wrap_run(const std::string& path, const std::vector<NodeCacheConfig>& configs,
-                     const std::string& trace_column, bool per_level, const WrapOptions& options);
+                     const std::string& trace_column, bool per_level, const WrapOptions& options,
+                     bool per_frame = false);
 
 // Feeds the trace's records to one Dinero IV run with `arguments` (adding
 // -informat for the trace's form unless given), its output going to ours

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,19 @@ struct FrameMarker {
 
   nlohmann::json to_json() const;
   static FrameMarker from_json(const nlohmann::json& json);  // throws FormatError
+
+  // The hybrid layout's K for this frame (key "split_level", kept in
+  // `extra`: the tracer sizes the BFL part per frame); nullopt when absent.
+  std::optional<std::uint32_t> layout_split_level() const;
+};
+
+// The header's "layout": how the producer placed the kd-tree nodes
+// (address = node_base + slot * node_size).
+struct LayoutInfo {
+  std::string name;                          // dfl, bfl, hybrid, veb, ...; empty: not said
+  std::optional<std::uint32_t> split_level;  // hybrid only: levels < K in BFL order
+  std::uint64_t node_size = 8;
+  std::uint64_t node_base = 0;
 };
 
 // The header's JSON with typed access to what readers need. Plain traces
@@ -41,7 +55,32 @@ struct TraceHeader {
   bool tags_are_levels() const;
   // True when the header announces a trailer (a missing one is truncation).
   bool announces_trailer() const;
+  // The "layout" object; defaults (node_size 8, base 0, no name) for what it
+  // does not say or when absent.
+  LayoutInfo layout() const;
 };
+
+// Where the nodes of the top levels lie, for K-sizing.
+struct LevelPlacement {
+  std::uint64_t node_size = 8;
+  std::uint64_t node_base = 0;
+  std::uint64_t block = 1;  // bytes per cache block; 1 counts bytes
+  // Levels < contiguous_levels lie one after another from node_base in level
+  // order (the bfl layout, the hybrid layout's BFL part). A node of a deeper
+  // level is counted as occupying blocks of its own: in DFL / vEB order its
+  // neighbours are mostly of other levels, so this bounds what it occupies.
+  std::uint32_t contiguous_levels = ~std::uint32_t{0};
+};
+
+// The placement of a trace's layout (its name and, for hybrid, the frame's K).
+LevelPlacement level_placement(const LayoutInfo& layout, std::optional<std::uint32_t> frame_split_level,
+                               std::uint64_t block);
+
+// K-sizing (DESIGN.md "K = auto"; the hybrid layout sizes its BFL part the
+// same way): the largest K for which the nodes of levels < K occupy at most
+// capacity_bytes / block blocks.
+std::uint32_t split_level_for_capacity(std::span<const std::uint64_t> nodes_per_level,
+                                       const LevelPlacement& placement, std::uint64_t capacity_bytes);
 
 // Per data frame entry of the trailer's index.
 struct FrameIndexEntry {

@@ -32,7 +32,7 @@ constexpr bool is_level(Tag tag) { return tag <= kMaxLevel; }
 struct Record {
   std::uint64_t address = 0;
   // Bytes referenced. Din has no size field: din records carry 4, the size
-  // Dinero IV gives them (see dinero_din_view).
+  // Dinero IV gives them (see dinero_view).
   std::uint32_t size = 4;
   AccessType type = AccessType::Read;
   Tag tag = kTagNone;

@@ -33,6 +33,7 @@ Layout make_layout(const KdTree& tree, LayoutKind kind, std::uint32_t split_leve
 
 // The largest K for which all nodes of levels < K fit `high_size` bytes at
 // `node_size` bytes each (DESIGN.md "K = auto"); 0 when not even the root fits.
+// The K-sizing of formats::split_level_for_capacity, which cachesim shares.
 std::uint32_t split_level_for_high_size(std::span<const std::uint64_t> nodes_per_level,
                                         std::uint64_t high_size, std::uint32_t node_size);
 
