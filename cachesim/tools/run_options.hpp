@@ -29,7 +29,7 @@ inline constexpr std::uint64_t kMaxCacheBytes = std::uint64_t{256} << 20;
 inline constexpr std::uint64_t kMaxCacheBlocks = kMaxCacheBytes / 8;
 
 inline std::uint64_t cache_size(const std::string& text, const char* option) {
-  return formats::check_at_most(formats::parse_byte_size(text), kMaxCacheBytes, option, text, "256m",
+  return formats::check_at_most(formats::parse_byte_size(text, option), kMaxCacheBytes, option, text, "256m",
                                 "the cache budget of a run; its state is allocated up front");
 }
 
