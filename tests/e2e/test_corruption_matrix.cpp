@@ -18,11 +18,7 @@
 namespace nodetrace::testing {
 namespace {
 
-std::string quoted(const std::filesystem::path& path) {
-  std::string text = "'";
-  text.append(path.string()).append("'");
-  return text;
-}
+std::string quoted(const std::filesystem::path& path) { return shell_quoted(path); }
 
 struct Tally {
   int tried = 0, detected = 0, crashed = 0, silently_wrong = 0, vague = 0;

@@ -28,12 +28,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Single-quoted for /bin/sh (test paths hold no quote).
-std::string quoted(const fs::path& path) {
-  std::string text = "'";
-  text.append(path.string()).append("'");
-  return text;
-}
+std::string quoted(const fs::path& path) { return shell_quoted(path); }
 
 std::vector<std::string> temporaries(const fs::path& folder) {
   std::vector<std::string> names;

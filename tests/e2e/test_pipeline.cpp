@@ -11,12 +11,7 @@
 namespace nodetrace::testing {
 namespace {
 
-// Single-quoted for /bin/sh (test paths hold no quote).
-std::string quoted(const std::filesystem::path& path) {
-  std::string text = "'";
-  text.append(path.string()).append("'");
-  return text;
-}
+std::string quoted(const std::filesystem::path& path) { return shell_quoted(path); }
 
 // A small rendered trace shared by the tests of this file (rendered once).
 class PipelineTest : public ::testing::Test {
