@@ -268,7 +268,7 @@ class Writer final : public TraceWriter {
   }
 
   // Writes finished items in order; waits for all when `all`, else only while
-  // more jobs are in flight than keep both cores busy (bounded memory).
+  // more jobs are in flight than keep the pool's threads busy (bounded memory).
   void drain(bool all) {
     const std::size_t limit = static_cast<std::size_t>(pool_->size()) + 1;
     while (!queue_.empty() && (all || queue_.size() > limit || !queue_.front().job.valid())) {
