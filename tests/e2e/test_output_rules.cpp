@@ -30,15 +30,6 @@ namespace fs = std::filesystem;
 
 std::string quoted(const fs::path& path) { return shell_quoted(path); }
 
-std::vector<std::string> temporaries(const fs::path& folder) {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(folder)) {
-    const std::string name = entry.path().filename().string();
-    if (name.find(".tmp-") != std::string::npos) names.push_back(name);
-  }
-  return names;
-}
-
 // Starts `argv` with standard output and error discarded; returns its pid.
 pid_t spawn(const std::vector<std::string>& argv) {
   std::vector<char*> args;

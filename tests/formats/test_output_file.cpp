@@ -31,17 +31,8 @@ namespace {
 namespace fs = std::filesystem;
 using nodetrace::testing::read_file;
 using nodetrace::testing::TempDir;
+using nodetrace::testing::temporaries;
 using nodetrace::testing::write_file;
-
-// Names in `folder` that are temporaries (the rule's `.NAME.tmp-` prefix).
-std::vector<std::string> temporaries(const fs::path& folder) {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(folder)) {
-    const std::string name = entry.path().filename().string();
-    if (name.find(".tmp-") != std::string::npos) names.push_back(name);
-  }
-  return names;
-}
 
 std::string io_error_of(const std::function<void()>& body) {
   try {

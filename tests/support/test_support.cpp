@@ -53,6 +53,15 @@ std::string shell_quoted(const std::filesystem::path& path) {
   return text;
 }
 
+std::vector<std::string> temporaries(const std::filesystem::path& folder) {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    const std::string name = entry.path().filename().string();
+    if (name.find(".tmp-") != std::string::npos) names.push_back(name);
+  }
+  return names;
+}
+
 CommandResult run_command(const std::string& command, const std::string& input) {
   TempDir dir;
   const auto in_path = dir / "stdin";

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace nodetrace::testing {
 
@@ -42,6 +43,9 @@ struct CommandResult {
 
 // `path` single-quoted for /bin/sh (test paths hold no quote).
 std::string shell_quoted(const std::filesystem::path& path);
+
+// Names in `folder` that are output temporaries (the output rule's `.NAME.tmp-`).
+std::vector<std::string> temporaries(const std::filesystem::path& folder);
 
 // Runs `command` with /bin/sh, optionally feeding `input` on stdin.
 CommandResult run_command(const std::string& command, const std::string& input = {});
