@@ -233,7 +233,16 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path) {
   fallback.name = "default";
   scene.materials.push_back(fallback);
 
+  // tinyobjloader passes out-of-range indices through (e.g. `f 1 2 9` with
+  // three vertices): each is checked before use.
+  const auto check_index = [&](int index, std::size_t count, const char* what) {
+    if (index < 0 || static_cast<std::size_t>(index) >= count / 3) {
+      throw SceneError(path.string() + ": a face refers to " + what + " " + std::to_string(index + 1) +
+                       " of the file's " + std::to_string(count / 3));
+    }
+  };
   auto vertex = [&](int index) {
+    check_index(index, attrib.vertices.size(), "vertex");
     const auto at = static_cast<std::size_t>(index) * 3;
     return Vec3{static_cast<float>(attrib.vertices[at]), static_cast<float>(attrib.vertices[at + 1]),
                 static_cast<float>(attrib.vertices[at + 2])};
@@ -254,6 +263,7 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path) {
     for (std::size_t face = 0; face < mesh.num_face_vertices.size(); ++face) {
       const std::size_t corners = mesh.num_face_vertices[face];
       if (corners == 3) {
+        if (offset + 3 > mesh.indices.size()) throw SceneError(path.string() + ": a face has fewer indices than corners");
         const auto& i0 = mesh.indices[offset];
         const auto& i1 = mesh.indices[offset + 1];
         const auto& i2 = mesh.indices[offset + 2];
@@ -273,6 +283,7 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path) {
         face_normal = face_length > 0 ? face_normal / face_length : Vec3{0, 1, 0};
         for (const auto* index : {&i0, &i1, &i2}) {
           if (index->normal_index >= 0) {
+            check_index(index->normal_index, attrib.normals.size(), "normal");
             const auto at = static_cast<std::size_t>(index->normal_index) * 3;
             const Vec3 n{static_cast<float>(attrib.normals[at]), static_cast<float>(attrib.normals[at + 1]),
                          static_cast<float>(attrib.normals[at + 2])};
