@@ -440,6 +440,42 @@ bool put_common_line(char*& out, const Record& record) {
   return true;
 }
 
+enum class BinaryFit { Fits, AddressTooWide, SizeTooWide };
+
+// Writes an 8-byte binary record when its fields fit (nothing otherwise).
+BinaryFit put_binary_record(unsigned char* r, const Record& record) {
+  if (record.address > 0xFFFFFFFFu) return BinaryFit::AddressTooWide;
+  if (record.size > 0xFFFFu) return BinaryFit::SizeTooWide;
+  for (int b = 0; b < 4; ++b) r[b] = static_cast<unsigned char>(record.address >> (8 * b));
+  r[4] = static_cast<unsigned char>(record.size);
+  r[5] = static_cast<unsigned char>(record.size >> 8);
+  r[6] = static_cast<unsigned char>(record.type);
+  r[7] = 0;
+  return BinaryFit::Fits;
+}
+
+std::string binary_misfit(BinaryFit fit, const Record& record) {
+  if (fit == BinaryFit::AddressTooWide) {
+    return fmt::format("address {:#x} does not fit the 32 bits of a binary record", record.address);
+  }
+  return fmt::format("size {} does not fit the 16 bits of a binary record", record.size);
+}
+
+// The general text line (any address, size and tag).
+char* put_text_line(char* p, const Record& record, bool extended, const TextLayout& layout) {
+  const auto type = static_cast<unsigned>(record.type);
+  *p++ = extended ? kTypeLetters[type] : static_cast<char>('0' + type);
+  *p++ = ' ';
+  p = put_hex(p, record.address, layout.address_digits);
+  if (extended) {
+    *p++ = ' ';
+    p = put_hex(p, record.size, 1);
+  }
+  if (layout.tags) p = put_tag(p, record.tag);
+  *p++ = '\n';
+  return p;
+}
+
 }  // namespace
 
 void format_records(std::span<const Record> records, RecordForm form, unsigned address_digits,
@@ -449,21 +485,10 @@ void format_records(std::span<const Record> records, RecordForm form, unsigned a
     out.resize(start + records.size() * 8);
     auto* bytes = reinterpret_cast<unsigned char*>(out.data() + start);
     for (std::size_t i = 0; i < records.size(); ++i) {
-      const Record& record = records[i];
-      if (record.address > 0xFFFFFFFFu) {
-        throw FormatError(fmt::format("record {}: address {:#x} does not fit the 32 bits of a binary record",
-                                      first_record + i + 1, record.address));
+      const BinaryFit fit = put_binary_record(bytes + i * 8, records[i]);
+      if (fit != BinaryFit::Fits) {
+        throw FormatError(fmt::format("record {}: {}", first_record + i + 1, binary_misfit(fit, records[i])));
       }
-      if (record.size > 0xFFFFu) {
-        throw FormatError(fmt::format("record {}: size {} does not fit the 16 bits of a binary record",
-                                      first_record + i + 1, record.size));
-      }
-      unsigned char* r = bytes + i * 8;
-      for (int b = 0; b < 4; ++b) r[b] = static_cast<unsigned char>(record.address >> (8 * b));
-      r[4] = static_cast<unsigned char>(record.size);
-      r[5] = static_cast<unsigned char>(record.size >> 8);
-      r[6] = static_cast<unsigned char>(record.type);
-      r[7] = 0;
     }
     return;
   }
@@ -471,18 +496,8 @@ void format_records(std::span<const Record> records, RecordForm form, unsigned a
   const std::size_t start = out.size();
   out.reserve(start + records.size() * kMaxTextLine);
   char* p = out.data() + start;
-  auto put_line = [&](const Record& record) {
-    const auto type = static_cast<unsigned>(record.type);
-    *p++ = extended ? kTypeLetters[type] : static_cast<char>('0' + type);
-    *p++ = ' ';
-    p = put_hex(p, record.address, address_digits);
-    if (extended) {
-      *p++ = ' ';
-      p = put_hex(p, record.size, 1);
-    }
-    p = put_tag(p, record.tag);
-    *p++ = '\n';
-  };
+  const TextLayout layout{address_digits, true};
+  auto put_line = [&](const Record& record) { p = put_text_line(p, record, extended, layout); };
   if (address_digits != 8) {
     for (const Record& record : records) put_line(record);
   } else if (extended) {
@@ -498,3 +513,16 @@ void format_records(std::span<const Record> records, RecordForm form, unsigned a
 }
 
 }  // namespace nodetrace::formats::detail
+
+namespace nodetrace::formats {
+
+std::size_t format_record(const Record& record, RecordForm form, const TextLayout& layout, char* out) {
+  if (form == RecordForm::Binary) {
+    const detail::BinaryFit fit = detail::put_binary_record(reinterpret_cast<unsigned char*>(out), record);
+    if (fit != detail::BinaryFit::Fits) throw FormatError(detail::binary_misfit(fit, record));
+    return 8;
+  }
+  return static_cast<std::size_t>(detail::put_text_line(out, record, form == RecordForm::ExtendedDin, layout) - out);
+}
+
+}  // namespace nodetrace::formats

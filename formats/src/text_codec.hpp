@@ -12,6 +12,7 @@
 
 #include "buffers.hpp"
 #include "nodetrace/formats/record.hpp"
+#include "nodetrace/formats/record_format.hpp"
 
 namespace nodetrace::formats::detail {
 
@@ -40,12 +41,12 @@ bool parse_records(std::string_view bytes, const ParseSettings& settings,
 // Guesses din or extended din from the first record's first character.
 RecordForm detect_text_form(std::string_view first_bytes);
 
-// The longest line format_records writes: type, 16 address digits, 8 size
-// digits, 5 tag digits, the blanks and the newline.
-inline constexpr std::size_t kMaxTextLine = 1 + 1 + 16 + 1 + 8 + 1 + 5 + 1;
+// The longest line format_records writes.
+inline constexpr std::size_t kMaxTextLine = kMaxFormattedRecord;
 
 // Appends the records in `form`: text lines with fixed-width fields, or
-// 8-byte binary records. Throws FormatError when a record cannot be written
+// 8-byte binary records (what format_record writes with address_digits and
+// tags, faster). Throws FormatError when a record cannot be written
 // in that form (e.g. an address above 32 bits in binary); `first_record` is
 // its 0-based number in the trace, for the message.
 void format_records(std::span<const Record> records, RecordForm form, unsigned address_digits,
