@@ -17,7 +17,7 @@
 
 #include "container.hpp"
 #include "nodetrace/formats/error.hpp"
-#include "text_codec.hpp"
+#include "record_codec.hpp"
 #include "thread_pool.hpp"
 
 namespace nodetrace::formats {

@@ -13,7 +13,7 @@
 #include "container.hpp"
 #include "nodetrace/formats/error.hpp"
 #include "nodetrace/formats/output_file.hpp"
-#include "text_codec.hpp"
+#include "record_codec.hpp"
 #include "thread_pool.hpp"
 
 namespace nodetrace::formats {
