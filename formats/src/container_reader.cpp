@@ -213,10 +213,11 @@ class ContainerReader final : public PipelinedReader {
       unit.entry.checksum = size >= 4 ? load_le32(input_->data() + size - 4) : 0;
       std::string frame(input_->data(), size);
       consume_hashed(size);
-      unit.chunk = pool_->submit([frame = std::move(frame), settings = settings_, stock = stock_] {
-        return decode_data_frame(frame, settings, *stock);
+      pipeline_->submit([unit = std::move(unit), frame = std::move(frame), settings = settings_,
+                         stock = stock_]() mutable {
+        unit.chunk = decode_data_frame(frame, settings, *stock);
+        return std::move(unit);
       });
-      units_.push_back(std::move(unit));
       return;
     }
     if ((magic & kSkippableMask) != kHeaderMagic) {
@@ -249,7 +250,7 @@ class ContainerReader final : public PipelinedReader {
       fail(fmt::format("at byte {}: {}", offset, error.what()));
     }
     if (unit.kind == Unit::Kind::FrameMarker) ++markers_;
-    units_.push_back(std::move(unit));
+    pipeline_->push_ready(std::move(unit));
   }
 
   // keep_data_frame: when the index's next data frame starts here and is not
@@ -272,7 +273,7 @@ class ContainerReader final : public PipelinedReader {
     unit.data_frame = data_frames_++;
     input_->skip(entry.compressed_size);
     skipped_bytes_ = true;
-    units_.push_back(std::move(unit));
+    pipeline_->push_ready(std::move(unit));
     return true;
   }
 

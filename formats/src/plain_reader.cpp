@@ -33,26 +33,23 @@ void PlainReader::read_unit() {
     chunk.resize(cut);
     if (carry_.size() > kMaxLineBytes) {
       Unit unit;
-      std::promise<Chunk> result;
-      Chunk bad = parse_chunk(chunk, settings_, *stock_);
-      if (!bad.bad_record) {
-        bad.bad_record = true;
-        bad.record_error = {bad.records.size(), "line longer than 1 MiB"};
+      unit.chunk = parse_chunk(chunk, settings_, *stock_);
+      if (!unit.chunk.bad_record) {
+        unit.chunk.bad_record = true;
+        unit.chunk.record_error = {unit.chunk.records.size(), "line longer than 1 MiB"};
       }
-      result.set_value(std::move(bad));
-      unit.chunk = result.get_future();
-      units_.push_back(std::move(unit));
+      pipeline_->push_ready(std::move(unit));
       input_done_ = true;
       return;
     }
     if (chunk.empty()) return;
   }
   record_bytes_ += chunk.size();
-  Unit unit;
-  unit.chunk = pool_->submit([chunk = std::move(chunk), settings = settings_, stock = stock_] {
-    return parse_chunk(chunk, settings, *stock);
+  pipeline_->submit([chunk = std::move(chunk), settings = settings_, stock = stock_] {
+    Unit unit;
+    unit.chunk = parse_chunk(chunk, settings, *stock);
+    return unit;
   });
-  units_.push_back(std::move(unit));
 }
 
 }  // namespace nodetrace::formats::detail

@@ -15,7 +15,7 @@ Chunk parse_chunk(const std::string& bytes, ParseSettings settings, Stock& stock
 
 PipelinedReader::PipelinedReader(OpenedInput opened, const ReaderOptions& options)
     : name_(std::move(opened.name)), input_(std::move(opened.input)), options_(options) {
-  threads_ = default_threads(options_.threads);
+  threads_ = threads_or_cores(options_.threads);
   settings_.tags_are_levels = options_.tags_are_levels;
 }
 
@@ -25,7 +25,7 @@ void PipelinedReader::start_workers() {
   if (settings_.form == RecordForm::Binary && settings_.tags_are_levels) {
     throw UsageError(fmt::format("{}: binary records carry no tag, so their tags cannot be node levels", name_));
   }
-  pool_ = std::make_unique<ThreadPool>(threads_);
+  pipeline_ = std::make_unique<OrderedPipeline<Unit>>(threads_);
 }
 
 void PipelinedReader::fail(const std::string& message) const {
@@ -45,18 +45,14 @@ bool PipelinedReader::next(RecordBatch& batch) {
   batch.window.reset();
   for (;;) {
     fill_pipeline();
-    if (units_.empty()) {
+    if (!pipeline_ || pipeline_->empty()) {
       if (!finished_) {
         finished_ = true;
         finish_input();
       }
       return deliver_pending(batch);
     }
-    // Markers that begin at the records of a skipped data frame go out on
-    // their own, before the jump.
-    if (units_.front().kind == Unit::Kind::SkippedFrame && deliver_pending(batch)) return true;
-    Unit unit = std::move(units_.front());
-    units_.pop_front();
+    Unit unit = pipeline_->pop();
     switch (unit.kind) {
       case Unit::Kind::FrameMarker: {
         // Whatever is pending began an animation frame or window with no records.
@@ -71,13 +67,18 @@ bool PipelinedReader::next(RecordBatch& batch) {
         if (delivered) return true;
         continue;
       }
-      case Unit::Kind::SkippedFrame:
+      case Unit::Kind::SkippedFrame: {
+        // Markers that begin at the records of a skipped data frame go out
+        // on their own, before the jump.
+        const bool delivered = deliver_pending(batch);
         records_delivered_ += unit.entry.record_count;
         pass_skipped(unit);
+        if (delivered) return true;
         continue;
+      }
       case Unit::Kind::Records: break;
     }
-    Chunk chunk = unit.chunk.get();
+    Chunk& chunk = unit.chunk;
     check_chunk(unit, chunk);
     if (chunk.bad_record) {
       throw FormatError(fmt::format("{}: record {}: {}", name_,
@@ -106,14 +107,11 @@ bool PipelinedReader::deliver_pending(RecordBatch& batch) {
 
 void PipelinedReader::fill_pipeline() {
   const std::size_t limit = static_cast<std::size_t>(threads_) + 2;
-  while (!input_done_ && units_.size() < limit) read_unit();
+  while (!input_done_ && pipeline_->size() < limit) read_unit();
 }
 
 void PipelinedReader::drain() {
-  for (auto& unit : units_) {
-    if (unit.chunk.valid()) unit.chunk.wait();
-  }
-  units_.clear();
+  if (pipeline_) pipeline_->clear();
 }
 
 }  // namespace nodetrace::formats::detail

@@ -6,8 +6,6 @@
 #pragma once
 
 #include <cstdint>
-#include <deque>
-#include <future>
 #include <memory>
 #include <optional>
 #include <string>
@@ -15,7 +13,7 @@
 #include "buffers.hpp"
 #include "nodetrace/formats/reader.hpp"
 #include "record_codec.hpp"
-#include "thread_pool.hpp"
+#include "nodetrace/formats/ordered_pipeline.hpp"
 #include "trace_input.hpp"
 
 namespace nodetrace::formats::detail {
@@ -44,7 +42,7 @@ struct Unit {
   Kind kind = Kind::Records;
   FrameMarker marker;
   WindowMarker window;
-  std::future<Chunk> chunk;
+  Chunk chunk;  // Records: filled on a worker
   // Containers: where the data frame is and what the index should say.
   FrameIndexEntry entry;
   std::uint64_t data_frame = 0;
@@ -96,8 +94,8 @@ class PipelinedReader : public TraceReader {
   TraceHeader header_;
   std::optional<TraceTrailer> trailer_;
   std::shared_ptr<Stock> stock_ = std::make_shared<Stock>();
-  std::unique_ptr<ThreadPool> pool_;
-  std::deque<Unit> units_;
+  // The units in trace order, data decoded on the workers.
+  std::unique_ptr<OrderedPipeline<Unit>> pipeline_;
   std::optional<FrameMarker> pending_marker_;
   std::optional<WindowMarker> pending_window_;
   bool input_done_ = false;
