@@ -5,12 +5,12 @@
 
 #include <fmt/format.h>
 
-#include <array>
 #include <vector>
 
 #include "container.hpp"
 #include "nodetrace/formats/error.hpp"
 #include "nodetrace/formats/output_file.hpp"
+#include "nodetrace/formats/record_summary.hpp"
 #include "record_codec.hpp"
 #include "nodetrace/formats/ordered_pipeline.hpp"
 
@@ -19,9 +19,6 @@ namespace nodetrace::formats {
 TraceWriter::~TraceWriter() = default;
 
 namespace {
-
-constexpr const char* kTypeNames[kAccessTypeCount] = {"read", "write", "instruction_fetch",
-                                                      "misc", "copy_back", "invalidate"};
 
 struct Encoded {
   detail::ByteBuffer text;        // the record bytes
@@ -86,7 +83,6 @@ class Writer final : public TraceWriter {
                  (options_.kind == OutputKind::Auto && (path == "-" || ends_with(path, ".zst")));
     levels_ = container_ && options_.tags_are_levels && options_.form != RecordForm::Binary;
     pipeline_ = std::make_unique<OrderedPipeline<Item>>(options_.threads);
-    tag_counts_.resize(std::size_t{1} << 16);
     XXH64_reset(record_hash_.get(), 0);
     XXH64_reset(content_hash_.get(), 0);
     out_ = std::make_unique<OutputFile>(path_);
@@ -155,19 +151,10 @@ class Writer final : public TraceWriter {
     if (container_) {
       TraceTrailer trailer;
       trailer.index = std::move(index_);
-      nlohmann::json per_tag = nlohmann::json::object();
-      for (std::size_t tag = 0; tag < tag_counts_.size(); ++tag) {
-        if (tag_counts_[tag] == 0) continue;
-        const Tag value = static_cast<Tag>(tag);
-        const std::string key = value == kTagNone ? "none" : is_level(value) ? std::to_string(tag) : tag_text(value);
-        per_tag[key] = tag_counts_[tag];
-      }
-      nlohmann::json per_type = nlohmann::json::object();
-      for (int type = 0; type < kAccessTypeCount; ++type) per_type[kTypeNames[type]] = type_counts_[type];
       trailer.totals = extra_totals_;
       trailer.totals["records"] = records_total_;
-      trailer.totals["records_per_tag"] = std::move(per_tag);
-      trailer.totals["records_per_type"] = std::move(per_type);
+      trailer.totals["records_per_tag"] = summary_.records_per_tag();
+      trailer.totals["records_per_type"] = summary_.records_per_type();
       trailer.totals["animation_frames"] = markers_;
       // Only sampled traces say it, so unsampled traces keep their bytes.
       if (windows_ > 0) trailer.totals["sample_windows"] = windows_;
@@ -205,10 +192,7 @@ class Writer final : public TraceWriter {
       bad |= !din && record.size == 0;
     }
     if (bad) return false;
-    for (const Record& record : run) {
-      ++type_counts_[static_cast<unsigned>(record.type)];
-      ++tag_counts_[record.tag];
-    }
+    summary_.add(run);
     return true;
   }
 
@@ -230,8 +214,7 @@ class Writer final : public TraceWriter {
       if (record.size == 0 && options_.form != RecordForm::Din) {
         fail(fmt::format("record {}: size 0 (a reference is at least 1 byte)", records_total_ + 1));
       }
-      ++type_counts_[type];
-      ++tag_counts_[record.tag];
+      summary_.add(record);
       detail::format_records(std::span<const Record>(&record, 1), options_.form, options_.address_digits,
                              records_total_, pending_text_);
       ++pending_records_;
@@ -340,8 +323,7 @@ class Writer final : public TraceWriter {
   detail::ByteBuffer pending_text_;  // the text of the data frame being filled
   std::uint64_t pending_records_ = 0;
   std::vector<FrameIndexEntry> index_;
-  std::vector<std::uint64_t> tag_counts_;
-  std::array<std::uint64_t, kAccessTypeCount> type_counts_{};
+  RecordSummary summary_;  // the trailer's records_per_tag / records_per_type
   std::uint64_t records_total_ = 0;
   std::uint64_t markers_ = 0;
   std::uint64_t windows_ = 0;

@@ -5,10 +5,8 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <array>
 #include <cstdio>
 #include <filesystem>
-#include <map>
 #include <new>
 #include <string>
 #include <vector>
@@ -16,95 +14,15 @@
 #include "nodetrace/formats/error.hpp"
 #include "nodetrace/formats/option_limits.hpp"
 #include "nodetrace/formats/reader.hpp"
+#include "nodetrace/formats/record_summary.hpp"
 #include "nodetrace/formats/standard_output.hpp"
+#include "nodetrace/formats/tag_filter.hpp"
 #include "nodetrace/formats/writer.hpp"
 
 namespace formats = nodetrace::formats;
 using formats::Record;
-using formats::Tag;
 
 namespace {
-
-constexpr const char* kTypeNames[formats::kAccessTypeCount] = {"read", "write", "instruction_fetch",
-                                                               "misc", "copy_back", "invalidate"};
-
-// --tags: ranges and lists of levels plus p and t, e.g. `0-3,9-,p`.
-struct TagFilter {
-  std::vector<bool> levels = std::vector<bool>(std::size_t{formats::kMaxLevel} + 1, false);
-  bool primitive_lists = false;
-  bool triangles = false;
-  bool any_level = false;
-
-  bool keeps(Tag tag) const {
-    if (formats::is_level(tag)) return levels[tag];
-    if (tag == formats::kTagPrimitiveList) return primitive_lists;
-    if (tag == formats::kTagTriangle) return triangles;
-    return false;
-  }
-
-  static TagFilter parse(const std::string& text) {
-    TagFilter filter;
-    std::size_t start = 0;
-    while (start <= text.size()) {
-      const std::size_t comma = std::min(text.find(',', start), text.size());
-      const std::string item = text.substr(start, comma - start);
-      start = comma + 1;
-      if (item == "p") {
-        filter.primitive_lists = true;
-        continue;
-      }
-      if (item == "t") {
-        filter.triangles = true;
-        continue;
-      }
-      const auto number = [&](const std::string& digits) -> unsigned long {
-        if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 5 ||
-            std::stoul(digits) > formats::kMaxLevel) {
-          throw formats::UsageError(fmt::format(
-              "--tags: '{}' is not a level, a range (A-B, A-) or p / t (e.g. 0-3,9-,p)", item));
-        }
-        return std::stoul(digits);
-      };
-      const std::size_t dash = item.find('-');
-      unsigned long low, high;
-      if (dash == std::string::npos) {
-        low = high = number(item);
-      } else {
-        low = number(item.substr(0, dash));
-        high = dash + 1 == item.size() ? formats::kMaxLevel : number(item.substr(dash + 1));
-        if (high < low) throw formats::UsageError(fmt::format("--tags: range '{}' is empty", item));
-      }
-      for (unsigned long level = low; level <= high; ++level) filter.levels[level] = true;
-      filter.any_level = true;
-    }
-    return filter;
-  }
-};
-
-struct Summary {
-  std::uint64_t records = 0;
-  std::map<std::string, std::uint64_t> per_tag;
-  std::array<std::uint64_t, formats::kAccessTypeCount> per_type{};
-  std::uint64_t animation_frames = 0;
-};
-
-std::string tag_key(Tag tag) {
-  if (tag == formats::kTagNone) return "none";
-  if (formats::is_level(tag)) return std::to_string(tag);
-  return formats::tag_text(tag);
-}
-
-// Tag keys in a readable order: levels by number, then p, t, none.
-std::vector<std::pair<std::string, std::uint64_t>> ordered(const nlohmann::json& per_tag) {
-  std::vector<std::pair<std::string, std::uint64_t>> rows;
-  for (const auto& [key, value] : per_tag.items()) rows.emplace_back(key, value.get<std::uint64_t>());
-  const auto rank = [](const std::string& key) -> std::pair<int, unsigned long> {
-    if (!key.empty() && key.find_first_not_of("0123456789") == std::string::npos) return {0, std::stoul(key)};
-    return {key == "p" ? 1 : key == "t" ? 2 : 3, 0};
-  };
-  std::sort(rows.begin(), rows.end(), [&](const auto& a, const auto& b) { return rank(a.first) < rank(b.first); });
-  return rows;
-}
 
 formats::ReaderOptions reader_options(bool tags_are_levels, std::optional<formats::RecordForm> form,
                                       unsigned threads = 0) {
@@ -151,27 +69,17 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
     info["decompressed_bytes"] = trailer->totals["record_bytes"];
     info["totals"] = trailer->totals;
   } else {
-    Summary summary;
-    std::vector<std::uint64_t> per_tag(std::size_t{1} << 16, 0);
+    formats::RecordSummary summary;
+    std::uint64_t animation_frames = 0;
     formats::RecordBatch batch;
     while (reader->next(batch)) {
-      if (batch.marker) ++summary.animation_frames;
-      for (const Record& record : batch.records) {
-        ++per_tag[record.tag];
-        ++summary.per_type[static_cast<std::size_t>(record.type)];
-      }
-      summary.records += batch.records.size();
+      if (batch.marker) ++animation_frames;
+      summary.add(batch.records);
     }
-    nlohmann::json tags = nlohmann::json::object();
-    for (std::size_t tag = 0; tag < per_tag.size(); ++tag) {
-      if (per_tag[tag] != 0) tags[tag_key(static_cast<Tag>(tag))] = per_tag[tag];
-    }
-    nlohmann::json types = nlohmann::json::object();
-    for (int type = 0; type < formats::kAccessTypeCount; ++type) types[kTypeNames[type]] = summary.per_type[type];
-    info["records"] = summary.records;
-    info["records_per_tag"] = tags;
-    info["records_per_type"] = types;
-    info["animation_frames"] = summary.animation_frames;
+    info["records"] = summary.records();
+    info["records_per_tag"] = summary.records_per_tag();
+    info["records_per_type"] = summary.records_per_type();
+    info["animation_frames"] = animation_frames;
     info["data_frames"] = reader->trailer() ? reader->trailer()->index.size() : 0;
     info["decompressed_bytes"] = reader->record_bytes();
     if (reader->trailer()) info["totals"] = reader->trailer()->totals;
@@ -204,7 +112,7 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
   fmt::print("records per type\n");
   for (const auto& [key, value] : info["records_per_type"].items()) fmt::print("  {:<18} {}\n", key, value.dump());
   fmt::print("records per tag\n");
-  for (const auto& [key, value] : ordered(info["records_per_tag"])) fmt::print("  {:<18} {}\n", key, value);
+  for (const auto& [key, value] : formats::ordered_tag_counts(info["records_per_tag"])) fmt::print("  {:<18} {}\n", key, value);
   if (info.contains("totals")) {
     for (const auto& [key, value] : info["totals"].items()) {
       if (key == "records" || key == "records_per_tag" || key == "records_per_type" || key == "animation_frames" ||
@@ -219,9 +127,9 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
 int run_cat(const std::string& path, const std::string& tags, const std::string& to, bool tags_are_levels,
             const std::string& form) {
   auto reader = formats::TraceReader::open(path, reader_options(tags_are_levels, form_option(form)));
-  std::optional<TagFilter> filter;
+  std::optional<formats::TagFilter> filter;
   if (!tags.empty()) {
-    filter = TagFilter::parse(tags);
+    filter = formats::TagFilter::parse(tags);
     if (!reader->tags_are_levels()) {
       throw formats::UsageError(fmt::format(
           "{}: --tags filters by node level, but this trace's tags are not marked as node levels "
