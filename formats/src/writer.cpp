@@ -61,10 +61,6 @@ Encoded encode(detail::ByteBuffer text, bool compress, int level, Stock& stock) 
   return encoded;
 }
 
-bool ends_with(const std::string& text, std::string_view suffix) {
-  return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 class Writer final : public TraceWriter {
  public:
   Writer(const std::string& path, nlohmann::json header, const WriterOptions& options)
@@ -79,8 +75,7 @@ class Writer final : public TraceWriter {
     }
     if (header.is_null()) header = nlohmann::json::object();
     if (!header.is_object()) throw UsageError("the trace header must be a JSON object");
-    container_ = options_.kind == OutputKind::Container ||
-                 (options_.kind == OutputKind::Auto && (path == "-" || ends_with(path, ".zst")));
+    container_ = decide_trace_output(path, options_.kind, options_.form).container;
     levels_ = container_ && options_.tags_are_levels && options_.form != RecordForm::Binary;
     pipeline_ = std::make_unique<OrderedPipeline<Item>>(options_.threads);
     XXH64_reset(record_hash_.get(), 0);

@@ -175,7 +175,8 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
     }
     const Layout layout = make_layout(tree, options.layout, report.split_level);
     RenderOptions options_for_frame = r;
-    if (options.discard_records) options_for_frame.record = true;
+    // Records are made for a trace file, or for --discard-records to drop.
+    options_for_frame.record = !options.output.empty() || options.discard_records;
     const Renderer renderer(scene, tree, layout, options_for_frame);
 
     if (i == 0) {

@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "nodetrace/formats/error.hpp"
+#include "nodetrace/formats/trace_output.hpp"
 #include "nodetrace/tracer/scene_loader.hpp"
 #include "nodetrace/tracer/trace_emit.hpp"
 #include "render_options.hpp"
@@ -19,15 +20,6 @@
 namespace nodetrace::tracer::cli {
 
 namespace {
-
-formats::RecordForm form_from_path(const std::string& path) {
-  auto ends_with = [&](std::string_view suffix) {
-    return path.size() >= suffix.size() && path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
-  };
-  if (ends_with(".xdin.zst") || ends_with(".xdin")) return formats::RecordForm::ExtendedDin;
-  if (ends_with(".bin.zst") || ends_with(".bin")) return formats::RecordForm::Binary;
-  return formats::RecordForm::Din;
-}
 
 void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
                    const std::string& scene_name, double build_seconds) {
@@ -115,13 +107,10 @@ int render_command(int argc, char** argv) {
     options.image = image;
     options.zstd_level = zstd_level;
     options.discard_records = discard;
-    if (!records_name.empty()) {
-      options.form = *formats::parse_form_name(records_name);
-    } else if (!output.empty()) {
-      options.form = form_from_path(output);
-    }
+    std::optional<formats::RecordForm> named_form;
+    if (!records_name.empty()) named_form = formats::parse_form_name(records_name);
+    options.form = formats::decide_trace_output(output, formats::OutputKind::Auto, named_form).form;
     options.render.streams = parse_streams(streams);
-    if (output.empty()) options.render.record = false;
     if (output == "-" && isatty(STDOUT_FILENO)) {
       throw formats::UsageError("refusing to write a trace to a terminal; redirect standard output");
     }

@@ -9,19 +9,14 @@
 #include <string>
 
 #include "nodetrace/formats/metadata.hpp"
+#include "nodetrace/formats/trace_output.hpp"
 #include "nodetrace/formats/record.hpp"
 
 namespace nodetrace::formats {
 
-enum class OutputKind : std::uint8_t {
-  Auto,       // container when the path ends in .zst or is "-", else plain
-  Container,  // header, markers, data frames, trailer
-  Plain,      // records only: text for din / xdin, 8-byte records for binary
-};
-
 struct WriterOptions {
   RecordForm form = RecordForm::Din;
-  OutputKind kind = OutputKind::Auto;
+  OutputKind kind = OutputKind::Auto;  // decide_trace_output (trace_output.hpp) decides Auto
   int zstd_level = 3;
   unsigned threads = 0;                        // compression threads; 0 = one per core
   std::uint64_t records_per_frame = 1u << 20;  // records per data frame
