@@ -1,7 +1,7 @@
 // What every kind of trace reader shares (internal): the in-order pipeline
 // of units (data frames or text chunks decoded on worker threads, markers
 // between them) and the delivery of records and markers in trace order.
-// container_reader.cpp, plain_zstd_reader.cpp and plain_text_reader.cpp
+// container_reader.cpp, plain_zstd_reader.cpp and plain_records_reader.cpp
 // fill the pipeline from their kind of input; reader.cpp picks the kind.
 #pragma once
 
