@@ -17,6 +17,8 @@
 namespace nodetrace::formats::detail {
 namespace {
 
+// Decompresses and parses one data frame (on a worker); damage goes into
+// the chunk's frame_error for the reader to report with the frame's place.
 Chunk decode_data_frame(const std::string& frame, ParseSettings settings, Stock& stock) {
   Chunk chunk;
   ZSTD_frameHeader header{};
@@ -59,7 +61,6 @@ Chunk decode_data_frame(const std::string& frame, ParseSettings settings, Stock&
   chunk.bytes = std::move(bytes);
   return chunk;
 }
-
 
 class ContainerReader final : public PipelinedReader {
  public:

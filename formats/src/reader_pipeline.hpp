@@ -48,7 +48,7 @@ struct Unit {
   std::uint64_t data_frame = 0;
 };
 
-// Opens the input named `path` ("-": standard input) under the name errors use.
+// An opened input and the name errors give it (the path, or "<stdin>").
 struct OpenedInput {
   std::string name;
   std::unique_ptr<Input> input;
