@@ -60,6 +60,12 @@ bool Renderer::occluded(const Ray& ray, float t_max, std::vector<Record>* record
 }
 
 RenderStats Renderer::render(const RecordSink& sink, Image* image, const Progress& progress) const {
+  const PixelRun all{0, static_cast<std::uint64_t>(options_.width) * static_cast<std::uint64_t>(options_.height)};
+  return render_runs({&all, 1}, {}, sink, image, progress);
+}
+
+RenderStats Renderer::render_runs(std::span<const PixelRun> runs, const RunStart& run_start, const RecordSink& sink,
+                                  Image* image, const Progress& progress) const {
   const auto start = std::chrono::steady_clock::now();
   if (image) {
     image->width = options_.width;
@@ -69,7 +75,24 @@ RenderStats Renderer::render(const RecordSink& sink, Image* image, const Progres
   const auto sequence =
       pixel_sequence(options_.width, options_.height, options_.pixel_order, options_.tile_size);
   const std::size_t chunk_pixels = static_cast<std::size_t>(std::max(1, options_.pixels_per_chunk));
-  const std::size_t chunks = (sequence.size() + chunk_pixels - 1) / chunk_pixels;
+  // Chunks of each run; none spans two runs, so a run starts with a chunk.
+  struct ChunkSpan {
+    std::size_t begin, end, run;
+  };
+  std::vector<ChunkSpan> spans;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    const std::size_t end = std::min<std::size_t>(sequence.size(), runs[r].end);
+    for (std::size_t b = runs[r].begin; b < end; b += chunk_pixels) spans.push_back({b, std::min(end, b + chunk_pixels), r});
+  }
+  const std::size_t chunks = spans.size();
+  // Runs announced so far; only the thread whose turn it is to hand records
+  // on touches it, so the announcements are in order.
+  std::size_t runs_started = 0;
+  const auto start_runs_through = [&](std::size_t run) {
+    for (; runs_started <= run && runs_started < runs.size(); ++runs_started) {
+      if (run_start) run_start(runs_started);
+    }
+  };
   unsigned threads = options_.threads ? options_.threads : std::thread::hardware_concurrency();
   threads = std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(std::max<std::size_t>(chunks, 1))));
 
@@ -88,13 +111,13 @@ RenderStats Renderer::render(const RecordSink& sink, Image* image, const Progres
       context.flush_at = std::max<std::size_t>(1, options_.records_per_flush);
       context.flush = [&, c] {
         if (sink && wait_for_turn) wait_for_turn(c);
+        start_runs_through(spans[c].run);
         context.flushed += chunk.records.size();
         if (sink) sink(chunk.records);
         chunk.records.clear();
       };
     }
-    const std::size_t end = std::min(sequence.size(), (c + 1) * chunk_pixels);
-    for (std::size_t i = c * chunk_pixels; i < end; ++i) render_pixel(sequence[i], context, image);
+    for (std::size_t i = spans[c].begin; i < spans[c].end; ++i) render_pixel(sequence[i], context, image);
     chunk.stats = context.stats;
     chunk.flushed = context.flushed;
   };
@@ -104,6 +127,7 @@ RenderStats Renderer::render(const RecordSink& sink, Image* image, const Progres
     chunk.stats.records = chunk.flushed + chunk.records.size();
     chunk.flushed = 0;
     total += chunk.stats;
+    start_runs_through(spans[c].run);
     if (options_.record && sink && !chunk.records.empty()) sink(chunk.records);
     chunk.records.clear();  // keeps the capacity: no page faults refilling it
     if (progress) progress(double(c + 1) / double(chunks));
@@ -193,6 +217,7 @@ RenderStats Renderer::render(const RecordSink& sink, Image* image, const Progres
     for (auto& t : pool) t.join();
     if (error) std::rethrow_exception(error);
   }
+  if (!runs.empty()) start_runs_through(runs.size() - 1);  // runs without a pixel
   total.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return total;
 }

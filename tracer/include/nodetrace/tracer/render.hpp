@@ -49,6 +49,13 @@ class Renderer {
  public:
   using RecordSink = std::function<void(std::span<const formats::Record>)>;
   using Progress = std::function<void(double fraction_done)>;
+  // A stretch [begin, end) of positions in the pixel sequence.
+  struct PixelRun {
+    std::uint64_t begin = 0, end = 0;
+  };
+  // Called with a run's number before the first of its records reach the
+  // sink (from the thread calling the sink), once per run, in order.
+  using RunStart = std::function<void(std::size_t run)>;
 
   // Keeps references to all three; they must outlive the renderer.
   Renderer(const Scene& scene, const KdTree& tree, const Layout& layout,
@@ -58,6 +65,11 @@ class Renderer {
   // by pixel, each pixel's ray tree depth-first) whatever the thread count.
   // `image` (optional) receives the picture.
   RenderStats render(const RecordSink& sink, Image* image, const Progress& progress = {}) const;
+  // Renders the pixels of `runs` only (in increasing, disjoint order), the
+  // others' rays never traced; their records are those the full render
+  // makes for these pixels, in the same order.
+  RenderStats render_runs(std::span<const PixelRun> runs, const RunStart& run_start, const RecordSink& sink,
+                          Image* image, const Progress& progress = {}) const;
 
   // One traversal each, appending its records to `records` when not null.
   std::optional<Hit> closest_hit(const Ray& ray, float t_max, std::vector<formats::Record>* records,
