@@ -16,7 +16,10 @@
 #include "nodetrace/formats/error.hpp"
 #include "nodetrace/formats/reader.hpp"
 #include "nodetrace/tracer/frame_range.hpp"
+#include "nodetrace/tracer/layout.hpp"
+#include "nodetrace/tracer/render.hpp"
 #include "nodetrace/tracer/row_sampling.hpp"
+#include "test_render_scenes.hpp"
 #include "test_support.hpp"
 
 namespace nodetrace::tracer {
@@ -86,6 +89,49 @@ TEST(BandChoiceTest, SeedAndFrameChangeTheBands) {
   EXPECT_EQ(bands(1, 0), bands(1, 0));
   EXPECT_NE(bands(1, 0), bands(2, 0));
   EXPECT_NE(bands(1, 0), bands(1, 1));
+}
+
+TEST(RenderRunsTest, RunsGetTheFullRendersRecordsAndStartJustBeforeThem) {
+  const Scene scene = test_scenes::cornell_box();
+  const KdTree tree = KdTree::build(scene.triangles);
+  const Layout layout = make_layout(tree, LayoutKind::Dfl);
+  RenderOptions options;
+  options.width = 32;
+  options.height = 24;
+  // The full render, one pixel a chunk: where each pixel's records begin.
+  options.threads = 1;
+  options.pixels_per_chunk = 1;
+  std::vector<formats::Record> full;
+  std::vector<std::size_t> pixel_start{0};
+  const auto collect = [](std::vector<formats::Record>& into) {
+    return [&into](std::span<const formats::Record> r) { into.insert(into.end(), r.begin(), r.end()); };
+  };
+  Renderer(scene, tree, layout, options).render(collect(full), nullptr, [&](double) { pixel_start.push_back(full.size()); });
+  ASSERT_EQ(pixel_start.size(), 32u * 24u + 1);
+
+  const std::vector<Renderer::PixelRun> runs{{5, 17}, {40, 41}, {41, 41}, {100, 300}, {700, 768}};
+  for (const unsigned threads : {1u, 2u, 3u}) {
+    options.threads = threads;
+    options.pixels_per_chunk = 7;
+    options.records_per_flush = 3;  // hand records on in the middle of pixels too
+    std::vector<formats::Record> sampled;
+    std::vector<std::size_t> started;
+    const RenderStats stats = Renderer(scene, tree, layout, options)
+                                  .render_runs(runs, [&](std::size_t run) {
+                                    EXPECT_EQ(run, started.size());
+                                    started.push_back(sampled.size());
+                                  }, collect(sampled), nullptr);
+    std::vector<formats::Record> expected;
+    std::vector<std::size_t> expected_starts;
+    for (const auto& run : runs) {
+      expected_starts.push_back(expected.size());
+      expected.insert(expected.end(), full.begin() + pixel_start[run.begin], full.begin() + pixel_start[run.end]);
+    }
+    EXPECT_TRUE(sampled == expected) << threads << " threads";
+    EXPECT_EQ(started, expected_starts) << threads << " threads";
+    EXPECT_EQ(stats.records, expected.size());
+    EXPECT_EQ(stats.rays[0], 12u + 1 + 200 + 68);  // one primary ray a pixel rendered
+  }
 }
 
 // Records of a trace in order, and for each window its band and records.

@@ -110,8 +110,10 @@ RenderStats Renderer::render_runs(std::span<const PixelRun> runs, const RunStart
     if (context.records) {
       context.flush_at = std::max<std::size_t>(1, options_.records_per_flush);
       context.flush = [&, c] {
-        if (sink && wait_for_turn) wait_for_turn(c);
-        start_runs_through(spans[c].run);
+        if (sink) {
+          if (wait_for_turn) wait_for_turn(c);
+          start_runs_through(spans[c].run);  // it is this chunk's turn: no other thread is here
+        }
         context.flushed += chunk.records.size();
         if (sink) sink(chunk.records);
         chunk.records.clear();
