@@ -243,6 +243,7 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
     if (options.sampling) {
       // Only the chosen bands are rendered; each begins a sample window.
       const std::vector<SampledBand> bands = choose_bands(*options.sampling, frame, r.width, r.height);
+      report.bands_rendered = bands.size();
       std::vector<Renderer::PixelRun> runs;
       for (const auto& band : bands) runs.push_back({band.first_pixel, band.end_pixel});
       Renderer::RunStart begin_window;

@@ -46,6 +46,7 @@ struct FrameReport {
   std::uint64_t triangles = 0;
   KdTreeStats tree;
   std::uint32_t split_level = 0;
+  std::uint64_t bands_rendered = 0;  // sampled renders: the bands chosen in this frame
   RenderStats render;
 };
 
