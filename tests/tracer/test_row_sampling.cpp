@@ -283,5 +283,16 @@ TEST(FramesCliTest, StepRendersEveryStepthFrame) {
   EXPECT_NE(bad.err.find("--frames"), std::string::npos) << bad.err;
 }
 
+TEST(FramesCliTest, RenderAndInfoRejectAMissingFrameAlike) {
+  TempDir dir;
+  const auto info = run_command(program("tracer").string() + " info " + kScene + " --frame 1");
+  const auto rendered = run_command(render() + "--frame 1 -o " + (dir / "x.din.zst").string());
+  EXPECT_EQ(info.exit_code, 2);
+  EXPECT_EQ(rendered.exit_code, 2);
+  const std::string message = "frame 1 is out of range: mountain has 1 frame(s), numbered from 0";
+  EXPECT_NE(info.err.find(message), std::string::npos) << info.err;
+  EXPECT_NE(rendered.err.find(message), std::string::npos) << rendered.err;
+}
+
 }  // namespace
 }  // namespace nodetrace::tracer
