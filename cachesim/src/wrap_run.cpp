@@ -9,6 +9,7 @@
 
 #include "nodetrace/cachesim/wrap.hpp"
 #include "nodetrace/formats/error.hpp"
+#include "nodetrace/formats/record_format.hpp"
 
 namespace nodetrace::cachesim::wrap {
 
@@ -20,37 +21,6 @@ using formats::Tag;
 namespace {
 
 constexpr std::size_t kFlushBytes = 1 << 16;
-
-// One record as Dinero IV text: din `LABEL ADDRESS` (Dinero rounds the
-// address itself), or extended din `TYPE ADDRESS SIZE`.
-std::size_t format_line(const Record& record, RecordForm form, char* out) {
-  static constexpr char kHex[] = "0123456789abcdef";
-  static constexpr char kTypeLetters[] = "rwimcv";
-  char* p = out;
-  const auto type = static_cast<unsigned>(record.type);
-  if (form == RecordForm::Din) {
-    *p++ = static_cast<char>('0' + type);
-  } else {
-    *p++ = kTypeLetters[type];
-  }
-  *p++ = ' ';
-  auto hex = [&p](std::uint64_t value) {
-    char digits[16];
-    int count = 0;
-    do {
-      digits[count++] = kHex[value & 15];
-      value >>= 4;
-    } while (value != 0);
-    while (count > 0) *p++ = digits[--count];
-  };
-  hex(record.address);
-  if (form != RecordForm::Din) {
-    *p++ = ' ';
-    hex(record.size);
-  }
-  *p++ = '\n';
-  return static_cast<std::size_t>(p - out);
-}
 
 enum class Role : std::uint8_t { Single, High, Low, HighFrames };
 
@@ -224,7 +194,10 @@ TraceResult wrap_run(const std::string& path, const std::vector<NodeCacheConfig>
       running.push_back(
           std::make_unique<RunningJob>(jobs[j], options, context, configs[jobs[j].config]));
     }
-    char line[64];
+    // Binary traces are fed as extended din text (dinero_cache_arguments says
+    // -informat D); Dinero IV rounds a din address itself.
+    const RecordForm fed_form = context.form == RecordForm::Din ? RecordForm::Din : RecordForm::ExtendedDin;
+    char line[formats::kMaxFormattedRecord];
     RecordBatch& batch = first_batch;
     bool first_batch_of_pass = true;
     do {
@@ -249,7 +222,7 @@ TraceResult wrap_run(const std::string& path, const std::vector<NodeCacheConfig>
         if (needs_levels && !formats::is_level(tag)) {
           throw_untagged_record(context, batch.first_record + r + 1, "the split scheme routes");
         }
-        const std::size_t length = format_line(record, context.form, line);
+        const std::size_t length = formats::format_record(record, fed_form, formats::kDineroTextLayout, line);
         for (std::size_t j = group_start; j < group_end; ++j) {
           if (jobs[j].takes(tag)) running[j - group_start]->add(line, length);
         }
@@ -324,10 +297,10 @@ int wrap_exec(const std::string& path, const std::vector<std::string>& arguments
   ChildProcess process(argv, true);
   RecordBatch batch;
   std::string buffer;
-  char line[64];
+  char line[formats::kMaxFormattedRecord];
   while (reader->next(batch)) {
     for (const Record& record : batch.records) {
-      buffer.append(line, format_line(record, form, line));
+      buffer.append(line, formats::format_record(record, form, formats::kDineroTextLayout, line));
       if (buffer.size() >= kFlushBytes) {
         process.write(buffer);
         buffer.clear();

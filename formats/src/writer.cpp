@@ -6,15 +6,13 @@
 #include <fmt/format.h>
 
 #include <array>
-#include <deque>
-#include <future>
 #include <vector>
 
 #include "container.hpp"
 #include "nodetrace/formats/error.hpp"
 #include "nodetrace/formats/output_file.hpp"
-#include "text_codec.hpp"
-#include "thread_pool.hpp"
+#include "record_codec.hpp"
+#include "nodetrace/formats/ordered_pipeline.hpp"
 
 namespace nodetrace::formats {
 
@@ -87,7 +85,7 @@ class Writer final : public TraceWriter {
     container_ = options_.kind == OutputKind::Container ||
                  (options_.kind == OutputKind::Auto && (path == "-" || ends_with(path, ".zst")));
     levels_ = container_ && options_.tags_are_levels && options_.form != RecordForm::Binary;
-    pool_ = std::make_unique<detail::ThreadPool>(detail::default_threads(options_.threads));
+    pipeline_ = std::make_unique<OrderedPipeline<Item>>(options_.threads);
     tag_counts_.resize(std::size_t{1} << 16);
     XXH64_reset(record_hash_.get(), 0);
     XXH64_reset(content_hash_.get(), 0);
@@ -108,10 +106,7 @@ class Writer final : public TraceWriter {
 
   ~Writer() override {
     if (finished_) return;
-    for (auto& item : queue_) {
-      if (item.job.valid()) item.job.wait();
-    }
-    queue_.clear();
+    pipeline_.reset();  // waits for the jobs in flight
     // out_'s destructor removes the temporary.
   }
 
@@ -187,9 +182,11 @@ class Writer final : public TraceWriter {
   }
 
  private:
+  // What goes into the file, in order: a marker's bytes, or a data frame.
   struct Item {
-    std::future<Encoded> job;
-    std::string ready;  // bytes already made (a marker)
+    bool is_data_frame = false;
+    std::string ready;  // a marker's bytes
+    Encoded encoded;    // a data frame's text and zstd frame
     std::uint64_t first_record = 0;
     std::uint64_t record_count = 0;
     std::uint64_t animation_frame = 0;
@@ -249,7 +246,7 @@ class Writer final : public TraceWriter {
     if (!container_) return;
     Item item;
     item.ready = detail::skippable_frame(magic, json.dump());
-    queue_.push_back(std::move(item));
+    pipeline_->push_ready(std::move(item));
     drain(false);
   }
 
@@ -262,6 +259,7 @@ class Writer final : public TraceWriter {
   void submit_pending() {
     if (pending_records_ == 0) return;
     Item item;
+    item.is_data_frame = true;
     item.first_record = records_total_ - pending_records_;
     item.record_count = pending_records_;
     item.animation_frame = markers_ == 0 ? 0 : markers_ - 1;
@@ -269,9 +267,11 @@ class Writer final : public TraceWriter {
     pending_text_ = stock_->text.take();
     pending_records_ = 0;
     reserve_pending_text();
-    item.job = pool_->submit([text = std::move(text), compress = container_, level = options_.zstd_level,
-                              stock = stock_]() mutable { return encode(std::move(text), compress, level, *stock); });
-    queue_.push_back(std::move(item));
+    pipeline_->submit([item = std::move(item), text = std::move(text), compress = container_,
+                       level = options_.zstd_level, stock = stock_]() mutable {
+      item.encoded = encode(std::move(text), compress, level, *stock);
+      return std::move(item);
+    });
     drain(false);
   }
 
@@ -282,22 +282,21 @@ class Writer final : public TraceWriter {
   }
 
   // Writes finished items in order; waits for all when `all`, else only while
-  // more jobs are in flight than keep the pool's threads busy (bounded memory).
+  // more jobs are in flight than keep the threads busy (bounded memory).
   void drain(bool all) {
-    const std::size_t limit = static_cast<std::size_t>(pool_->size()) + 1;
-    while (!queue_.empty() && (all || queue_.size() > limit || !queue_.front().job.valid())) {
-      Item item = std::move(queue_.front());
-      queue_.pop_front();
-      if (!item.job.valid()) {
-        emit(item.ready, true);
-        continue;
-      }
-      Encoded encoded;
+    const std::size_t limit = static_cast<std::size_t>(pipeline_->threads()) + 1;
+    while (!pipeline_->empty() && (all || pipeline_->size() > limit || pipeline_->front_ready())) {
+      Item item;
       try {
-        encoded = item.job.get();
+        item = pipeline_->pop();
       } catch (const FormatError& error) {
         fail(error.what());
       }
+      if (!item.is_data_frame) {
+        emit(item.ready, true);
+        continue;
+      }
+      Encoded& encoded = item.encoded;
       XXH64_update(record_hash_.get(), encoded.text.data(), encoded.text.size());
       record_bytes_ += encoded.text.size();
       if (!container_) {
@@ -337,8 +336,7 @@ class Writer final : public TraceWriter {
   bool finished_ = false;
   std::unique_ptr<OutputFile> out_;
   std::shared_ptr<Stock> stock_ = std::make_shared<Stock>();
-  std::unique_ptr<detail::ThreadPool> pool_;
-  std::deque<Item> queue_;
+  std::unique_ptr<OrderedPipeline<Item>> pipeline_;  // the data frames being compressed, and the markers between
   detail::ByteBuffer pending_text_;  // the text of the data frame being filled
   std::uint64_t pending_records_ = 0;
   std::vector<FrameIndexEntry> index_;

@@ -1,7 +1,8 @@
 // The fixed-width text the writers produce, checked line by line against a
 // plain fmt rendering of FORMAT.md 1.1 / 1.2: the table-driven common line
 // (32-bit address, level below 100) and the general path must agree, also
-// for records mixed in one batch.
+// for records mixed in one batch; format_record, one record at a time, gives
+// the same lines and the unpadded untagged lines Dinero IV is fed.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "nodetrace/formats/error.hpp"
+#include "nodetrace/formats/record_format.hpp"
 #include "nodetrace/formats/writer.hpp"
 #include "test_support.hpp"
 
@@ -77,6 +79,44 @@ TEST(FixedWidthLines, DinAndExtendedDinMatchTheSpecificationForEveryKindOfRecord
       EXPECT_TRUE(text == expected) << form_name(form) << " " << digits;
     }
   }
+}
+
+TEST(FixedWidthLines, FormatRecordWritesTheWritersLinesAndDineroIVsLines) {
+  char line[kMaxFormattedRecord];
+  for (const Record& record : mixed_records()) {
+    for (const RecordForm form : {RecordForm::Din, RecordForm::ExtendedDin}) {
+      for (const unsigned digits : {8u, 16u}) {
+        const std::size_t length = format_record(record, form, TextLayout{digits, true}, line);
+        ASSERT_EQ(std::string(line, length), expected_line(record, form, digits));
+      }
+      Record untagged = record;
+      untagged.tag = kTagNone;
+      const std::size_t length = format_record(record, form, kDineroTextLayout, line);
+      ASSERT_EQ(std::string(line, length), expected_line(untagged, form, 1));
+    }
+  }
+}
+
+TEST(FixedWidthLines, FormatRecordWritesTheWritersBinaryRecords) {
+  TempDir dir;
+  std::vector<Record> records;
+  for (const Record& record : mixed_records()) {
+    if (record.address <= 0xFFFFFFFFu && record.size <= 0xFFFFu) records.push_back(record);
+  }
+  WriterOptions options;
+  options.form = RecordForm::Binary;
+  options.kind = OutputKind::Plain;
+  auto writer = TraceWriter::create((dir / "t.bin").string(), nullptr, options);
+  writer->write(records);
+  writer->finish();
+  std::string formatted;
+  char bytes[kMaxFormattedRecord];
+  for (const Record& record : records) formatted.append(bytes, format_record(record, RecordForm::Binary, {}, bytes));
+  EXPECT_TRUE(formatted == read_file(dir / "t.bin"));
+  EXPECT_THROW(format_record({0x100000000ull, 4, AccessType::Read, kTagNone}, RecordForm::Binary, {}, bytes),
+               FormatError);
+  EXPECT_THROW(format_record({0x1000, 0x10000, AccessType::Read, kTagNone}, RecordForm::Binary, {}, bytes),
+               FormatError);
 }
 
 TEST(FixedWidthLines, ABadRecordInABatchKeepsTheOnesBeforeItAndIsNamed) {

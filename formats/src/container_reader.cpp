@@ -1,0 +1,405 @@
+// The container reader (FORMAT.md sections 2 and 3): the header, then frame
+// by frame markers, data frames (decoded on the workers, each checked against
+// the index) and the trailer; from a file it reads the trailer from the end
+// first, which gives the index for keep_data_frame and seek_to_record.
+#define ZSTD_STATIC_LINKING_ONLY  // ZSTD_getFrameHeader, ZSTD_decompressBound
+#include <xxhash.h>
+#include <zstd.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "container.hpp"
+#include "nodetrace/formats/error.hpp"
+#include "reader_kinds.hpp"
+
+namespace nodetrace::formats::detail {
+namespace {
+
+Chunk decode_data_frame(const std::string& frame, ParseSettings settings, Stock& stock) {
+  Chunk chunk;
+  ZSTD_frameHeader header{};
+  const std::size_t status = ZSTD_getFrameHeader(&header, frame.data(), frame.size());
+  if (ZSTD_isError(status) || status != 0) {
+    chunk.frame_error = "damaged zstd frame header";
+    return chunk;
+  }
+  if (header.frameContentSize == ZSTD_CONTENTSIZE_UNKNOWN || !header.checksumFlag) {
+    chunk.frame_error = "a data frame must record its content size and checksum";
+    return chunk;
+  }
+  const unsigned long long bound = ZSTD_decompressBound(frame.data(), frame.size());
+  if (bound == ZSTD_CONTENTSIZE_ERROR || header.frameContentSize > bound) {
+    chunk.frame_error = "damaged zstd frame (content size does not match its blocks)";
+    return chunk;
+  }
+  ByteBuffer bytes = stock.bytes.take();
+  bytes.resize(header.frameContentSize);
+  thread_local std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> context(ZSTD_createDCtx(), &ZSTD_freeDCtx);
+  const std::size_t size = ZSTD_decompressDCtx(context.get(), bytes.data(), bytes.size(), frame.data(), frame.size());
+  if (ZSTD_isError(size)) {
+    chunk.frame_error = fmt::format("damaged zstd frame ({})", ZSTD_getErrorName(size));
+    return chunk;
+  }
+  if (size != bytes.size()) {
+    chunk.frame_error = "damaged zstd frame (wrong content size)";
+    return chunk;
+  }
+  if (!bytes.empty()) {
+    const bool whole = settings.form == RecordForm::Binary ? bytes.size() % 8 == 0 : bytes.data()[bytes.size() - 1] == '\n';
+    if (!whole) {
+      chunk.frame_error = "data frame does not end at a record boundary";
+      return chunk;
+    }
+  }
+  chunk.records = stock.records.take();
+  chunk.bad_record =
+      !parse_records(bytes.view(), settings, chunk.records, chunk.record_error, chunk.ignored_fields);
+  chunk.bytes = std::move(bytes);
+  return chunk;
+}
+
+
+class ContainerReader final : public PipelinedReader {
+ public:
+  ContainerReader(OpenedInput opened, const ReaderOptions& options) : PipelinedReader(std::move(opened), options) {
+    open_container();
+    start_workers();
+  }
+
+  std::string_view input_kind() const override { return "container"; }
+  std::uint64_t data_frames_decompressed() const override { return data_frames_decompressed_; }
+  std::uint64_t data_frames_skipped() const override { return data_frames_skipped_; }
+
+  void seek_to_record(std::uint64_t record) override {
+    if (!input_->seekable() || !trailer_) cannot_seek();
+    const auto& index = trailer_->index;
+    auto found = std::find_if(index.begin(), index.end(), [&](const FrameIndexEntry& entry) {
+      return record >= entry.first_record && record < entry.first_record + entry.record_count;
+    });
+    if (found == index.end()) {
+      throw UsageError(fmt::format("{}: record {} is beyond the trace's {} records", name_, record,
+                                   index.empty() ? 0 : index.back().first_record + index.back().record_count));
+    }
+    drain();
+    input_->seek(found->offset);
+    data_frames_ = static_cast<std::uint64_t>(found - index.begin());
+    next_skip_ = static_cast<std::size_t>(data_frames_);
+    records_read_ = records_delivered_ = found->first_record;
+    pending_marker_.reset();
+    pending_window_.reset();
+    markers_ = found->animation_frame + 1;
+    hashes_valid_ = false;
+    saw_trailer_ = false;
+    finished_ = false;
+    input_done_ = false;
+  }
+
+ private:
+  // Reads one whole skippable frame at the current position into `payload`.
+  void read_skippable(std::string& payload, const char* what) {
+    if (!input_->ensure(kSkippableHeaderSize)) fail(fmt::format("truncated: {} at byte {} is cut short", what, input_->offset()));
+    const std::uint32_t size = load_le32(input_->data() + 4);
+    if (!input_->ensure(kSkippableHeaderSize + size)) {
+      fail(fmt::format("truncated: {} at byte {} is cut short", what, input_->offset()));
+    }
+    payload.assign(input_->data() + kSkippableHeaderSize, size);
+    consume_hashed(kSkippableHeaderSize + size);
+  }
+
+  void consume_hashed(std::size_t count) {
+    XXH64_update(content_hash_.get(), input_->data(), count);
+    input_->consume(count);
+  }
+
+  void open_container() {
+    XXH64_reset(content_hash_.get(), 0);
+    XXH64_reset(record_hash_.get(), 0);
+    std::string payload;
+    read_skippable(payload, "header");
+    try {
+      header_.json = nlohmann::json::parse(payload);
+    } catch (const nlohmann::json::exception& error) {
+      fail(fmt::format("header is not valid JSON ({})", error.what()));
+    }
+    if (!header_.json.is_object()) fail("header is not a JSON object");
+    const auto container = header_.json.find("container");
+    if (container == header_.json.end() || !container->is_object() || !container->contains("name") ||
+        (*container)["name"] != kContainerName || !(*container)["version"].is_number_unsigned()) {
+      fail(fmt::format("header does not name the container (\"container\": {{\"name\": \"{}\", \"version\": N}})",
+                       kContainerName));
+    }
+    const auto version = (*container)["version"].get<std::uint64_t>();
+    if (version != kContainerVersion) {
+      fail(fmt::format("container version {} is not one this reader knows ({})", version, kContainerVersion));
+    }
+    const auto form = header_.form();
+    if (!form) fail("header's \"records\" is not din, xdin or binary");
+    // "tag" is "node-level" or absent; a "node-level" under another key is a
+    // damaged "tag" (which would make the levels look like no tags at all).
+    const auto tag = header_.json.find("tag");
+    if (tag != header_.json.end() && !header_.tags_are_levels()) {
+      fail(fmt::format("damaged header: \"tag\" is {}, not \"node-level\"", tag->dump()));
+    }
+    for (const auto& [key, value] : header_.json.items()) {
+      if (key != "tag" && value == "node-level") {
+        fail(fmt::format("damaged header: key \"{}\" holds \"node-level\", the value of \"tag\"", key));
+      }
+    }
+    settings_.form = *form;
+    settings_.tags_are_levels = options_.tags_are_levels || header_.tags_are_levels();
+    header_end_ = input_->offset();
+    if (input_->seekable() && header_.announces_trailer()) trailer_ = read_trailer_from_end();
+    if (input_->seekable() && trailer_ && options_.keep_data_frame) {
+      skip_.reserve(trailer_->index.size());
+      for (const FrameIndexEntry& entry : trailer_->index) skip_.push_back(!options_.keep_data_frame(entry));
+    }
+  }
+
+  TraceTrailer read_trailer_from_end() {
+    const std::uint64_t size = input_->size();
+    const auto missing = [&](const std::string& why) {
+      fail(fmt::format("truncated or damaged: no valid trailer at the end of the file ({})", why));
+    };
+    if (size < header_end_ + kSkippableHeaderSize + kFooterSize) missing("file too short");
+    const std::string footer = input_->read_at(size - kFooterSize, kFooterSize);
+    if (load_le32(footer.data() + 16) != kFooterMagic) missing("no footer magic");
+    if (load_le32(footer.data() + 12) != kContainerVersion) missing("footer version is not 1");
+    const std::uint64_t json_size = load_le32(footer.data() + 8);
+    if (json_size + kFooterSize + kSkippableHeaderSize > size - header_end_) {
+      missing("footer's length runs past the header");
+    }
+    const std::uint64_t start = size - kFooterSize - json_size - kSkippableHeaderSize;
+    const std::string frame_header = input_->read_at(start, kSkippableHeaderSize);
+    if (load_le32(frame_header.data()) != kTrailerMagic ||
+        load_le32(frame_header.data() + 4) != json_size + kFooterSize) {
+      missing("the footer's length does not lead to the trailer frame");
+    }
+    const std::string json = input_->read_at(start + kSkippableHeaderSize, json_size);
+    if (XXH64(json.data(), json.size(), 0) != load_le64(footer.data())) missing("trailer hash mismatch");
+    try {
+      return decode_trailer_json(json);
+    } catch (const FormatError& error) {
+      fail(error.what());
+    }
+  }
+
+  void read_unit() override {
+    if (skip_data_frame_here()) return;
+    if (input_->at_end()) {
+      input_done_ = true;
+      return;
+    }
+    const std::uint64_t offset = input_->offset();
+    if (!input_->ensure(4)) fail(fmt::format("truncated: stray bytes at byte {}", offset));
+    const std::uint32_t magic = load_le32(input_->data());
+    if (magic == kZstdMagic) {
+      std::size_t size = 0;
+      for (std::size_t want = 1u << 16;; want *= 2) {
+        input_->ensure(want);
+        size = ZSTD_findFrameCompressedSize(input_->data(), input_->available());
+        if (!ZSTD_isError(size)) break;
+        if (input_->available() < want) {  // the whole rest of the input is not a whole frame
+          fail(fmt::format("truncated or damaged: data frame {} at byte {} is incomplete ({})", data_frames_ + 1,
+                           offset, ZSTD_getErrorName(size)));
+        }
+      }
+      Unit unit;
+      unit.data_frame = data_frames_++;
+      unit.entry.offset = offset;
+      unit.entry.compressed_size = size;
+      unit.entry.animation_frame = markers_ == 0 ? 0 : markers_ - 1;
+      unit.entry.checksum = size >= 4 ? load_le32(input_->data() + size - 4) : 0;
+      std::string frame(input_->data(), size);
+      consume_hashed(size);
+      pipeline_->submit([unit = std::move(unit), frame = std::move(frame), settings = settings_,
+                         stock = stock_]() mutable {
+        unit.chunk = decode_data_frame(frame, settings, *stock);
+        return std::move(unit);
+      });
+      return;
+    }
+    if ((magic & kSkippableMask) != kHeaderMagic) {
+      fail(fmt::format("damaged: bytes at byte {} are not a zstd frame (magic {:#010x})", offset, magic));
+    }
+    if (magic == kTrailerMagic) {
+      read_stream_trailer(offset);
+      return;
+    }
+    const char* what = magic == kMarkerMagic   ? "animation frame marker"
+                       : magic == kWindowMagic ? "sample window marker"
+                                                       : "skippable frame";
+    std::string payload;
+    read_skippable(payload, what);
+    if (magic == kHeaderMagic) fail(fmt::format("a second header at byte {}", offset));
+    if (magic != kMarkerMagic && magic != kWindowMagic) return;  // someone else's skippable frame
+    Unit unit;
+    try {
+      const nlohmann::json json = nlohmann::json::parse(payload);
+      if (magic == kMarkerMagic) {
+        unit.kind = Unit::Kind::FrameMarker;
+        unit.marker = FrameMarker::from_json(json);
+      } else {
+        unit.kind = Unit::Kind::WindowMarker;
+        unit.window = WindowMarker::from_json(json);
+      }
+    } catch (const nlohmann::json::exception& error) {
+      fail(fmt::format("{} at byte {} is not valid JSON ({})", what, offset, error.what()));
+    } catch (const FormatError& error) {
+      fail(fmt::format("at byte {}: {}", offset, error.what()));
+    }
+    if (unit.kind == Unit::Kind::FrameMarker) ++markers_;
+    pipeline_->push_ready(std::move(unit));
+  }
+
+  // keep_data_frame: when the index's next data frame starts here and is not
+  // kept, steps over it (nothing read, nothing decompressed) and queues its
+  // place; otherwise keeps reads ahead from running into the next skipped one.
+  bool skip_data_frame_here() {
+    if (skip_.empty()) return false;
+    const auto& index = trailer_->index;
+    while (next_skip_ < skip_.size() && (!skip_[next_skip_] || next_skip_ < data_frames_)) ++next_skip_;
+    input_->limit_reads_to(next_skip_ < skip_.size() ? index[next_skip_].offset : 0);
+    if (next_skip_ != data_frames_ || index[data_frames_].offset != input_->offset()) return false;
+    const FrameIndexEntry& entry = index[data_frames_];
+    if (entry.compressed_size == 0 || entry.offset + entry.compressed_size > input_->size()) {
+      fail(fmt::format("damaged index: data frame {} at byte {} of {} bytes runs past the end of the file",
+                       data_frames_ + 1, entry.offset, entry.compressed_size));
+    }
+    Unit unit;
+    unit.kind = Unit::Kind::SkippedFrame;
+    unit.entry = entry;
+    unit.data_frame = data_frames_++;
+    input_->skip(entry.compressed_size);
+    skipped_bytes_ = true;
+    pipeline_->push_ready(std::move(unit));
+    return true;
+  }
+
+  void read_stream_trailer(std::uint64_t offset) {
+    if (!input_->ensure(kSkippableHeaderSize)) fail(fmt::format("truncated: trailer at byte {}", offset));
+    const std::uint32_t size = load_le32(input_->data() + 4);
+    if (size < kFooterSize || !input_->ensure(kSkippableHeaderSize + size)) {
+      fail(fmt::format("truncated: trailer at byte {} is cut short", offset));
+    }
+    const char* footer = input_->data() + kSkippableHeaderSize + size - kFooterSize;
+    const std::string_view json(input_->data() + kSkippableHeaderSize, size - kFooterSize);
+    if (load_le32(footer + 16) != kFooterMagic || load_le32(footer + 12) != kContainerVersion ||
+        load_le32(footer + 8) != json.size() || XXH64(json.data(), json.size(), 0) != load_le64(footer)) {
+      fail(fmt::format("damaged trailer at byte {} (footer does not match)", offset));
+    }
+    TraceTrailer trailer;
+    try {
+      trailer = decode_trailer_json(json);
+    } catch (const FormatError& error) {
+      fail(error.what());
+    }
+    stream_content_hash_ = XXH64_digest(content_hash_.get());
+    input_->consume(kSkippableHeaderSize + size);
+    if (!input_->at_end()) fail(fmt::format("unexpected bytes after the trailer at byte {}", input_->offset()));
+    if (trailer_ && !(trailer_->index == trailer.index)) fail("the trailer read from the end differs from the stream's");
+    if (!trailer_) trailer_ = std::move(trailer);
+    saw_trailer_ = true;
+    input_done_ = true;
+  }
+
+  void check_chunk(const Unit& unit, Chunk& chunk) override {
+    const std::string where = fmt::format("data frame {} at byte {}", unit.data_frame + 1, unit.entry.offset);
+    if (!chunk.frame_error.empty()) fail(fmt::format("{}: {}", where, chunk.frame_error));
+    FrameIndexEntry seen = unit.entry;
+    seen.first_record = records_read_;
+    seen.record_count = chunk.records.size();
+    records_read_ += seen.record_count;
+    record_bytes_ += chunk.bytes.size();
+    ++data_frames_decompressed_;
+    if (chunk.bad_record) return;
+    if (hashes_valid_) XXH64_update(record_hash_.get(), chunk.bytes.data(), chunk.bytes.size());
+    stock_->bytes.give(std::move(chunk.bytes));
+    if (trailer_) check_index_entry(seen, unit.data_frame, where);
+    seen_.push_back(seen);
+  }
+
+  void check_index_entry(const FrameIndexEntry& seen, std::uint64_t number, const std::string& where) const {
+    const auto& index = trailer_->index;
+    if (number >= index.size()) fail(fmt::format("{}: the index lists only {} data frames", where, index.size()));
+    const FrameIndexEntry& expected = index[number];
+    if (expected == seen) return;
+    if (expected.checksum != seen.checksum) {
+      for (std::size_t other = 0; other < index.size(); ++other) {
+        if (index[other].checksum == seen.checksum && index[other].compressed_size == seen.compressed_size) {
+          fail(fmt::format("{}: frame out of order: it is the index's data frame {}", where, other + 1));
+        }
+      }
+      fail(fmt::format("{}: checksum {:08x} differs from the index's {:08x}", where, seen.checksum, expected.checksum));
+    }
+    fail(fmt::format("{}: index says offset {}, size {}, first record {}, {} records, animation frame {}; "
+                     "found offset {}, size {}, first record {}, {} records, animation frame {}",
+                     where, expected.offset, expected.compressed_size, expected.first_record, expected.record_count,
+                     expected.animation_frame, seen.offset, seen.compressed_size, seen.first_record,
+                     seen.record_count, seen.animation_frame));
+  }
+
+  void finish_input() override {
+    if (!saw_trailer_) {
+      if (header_.announces_trailer()) {
+        fail(fmt::format("truncated: the file ends after {} data frames without the trailer the header announces",
+                         data_frames_));
+      }
+      return;
+    }
+    const auto& index = trailer_->index;
+    if (data_frames_ != index.size()) {
+      fail(fmt::format("the index lists {} data frames but the file holds {}", index.size(), data_frames_));
+    }
+    if (!hashes_valid_) return;
+    for (std::size_t i = 0; i < seen_.size(); ++i) {
+      check_index_entry(seen_[i], i, fmt::format("data frame {} at byte {}", i + 1, seen_[i].offset));
+    }
+    const auto totals = trailer_->totals.find("records");
+    if (totals != trailer_->totals.end() && (!totals->is_number_unsigned() || totals->get<std::uint64_t>() != records_read_)) {
+      fail(fmt::format("the trailer's totals say {} records but the data frames hold {}", totals->dump(), records_read_));
+    }
+    if (skipped_bytes_) return;  // the hashes cover the skipped data frames
+    if (XXH64_digest(record_hash_.get()) != trailer_->record_hash) {
+      fail("record hash mismatch: the records are not the ones the trailer describes");
+    }
+    if (stream_content_hash_ != trailer_->content_hash) {
+      fail("content hash mismatch: the bytes before the trailer were changed");
+    }
+  }
+
+  void pass_skipped(const Unit& unit) override {
+    records_read_ += unit.entry.record_count;
+    seen_.push_back(unit.entry);
+    ++data_frames_skipped_;
+  }
+
+  struct HashStateDeleter {
+    void operator()(XXH64_state_t* state) const { XXH64_freeState(state); }
+  };
+
+  std::vector<bool> skip_;     // keep_data_frame's answer per index entry (true: skip)
+  std::size_t next_skip_ = 0;  // the first skipped data frame not yet passed
+  bool skipped_bytes_ = false;
+  bool saw_trailer_ = false;
+  bool hashes_valid_ = true;
+  std::uint64_t data_frames_decompressed_ = 0;
+  std::uint64_t data_frames_skipped_ = 0;
+  std::uint64_t header_end_ = 0;
+  std::uint64_t data_frames_ = 0;
+  std::uint64_t markers_ = 0;
+  std::uint64_t records_read_ = 0;  // records in the data frames handed over so far
+  std::vector<FrameIndexEntry> seen_;
+  std::unique_ptr<XXH64_state_t, HashStateDeleter> content_hash_{XXH64_createState()};
+  std::unique_ptr<XXH64_state_t, HashStateDeleter> record_hash_{XXH64_createState()};
+  std::uint64_t stream_content_hash_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<TraceReader> open_container_reader(OpenedInput opened, const ReaderOptions& options) {
+  return std::make_unique<ContainerReader>(std::move(opened), options);
+}
+
+}  // namespace nodetrace::formats::detail
