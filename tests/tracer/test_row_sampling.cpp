@@ -134,6 +134,30 @@ TEST(RenderRunsTest, RunsGetTheFullRendersRecordsAndStartJustBeforeThem) {
   }
 }
 
+TEST(RenderRunsTest, AFailingSinkStopsTheRenderWithItsErrorForAnyThreadCount) {
+  const Scene scene = test_scenes::cornell_box();
+  const KdTree tree = KdTree::build(scene.triangles);
+  const Layout layout = make_layout(tree, LayoutKind::Dfl);
+  RenderOptions options;
+  options.width = 64;
+  options.height = 48;
+  options.pixels_per_chunk = 5;
+  for (const std::size_t flush : {std::size_t{2}, std::size_t{1} << 20}) {  // from workers, or the emitting thread
+    for (const unsigned threads : {1u, 2u, 4u}) {
+      options.threads = threads;
+      options.records_per_flush = flush;
+      int calls = 0;
+      const Renderer renderer(scene, tree, layout, options);
+      EXPECT_THROW(renderer.render([&](std::span<const formats::Record>) {
+                     if (++calls == 3) throw std::runtime_error("disk full");
+                   }, nullptr),
+                   std::runtime_error)
+          << threads << " threads";
+      EXPECT_EQ(calls, 3) << threads << " threads";  // nothing reaches the sink after its error
+    }
+  }
+}
+
 // Records of a trace in order, and for each window its band and records.
 struct Windows {
   std::vector<formats::Record> records;

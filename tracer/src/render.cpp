@@ -1,19 +1,17 @@
-// The render loop: the pixel sequence cut into chunks, rendered by a pool of
-// workers ahead of the one thread that hands each chunk's records to the
-// sink strictly in sequence order, so the records do not depend on the
-// thread count.
+// The render loop: the pixel sequence cut into chunks, rendered on the
+// workers of an ordered pipeline (formats/ordered_pipeline.hpp) ahead of the
+// one thread that hands each chunk's records to the sink strictly in
+// sequence order, so the records do not depend on the thread count.
 #include "nodetrace/tracer/render.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
-#include <exception>
 #include <mutex>
-#include <stdexcept>
-#include <system_error>
 #include <thread>
 
+#include "nodetrace/formats/ordered_pipeline.hpp"
 #include "nodetrace/tracer/interaction.hpp"
 #include "render_context.hpp"
 
@@ -100,7 +98,6 @@ RenderStats Renderer::render_runs(std::span<const PixelRun> runs, const RunStart
     std::vector<Record> records;
     RenderStats stats;
     std::uint64_t flushed = 0;
-    bool done = false;
   };
   // Set up for threads below: waits until chunk c is the next to emit.
   std::function<void(std::size_t)> wait_for_turn;
@@ -142,82 +139,67 @@ RenderStats Renderer::render_runs(std::span<const PixelRun> runs, const RunStart
       emit(c, chunk);
     }
   } else {
-    // Workers render chunks ahead of the writer, at most `window` ahead; this
-    // thread hands finished chunks to the sink strictly in order.
+    // Workers render chunks ahead of this thread, at most `window` ahead; the
+    // pipeline hands the finished chunks back strictly in order.
     const std::size_t window = std::size_t{threads} * 4;
-    std::vector<Chunk> slots(window);
+    // A worker may hand its chunk's records on itself when its chunk is the
+    // one this thread is waiting for (`turn`), so the sink is never called
+    // from two threads at once. Such a worker waits for earlier chunks only,
+    // which are running or done: the pipeline's queue starts jobs in the
+    // order they were submitted.
     std::mutex mutex;
     std::condition_variable changed;
-    std::size_t next_chunk = 0, emitted = 0;
-    bool failed = false;
-    std::exception_ptr error;
-    // A worker may hand its chunk's records on itself once every earlier
-    // chunk is emitted: the writer is then waiting for this very chunk, so
-    // the sink is never called from two threads at once.
+    std::size_t turn = 0;
+    bool cancelled = false;
+    std::vector<std::vector<Record>> spare;  // emptied record buffers, kept for their capacity
     wait_for_turn = [&](std::size_t c) {
       std::unique_lock lock(mutex);
-      changed.wait(lock, [&] { return failed || emitted == c; });
-      if (failed) throw RenderCancelled{};
+      changed.wait(lock, [&] { return cancelled || turn == c; });
+      if (cancelled) throw RenderCancelled{};
     };
-    auto worker = [&] {
-      while (true) {
-        std::size_t c;
+    formats::OrderedPipeline<Chunk> pipeline(threads);
+    // Destroyed before the pipeline: on the way out (an exception from the
+    // sink or a job), workers waiting for a turn that will not come stop, so
+    // the pipeline's destructor can wait for them.
+    struct CancelOnExit {
+      std::mutex& mutex;
+      std::condition_variable& changed;
+      bool& cancelled;
+      ~CancelOnExit() {
         {
-          std::unique_lock lock(mutex);
-          changed.wait(lock, [&] { return failed || next_chunk >= chunks || next_chunk < emitted + window; });
-          if (failed || next_chunk >= chunks) return;
-          c = next_chunk++;
-        }
-        Chunk& chunk = slots[c % window];
-        try {
-          render_chunk(c, chunk);
-        } catch (const RenderCancelled&) {
-          return;
-        } catch (...) {
           std::lock_guard lock(mutex);
-          failed = true;
-          if (!error) error = std::current_exception();
-          changed.notify_all();
-          return;
+          cancelled = true;
         }
-        std::lock_guard lock(mutex);
-        chunk.done = true;
         changed.notify_all();
       }
-    };
-    std::vector<std::thread> pool;
-    try {
-      // Inside the try: if a thread cannot start, those started are told to
-      // stop and joined (a joinable std::thread destroyed would terminate).
-      for (unsigned t = 0; t < threads; ++t) {
-        try {
-          pool.emplace_back(worker);
-        } catch (const std::system_error& e) {
-          throw std::runtime_error("cannot start " + std::to_string(threads) + " threads (" + std::to_string(t) +
-                                   " started): " + e.what());
-        }
+    } cancel_on_exit{mutex, changed, cancelled};
+    std::size_t submitted = 0;
+    for (std::size_t c = 0; c < chunks; ++c) {
+      for (; submitted < chunks && submitted < c + window; ++submitted) {
+        pipeline.submit([&, s = submitted] {
+          Chunk chunk;
+          {
+            std::lock_guard lock(mutex);
+            if (cancelled) return chunk;  // the render failed: nobody will take it
+            if (!spare.empty()) {
+              chunk.records = std::move(spare.back());
+              spare.pop_back();
+            }
+          }
+          render_chunk(s, chunk);
+          return chunk;
+        });
       }
-      for (std::size_t c = 0; c < chunks; ++c) {
-        Chunk& chunk = slots[c % window];
-        {
-          std::unique_lock lock(mutex);
-          changed.wait(lock, [&] { return failed || chunk.done; });
-          if (failed) break;
-        }
-        emit(c, chunk);
+      {
         std::lock_guard lock(mutex);
-        chunk.done = false;
-        ++emitted;
-        changed.notify_all();
+        turn = c;
       }
-    } catch (...) {
-      std::lock_guard lock(mutex);
-      failed = true;
-      if (!error) error = std::current_exception();
       changed.notify_all();
+      Chunk chunk = pipeline.pop();
+      emit(c, chunk);
+      std::lock_guard lock(mutex);
+      spare.push_back(std::move(chunk.records));
     }
-    for (auto& t : pool) t.join();
-    if (error) std::rethrow_exception(error);
   }
   if (!runs.empty()) start_runs_through(runs.size() - 1);  // runs without a pixel
   total.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
