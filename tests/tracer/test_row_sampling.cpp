@@ -165,12 +165,14 @@ struct Windows {
   std::vector<nlohmann::json> extras;
   std::vector<std::vector<formats::Record>> window_records;
   nlohmann::json header;
+  std::optional<formats::SamplingInfo> sampling;  // as the formats library reads the header
 };
 
 Windows read_windows(const std::filesystem::path& path) {
   Windows w;
   auto reader = formats::TraceReader::open(path.string());
   w.header = reader->header().json;
+  w.sampling = reader->header().sampling();
   formats::RecordBatch batch;
   while (reader->next(batch)) {
     if (batch.window) {
@@ -204,6 +206,11 @@ TEST(SampleRowsCliTest, OneInOneIsTheFullRenderByteForByte) {
   EXPECT_EQ(all.header["sampling"]["every"], 1);
   EXPECT_EQ(all.header["sampling"]["band_height"], 3);
   EXPECT_EQ(all.header["sampling"]["bands"], 10);
+  ASSERT_TRUE(all.sampling);
+  EXPECT_EQ(all.sampling->method, "rows");
+  EXPECT_EQ(all.sampling->band_height, 3u);
+  EXPECT_EQ(all.sampling->extra["band_pixels"], 120);
+  EXPECT_FALSE(read_windows(dir / "full.din.zst").sampling);  // a full render is not sampled
 }
 
 TEST(SampleRowsCliTest, SampledRecordsAreTheFullTracesRecordsOfTheChosenRows) {
