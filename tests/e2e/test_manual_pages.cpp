@@ -1,9 +1,10 @@
-// The manual pages (tracer/man, cachesim/man, formats/man): every option a
-// program's --help lists, and each of its subcommands' --help, is in the
-// program's page under a heading that names the subcommand; each page has the
-// sections a manual page needs and renders without groff warnings;
-// --version prints the version trace headers record; `cmake --install` puts
-// the pages in share/man/man1.
+// The manual pages (tracer/man, cachesim/man, formats/man): every option in
+// the option column of a program's --help, and of each subcommand's, has a
+// .TP paragraph in the program's page under a heading that names the
+// subcommand (options only named in a help's text are mentioned there); each
+// page has the sections a manual page needs and renders without groff
+// warnings; --version prints the version trace headers record; `cmake
+// --install` puts the pages in share/man/man1.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -38,6 +39,10 @@ void PrintTo(const ManualPage& page, std::ostream* out) { *out << page.program; 
 
 fs::path source_path(const std::string& relative) { return fs::path(NODETRACE_SOURCE_DIR) / relative; }
 
+void add_unique(std::vector<std::string>& list, const std::string& item) {
+  if (std::find(list.begin(), list.end(), item) == list.end()) list.push_back(item);
+}
+
 // Options named in a help text: a word of one or two dashes and a letter
 // (`--size`, `-o`, Dinero IV's `-lN-Tsize`), after a blank, comma, bracket
 // or parenthesis. `-` alone and negative numbers are no options.
@@ -45,8 +50,7 @@ std::vector<std::string> options_in(const std::string& text) {
   static const std::regex option(R"((^|[\s,\[(])(--?[A-Za-z][A-Za-z0-9-]*))");
   std::vector<std::string> found;
   for (auto it = std::sregex_iterator(text.begin(), text.end(), option); it != std::sregex_iterator(); ++it) {
-    const std::string name = (*it)[2];
-    if (std::find(found.begin(), found.end(), name) == found.end()) found.push_back(name);
+    add_unique(found, (*it)[2]);
   }
   return found;
 }
@@ -67,11 +71,7 @@ HelpOptions options_in_help(const std::string& help) {
     const std::size_t start = line.find_first_not_of(' ');
     if (start == std::string::npos) continue;
     const std::size_t column_end = line[start] == '-' ? std::min(line.find("  ", start), line.size()) : start;
-    for (const auto& name : options_in(line.substr(start, column_end - start))) {
-      if (std::find(options.listed.begin(), options.listed.end(), name) == options.listed.end()) {
-        options.listed.push_back(name);
-      }
-    }
+    for (const auto& name : options_in(line.substr(start, column_end - start))) add_unique(options.listed, name);
   }
   for (const auto& name : options_in(help)) {
     if (std::find(options.listed.begin(), options.listed.end(), name) == options.listed.end()) {
@@ -86,9 +86,6 @@ HelpOptions options_in_help(const std::string& help) {
 // (tracetool).
 std::vector<std::string> subcommands_in_help(const std::string& program, const std::string& help) {
   std::vector<std::string> found;
-  const auto add = [&](const std::string& name) {
-    if (std::find(found.begin(), found.end(), name) == found.end()) found.push_back(name);
-  };
   const std::regex usage_line("^\\s+" + program + " ([a-z][a-z0-9-]*)");
   const std::regex listed_line(R"(^\s+([a-z][a-z0-9-]*)\s)");
   std::istringstream lines(help);
@@ -99,9 +96,9 @@ std::vector<std::string> subcommands_in_help(const std::string& program, const s
     if (line == "Subcommands:") {
       in_subcommands = true;
     } else if (std::regex_search(line, match, usage_line)) {
-      add(match[1]);
+      add_unique(found, match[1]);
     } else if (in_subcommands && std::regex_search(line, match, listed_line)) {
-      add(match[1]);
+      add_unique(found, match[1]);
     } else if (line.empty()) {
       in_subcommands = false;
     }
