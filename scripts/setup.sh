@@ -15,8 +15,9 @@ while [ $# -gt 0 ]; do
   esac
 done
 
+# groff-base: the test that the manual pages render without warnings.
 packages=(cmake g++ make pkg-config zstd python3-matplotlib libzstd-dev libxxhash-dev libcli11-dev libfmt-dev
-          libtinyobjloader-dev nlohmann-json3-dev libpng-dev libgtest-dev libgmock-dev)
+          libtinyobjloader-dev nlohmann-json3-dev libpng-dev libgtest-dev libgmock-dev groff-base)
 scripts/install-packages.sh "${packages[@]}"
 
 cmake -S . -B "$build_dir" "${cmake_args[@]}" >/dev/null

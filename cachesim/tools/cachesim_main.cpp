@@ -15,6 +15,7 @@ constexpr const char* kUsage =
     "Usage:\n"
     "  cachesim run TRACE... [options]      split / single node caches, one-pass sweeps\n"
     "  cachesim dinero [Dinero IV options]  a drop-in replacement for dineroIV\n"
+    "  cachesim --version                   the version, as trace headers record it\n"
     "\n"
     "`cachesim SUBCOMMAND --help` describes each.\n";
 
@@ -28,6 +29,10 @@ static int run(int argc, char** argv) {
   const std::string_view subcommand = argv[1];
   if (subcommand == "-h" || subcommand == "--help") {
     std::fputs(kUsage, stdout);
+    return 0;
+  }
+  if (subcommand == "--version") {  // the project's version, the one trace headers record
+    std::printf("cachesim %s\n", NODETRACE_VERSION);
     return 0;
   }
   if (subcommand == "dinero") return nodetrace::cachesim::cli::dinero_command(argc - 1, argv + 1);

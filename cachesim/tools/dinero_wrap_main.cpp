@@ -28,6 +28,7 @@ constexpr const char* kUsage =
     "  dinero-wrap run TRACE... [options]        cachesim run's options and report, by Dinero IV\n"
     "  dinero-wrap exec TRACE [options] -- [dineroIV options]\n"
     "                                            feed one Dinero IV run, print its output\n"
+    "  dinero-wrap --version                     the version, as trace headers record it\n"
     "\n"
     "Dinero IV is found by --dinero CMD, $DINEROIV, or dineroIV on PATH.\n"
     "`dinero-wrap SUBCOMMAND --help` describes each.\n";
@@ -120,6 +121,10 @@ static int run(int argc, char** argv) {
   const std::string_view subcommand = argv[1];
   if (subcommand == "-h" || subcommand == "--help") {
     std::fputs(kUsage, stdout);
+    return 0;
+  }
+  if (subcommand == "--version") {  // the project's version, the one trace headers record
+    std::printf("dinero-wrap %s\n", NODETRACE_VERSION);
     return 0;
   }
   if (subcommand == "run") return run_subcommand(argc - 1, argv + 1);

@@ -15,13 +15,20 @@
 
 namespace nodetrace::tracer::cli {
 
-int info_command(int argc, char** argv) {
-  CLI::App app{"Scene and kd-tree statistics: triangles, materials, lights, bounds, the SAH\n"
-               "kd-tree's figures, and which ray kinds a render casts.",
-               "tracer info"};
+namespace {
+
+// The options of `tracer info` and what it does with them.
+struct InfoCommand {
   std::string scene_spec, format = "text";
   int max_depth = 10;
   std::uint32_t node_size = 8;
+  SceneCommandOptions scene_options;
+
+  void add_options(CLI::App& app);
+  int run() const;
+};
+
+void InfoCommand::add_options(CLI::App& app) {
   app.add_option("scene", scene_spec, "an .obj or .aff file, or a built-in scene's name")->required();
   app.add_option("--format", format, "text or json")->check(CLI::IsMember({"text", "json"}))->capture_default_str();
   app.add_option("--max-depth", max_depth, "ray tree depth assumed for the ray kinds")
@@ -30,14 +37,10 @@ int info_command(int argc, char** argv) {
   app.add_option("--node-size", node_size, "bytes per node, for the split levels shown (at most 65535)")
       ->check(CLI::Range(1, kMaxNodeSize))
       ->capture_default_str();
-  SceneCommandOptions scene_options;
   add_scene_options(app, scene_options);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& error) {
-    return app.exit(error) == 0 ? 0 : 2;  // CLI11 has its own codes; ours: 2
-  }
+}
 
+int InfoCommand::run() const {
   try {
     if (!scene_options.frames.empty()) throw formats::UsageError("--frames: info describes one frame; use --frame");
     // Options first, before a scene is loaded.
@@ -133,6 +136,14 @@ int info_command(int argc, char** argv) {
     std::fprintf(stderr, "tracer info: %s\n", e.what());
     return 1;
   }
+}
+
+}  // namespace
+
+Subcommand add_info_command(CLI::App& tracer) {
+  return make_subcommand<InfoCommand>(tracer, "info",
+                                      "Scene and kd-tree statistics: triangles, materials, lights, bounds, the SAH\n"
+                                      "kd-tree's figures, and which ray kinds a render casts.");
 }
 
 }  // namespace nodetrace::tracer::cli

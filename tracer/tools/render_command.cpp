@@ -67,18 +67,23 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
                static_cast<unsigned long long>(t.records));
 }
 
-}  // namespace
-
-int render_command(int argc, char** argv) {
-  CLI::App app{"Render a scene with a Whitted ray tracer over a SAH kd-tree and write every\n"
-               "kd-tree node fetch (address, node level) as a trace.",
-               "tracer render"};
+// The options of `tracer render` and what it does with them.
+struct RenderCommand {
   std::string scene_spec, output, records_name, image, streams = "nodes";
   bool quiet = false;
   // The container's default level 3: on the default scene level 1 writes the
   // trace only about 10% faster for 6% more bytes, and at 3 a trace is no
   // larger than `zstd -3` makes of its text.
   int zstd_level = 3;
+  bool discard = false;
+  SceneCommandOptions scene_options;
+  RenderCommandOptions render_options;
+
+  void add_options(CLI::App& app);
+  int run() const;
+};
+
+void RenderCommand::add_options(CLI::App& app) {
   app.add_option("scene", scene_spec,
                  "an .obj or .aff file, or a built-in scene's name (NAME or NAME:SIZE); "
                  "default: the default built-in scene");
@@ -95,21 +100,15 @@ int render_command(int argc, char** argv) {
   app.add_option("--zstd-level", zstd_level, "zstd level of the trace's data frames (higher: smaller and slower)")
       ->check(CLI::Range(1, 19))
       ->capture_default_str();
-  bool discard = false;
   app.add_flag("--discard-records", discard,
                "make every record but write none: the cost of recording alone (benchmarks)")
       ->excludes("--output");
   app.add_flag("-q,--quiet", quiet, "no summary on standard error");
-  SceneCommandOptions scene_options;
   add_scene_options(app, scene_options);
-  RenderCommandOptions render_options;
   add_render_options(app, render_options);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& error) {
-    return app.exit(error) == 0 ? 0 : 2;  // CLI11 has its own codes; ours: 2
-  }
+}
 
+int RenderCommand::run() const {
   try {
     TraceJobOptions options = make_job_options(render_options, scene_options);
     options.output = output;
@@ -167,6 +166,14 @@ int render_command(int argc, char** argv) {
     std::fprintf(stderr, "tracer render: %s\n", e.what());
     return 1;
   }
+}
+
+}  // namespace
+
+Subcommand add_render_command(CLI::App& tracer) {
+  return make_subcommand<RenderCommand>(tracer, "render",
+                                        "Render a scene with a Whitted ray tracer over a SAH kd-tree and write every\n"
+                                        "kd-tree node fetch (address, node level) as a trace.");
 }
 
 }  // namespace nodetrace::tracer::cli

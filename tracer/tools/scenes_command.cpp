@@ -12,19 +12,21 @@
 
 namespace nodetrace::tracer::cli {
 
-int scenes_command(int argc, char** argv) {
-  CLI::App app{
-      "List the built-in procedural scenes: name, triangle count at the default size, the accepted sizes "
-      "and a description.\nUse one as SCENE (NAME or NAME:SIZE) in `tracer render` and `tracer info`.",
-      "tracer scenes"};
-  std::string format = "text";
-  app.add_option("--format", format, "output format")->check(CLI::IsMember({"text", "json"}));
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& error) {
-    return app.exit(error) == 0 ? 0 : 2;
-  }
+namespace {
 
+// The options of `tracer scenes` and what it does with them.
+struct ScenesCommand {
+  std::string format = "text";
+
+  void add_options(CLI::App& app);
+  int run() const;
+};
+
+void ScenesCommand::add_options(CLI::App& app) {
+  app.add_option("--format", format, "output format")->check(CLI::IsMember({"text", "json"}));
+}
+
+int ScenesCommand::run() const {
   try {
     const auto scenes = builtin_scenes();
     const std::string default_name = default_scene_name();
@@ -57,6 +59,15 @@ int scenes_command(int argc, char** argv) {
     std::fprintf(stderr, "tracer scenes: %s\n", error.what());
     return 1;
   }
+}
+
+}  // namespace
+
+Subcommand add_scenes_command(CLI::App& tracer) {
+  return make_subcommand<ScenesCommand>(
+      tracer, "scenes",
+      "List the built-in procedural scenes: name, triangle count at the default size, the accepted sizes "
+      "and a description.\nUse one as SCENE (NAME or NAME:SIZE) in `tracer render` and `tracer info`.");
 }
 
 }  // namespace nodetrace::tracer::cli
