@@ -13,6 +13,7 @@
 #include "exit_status.hpp"
 #include "nodetrace/cachesim/curve.hpp"
 #include "nodetrace/cachesim/report.hpp"
+#include "nodetrace/cachesim/sampling.hpp"
 #include "nodetrace/cachesim/sweep.hpp"
 #include "nodetrace/formats/error.hpp"
 #include "nodetrace/formats/reader.hpp"
@@ -45,6 +46,63 @@ int curve_command(const RunCommandLine& line, const SweepOptions& options) {
   return 0;
 }
 
+// The sampling options of `cachesim run` (dinero-wrap has none).
+struct SamplingCommandLine {
+  std::string windows;
+  std::string sets;
+  std::uint64_t window_records = kDefaultWindowRecords;
+  std::uint64_t seed = 0;
+};
+
+void add_sampling_options(CLI::App& app, SamplingCommandLine& line) {
+  app.add_option("--sample-windows", line.windows,
+                 "Simulate one window of records in every K (1/K), chosen by --sample-seed; the "
+                 "report gains each miss ratio's standard error and 95% interval");
+  app.add_option("--window-records", line.window_records,
+                 "Records per window of --sample-windows (default: one container data frame)")
+      ->capture_default_str();
+  app.add_option("--sample-sets", line.sets,
+                 "Simulate the blocks of one cache set in every K (1/K); needs one --block and "
+                 "power-of-two set counts of at least K");
+  app.add_option("--sample-seed", line.seed, "Seed of the sampled windows and sets")
+      ->capture_default_str();
+}
+
+SamplingOptions sampling_options(const SamplingCommandLine& line, const RunCommandLine& run) {
+  SamplingOptions options;
+  if (!line.windows.empty()) options.window_every = parse_sample_rate(line.windows, "--sample-windows");
+  if (!line.sets.empty()) options.set_every = parse_sample_rate(line.sets, "--sample-sets");
+  if (line.window_records == 0) {
+    throw formats::UsageError("--window-records: 0 is not a window length: expected at least 1");
+  }
+  options.window_records = line.window_records;
+  options.seed = line.seed;
+  if (options.sampling() && (run.per_level || run.per_frame || run.curve)) {
+    throw formats::UsageError(
+        "--sample-windows / --sample-sets: not with --per-level, --per-frame or --curve");
+  }
+  return options;
+}
+
+int sampled_command(const RunCommandLine& line, const std::vector<NodeCacheConfig>& configs,
+                    const SamplingOptions& sampling) {
+  std::vector<SampledRow> rows;
+  std::vector<GainRow> gains;
+  std::vector<std::string> notes;
+  for (const std::string& trace : line.traces) {
+    auto reader = formats::TraceReader::open(trace, reader_options(line));
+    SampledResult result = run_sampled_sweep(*reader, configs, trace, sampling);
+    rows.insert(rows.end(), result.rows.begin(), result.rows.end());
+    gains.insert(gains.end(), result.gains.begin(), result.gains.end());
+    notes.insert(notes.end(), result.notes.begin(), result.notes.end());
+  }
+  const ReportFormat format = parse_report_format(line.format).value_or(ReportFormat::Table);
+  const std::string report = format_sampled_report(rows, gains, format);
+  std::fwrite(report.data(), 1, report.size(), stdout);
+  print_notes(notes, format);
+  return 0;
+}
+
 }  // namespace
 
 int run_command(int argc, char** argv) {
@@ -55,6 +113,8 @@ int run_command(int argc, char** argv) {
       "cachesim run"};
   RunCommandLine line;
   add_run_options(app, line);
+  SamplingCommandLine sampling_line;
+  add_sampling_options(app, sampling_line);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -62,8 +122,10 @@ int run_command(int argc, char** argv) {
   }
   return exit_status_of("cachesim run", [&] {
     const SweepOptions options = sweep_options(line);
+    const SamplingOptions sampling = sampling_options(sampling_line, line);
     if (line.curve) return curve_command(line, options);
     const std::vector<NodeCacheConfig> configs = expand_configurations(options);
+    if (sampling.sampling()) return sampled_command(line, configs, sampling);
     std::vector<ResultRow> rows;
     std::vector<LevelRow> levels;
     std::vector<FrameRow> frames;

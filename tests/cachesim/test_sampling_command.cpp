@@ -1,0 +1,229 @@
+// `cachesim run --sample-windows / --sample-sets` end to end: full coverage
+// equals the full run, seeded runs repeat whatever the thread count, bad
+// rates are usage errors naming the option.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <sstream>
+
+#include "nodetrace/formats/writer.hpp"
+#include "test_support.hpp"
+
+namespace nodetrace::cachesim {
+namespace {
+
+using testing::program;
+using testing::run_command;
+using testing::shell_quoted;
+
+constexpr std::uint64_t kRecordsPerDataFrame = 1024;
+
+std::string cachesim() { return shell_quoted(program("cachesim")); }
+
+// Two animation frames of 20 data frames each: root-to-leaf walks of a
+// 10-level tree (BFL from 0x1000), pseudo-random so windows differ.
+void write_walks(const std::filesystem::path& path) {
+  formats::WriterOptions options;
+  options.form = formats::RecordForm::Din;
+  options.records_per_frame = kRecordsPerDataFrame;
+  nlohmann::json header = {{"layout", {{"name", "bfl"}, {"split_level", 4},
+                                       {"node_size", 8}, {"node_base", 4096}}}};
+  auto writer = formats::TraceWriter::create(path.string(), header, options);
+  std::uint64_t state = 12345;
+  for (std::uint64_t frame = 0; frame < 2; ++frame) {
+    formats::FrameMarker marker;
+    marker.frame = frame;
+    marker.nodes_per_level = {1, 2, 4, 8, 16, 32, 64, 128, 256, 512};
+    marker.nodes = 1023;
+    marker.leaves = 512;
+    marker.depth = 10;
+    writer->begin_frame(marker);
+    for (std::uint64_t walk = 0; walk < 2048; ++walk) {
+      std::uint64_t slot = 0;
+      for (formats::Tag level = 0; level < 10; ++level) {
+        formats::Record record;
+        record.address = 0x1000 + slot * 8;
+        record.size = 8;
+        record.tag = level;
+        writer->write(record);
+        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+        // Walks drift through the tree so locality changes along the trace.
+        const bool right = ((state >> 33) % 8) < 3 + (walk / 512) % 3;
+        slot = 2 * slot + 1 + (right ? 1 : 0);
+      }
+    }
+  }
+  writer->finish();
+}
+
+struct Csv {
+  std::vector<std::string> columns;
+  std::vector<std::vector<std::string>> rows;
+};
+
+Csv parse_csv(const std::string& text) {
+  Csv csv;
+  std::istringstream lines(text);
+  std::string line;
+  bool header = true;
+  while (std::getline(lines, line)) {
+    std::vector<std::string> cells;
+    std::istringstream fields(line);
+    std::string cell;
+    while (std::getline(fields, cell, ',')) cells.push_back(cell);
+    if (!line.empty() && line.back() == ',') cells.emplace_back();
+    if (header) {
+      csv.columns = cells;
+      header = false;
+    } else {
+      csv.rows.push_back(cells);
+    }
+  }
+  return csv;
+}
+
+const std::string kConfigs = " --size 256,1k --scheme single,split --format csv";
+
+class SamplingCommand : public ::testing::Test {
+ protected:
+  void SetUp() override { write_walks(trace_); }
+  std::string run(const std::string& options) const {
+    const auto result = run_command(cachesim() + " run " + shell_quoted(trace_) + options);
+    EXPECT_EQ(result.exit_code, 0) << result.err;
+    return result.out;
+  }
+  testing::TempDir dir_;
+  std::filesystem::path trace_ = dir_ / "walks.din.zst";
+};
+
+TEST_F(SamplingCommand, FullCoverageEqualsTheFullRunWithZeroError) {
+  const Csv full = parse_csv(run(kConfigs));
+  for (const std::string sampling :
+       {" --sample-windows 1/1", " --sample-windows 1/1 --window-records 3000",
+        " --sample-sets 1/1", " --sample-windows 1/1 --sample-sets 1/1"}) {
+    const Csv sampled = parse_csv(run(kConfigs + sampling));
+    std::vector<std::string> columns = full.columns;
+    for (const char* name : {"sampled_fraction", "miss_ratio_se", "miss_ratio_low95",
+                             "miss_ratio_high95"}) {
+      columns.push_back(name);
+    }
+    ASSERT_EQ(sampled.columns, columns) << sampling;
+    ASSERT_EQ(sampled.rows.size(), full.rows.size() + 2) << sampling;  // + two gain rows
+    for (std::size_t r = 0; r < full.rows.size(); ++r) {
+      const auto& row = sampled.rows[r];
+      EXPECT_EQ(std::vector<std::string>(row.begin(), row.begin() + 19), full.rows[r]) << sampling;
+      EXPECT_EQ(row[19], "1.000000");
+      EXPECT_EQ(row[20], "0.000000");
+      EXPECT_EQ(row[21], full.rows[r][13]);
+      EXPECT_EQ(row[22], full.rows[r][13]);
+    }
+    // The gain rows: single minus split, exact, with zero error.
+    for (std::size_t g = 0; g < 2; ++g) {
+      const auto& gain = sampled.rows[full.rows.size() + g];
+      const auto& single = full.rows[2 * g];
+      const auto& split = full.rows[2 * g + 1];
+      EXPECT_EQ(gain[1], "gain");
+      EXPECT_EQ(gain[2], split[2]);
+      EXPECT_EQ(gain[12], "");
+      const double expected = std::stod(single[12]) / std::stod(single[11]) -
+                              std::stod(split[12]) / std::stod(split[11]);
+      EXPECT_NEAR(std::stod(gain[13]), expected, 5e-7);
+      EXPECT_EQ(gain[20], "0.000000");
+      EXPECT_EQ(gain[21], gain[13]);
+    }
+  }
+}
+
+TEST_F(SamplingCommand, SeededRunsRepeatWhateverTheThreadCount) {
+  for (const std::string sampling :
+       {" --sample-windows 1/4 --sample-seed 7", " --sample-sets 1/4 --sample-seed 7",
+        " --sample-windows 1/2 --window-records 1500 --sample-sets 1/2 --sample-seed 3"}) {
+    const std::string one = run(kConfigs + sampling + " --threads 1");
+    EXPECT_EQ(run(kConfigs + sampling + " --threads 1"), one) << sampling;
+    EXPECT_EQ(run(kConfigs + sampling + " --threads 2"), one) << sampling;
+    EXPECT_EQ(run(kConfigs + sampling + " --threads 4"), one) << sampling;
+  }
+}
+
+TEST_F(SamplingCommand, QuarterOfTheWindowsSimulatesAQuarterWithAnIntervalAroundIt) {
+  const Csv full = parse_csv(run(kConfigs));
+  const Csv sampled = parse_csv(run(kConfigs + " --sample-windows 1/4 --window-records 1024"));
+  // 40960 records: 40 windows, 10 strata of 4, one window of 1024 each.
+  ASSERT_EQ(sampled.rows.size(), 6u);
+  for (std::size_t r = 0; r < 4; ++r) {
+    const auto& row = sampled.rows[r];
+    EXPECT_EQ(row[10], "10240");
+    EXPECT_EQ(row[19], "0.250000");
+    const double se = std::stod(row[20]);
+    const double low = std::stod(row[21]);
+    const double high = std::stod(row[22]);
+    EXPECT_GT(se, 0.0);
+    EXPECT_LE(low, std::stod(row[13]));
+    EXPECT_GE(high, std::stod(row[13]));
+    // t(0.975, 9) = 2.262.
+    EXPECT_NEAR(high - low, 2 * 2.262 * se, 2.5e-6);
+    EXPECT_NE(row[12], full.rows[r][12]);
+  }
+}
+
+TEST_F(SamplingCommand, BadRatesAreUsageErrorsNamingTheOption) {
+  for (const std::string option : {"--sample-windows", "--sample-sets"}) {
+    for (const std::string rate : {"1/0", "3/2", "abc", "1/", "/4", "1/4x", "0/4"}) {
+      const auto result =
+          run_command(cachesim() + " run " + shell_quoted(trace_) + " " + option + " " + rate);
+      EXPECT_EQ(result.exit_code, 2) << option << " " << rate;
+      EXPECT_NE(result.err.find(option + ": '" + rate + "' is not a sampling rate"),
+                std::string::npos)
+          << result.err;
+    }
+  }
+  const auto zero = run_command(cachesim() + " run " + shell_quoted(trace_) +
+                                " --sample-windows 1/2 --window-records 0");
+  EXPECT_EQ(zero.exit_code, 2);
+  EXPECT_NE(zero.err.find("--window-records"), std::string::npos) << zero.err;
+}
+
+TEST_F(SamplingCommand, SetSamplingRefusesCachesWithTooFewSets) {
+  const auto full = run_command(cachesim() + " run " + shell_quoted(trace_) +
+                                " --size 1k --assoc full --sample-sets 1/2");
+  EXPECT_EQ(full.exit_code, 2);
+  EXPECT_NE(full.err.find("has 1 set(s)"), std::string::npos) << full.err;
+  const auto small = run_command(cachesim() + " run " + shell_quoted(trace_) +
+                                 " --size 256 --sample-sets 1/64");
+  EXPECT_EQ(small.exit_code, 2);
+  EXPECT_NE(small.err.find("--sample-sets 1/64: the 256-byte cache (block 8) has 32 set(s)"),
+            std::string::npos)
+      << small.err;
+  const auto blocks = run_command(cachesim() + " run " + shell_quoted(trace_) +
+                                  " --block 8,16 --sample-sets 1/2");
+  EXPECT_EQ(blocks.exit_code, 2);
+  EXPECT_NE(blocks.err.find("one --block"), std::string::npos) << blocks.err;
+}
+
+TEST_F(SamplingCommand, SamplingColumnsInTableAndJsonOnlyWhenSampling) {
+  const std::string plain = run(" --format json");
+  EXPECT_EQ(plain.find("sampled_fraction"), std::string::npos);
+  const auto json = nlohmann::json::parse(run(kConfigs.substr(0, kConfigs.find(" --format")) +
+                                              " --sample-windows 1/2 --window-records 1024 --format json"));
+  ASSERT_EQ(json.size(), 6u);
+  EXPECT_EQ(json[4]["scheme"], "gain");
+  EXPECT_TRUE(json[4]["misses"].is_null());
+  EXPECT_TRUE(json[0]["miss_ratio_se"].is_number());
+  EXPECT_TRUE(json[4]["miss_ratio_low95"].is_number());
+  const std::string table = run(" --sample-windows 1/2");
+  EXPECT_NE(table.find("miss_ratio_high95"), std::string::npos);
+}
+
+TEST_F(SamplingCommand, SamplingRefusesPerLevelPerFrameAndCurve) {
+  for (const std::string option : {"--per-level", "--per-frame", "--curve"}) {
+    const auto result = run_command(cachesim() + " run " + shell_quoted(trace_) +
+                                    " --sample-windows 1/2 " + option);
+    EXPECT_EQ(result.exit_code, 2) << option;
+    EXPECT_NE(result.err.find("not with --per-level"), std::string::npos) << result.err;
+  }
+}
+
+}  // namespace
+}  // namespace nodetrace::cachesim
