@@ -8,7 +8,7 @@
 
 #include <sstream>
 
-#include "nodetrace/formats/writer.hpp"
+#include "sampling_trace.hpp"
 #include "test_support.hpp"
 
 namespace nodetrace::cachesim {
@@ -18,45 +18,7 @@ using testing::program;
 using testing::run_command;
 using testing::shell_quoted;
 
-constexpr std::uint64_t kRecordsPerDataFrame = 1024;
-
 std::string cachesim() { return shell_quoted(program("cachesim")); }
-
-// Two animation frames of 20 data frames each: root-to-leaf walks of a
-// 10-level tree (BFL from 0x1000), pseudo-random so windows differ.
-void write_walks(const std::filesystem::path& path) {
-  formats::WriterOptions options;
-  options.form = formats::RecordForm::Din;
-  options.records_per_frame = kRecordsPerDataFrame;
-  nlohmann::json header = {{"layout", {{"name", "bfl"}, {"split_level", 4},
-                                       {"node_size", 8}, {"node_base", 4096}}}};
-  auto writer = formats::TraceWriter::create(path.string(), header, options);
-  std::uint64_t state = 12345;
-  for (std::uint64_t frame = 0; frame < 2; ++frame) {
-    formats::FrameMarker marker;
-    marker.frame = frame;
-    marker.nodes_per_level = {1, 2, 4, 8, 16, 32, 64, 128, 256, 512};
-    marker.nodes = 1023;
-    marker.leaves = 512;
-    marker.depth = 10;
-    writer->begin_frame(marker);
-    for (std::uint64_t walk = 0; walk < 2048; ++walk) {
-      std::uint64_t slot = 0;
-      for (formats::Tag level = 0; level < 10; ++level) {
-        formats::Record record;
-        record.address = 0x1000 + slot * 8;
-        record.size = 8;
-        record.tag = level;
-        writer->write(record);
-        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-        // Walks drift through the tree so locality changes along the trace.
-        const bool right = ((state >> 33) % 8) < 3 + (walk / 512) % 3;
-        slot = 2 * slot + 1 + (right ? 1 : 0);
-      }
-    }
-  }
-  writer->finish();
-}
 
 struct Csv {
   std::vector<std::string> columns;
