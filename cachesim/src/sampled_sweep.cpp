@@ -177,7 +177,9 @@ class SampledRun {
     // The units and how many there are in all.
     std::vector<Unit> units;
     std::uint64_t population = 0;
+    SampleDesign design = SampleDesign::Stratified;
     if (options_.set_every != 0) {
+      design = SampleDesign::Random;
       for (const TraceResult& result : results) {
         Unit unit;
         add_since(unit, result.rows, {});
@@ -213,7 +215,7 @@ class SampledRun {
         row.low_refs += more.low_refs;
         row.low_misses += more.low_misses;
       }
-      out.rows.push_back(SampledRow{row, fraction, ratio_estimate(unit_column(c), population)});
+      out.rows.push_back(SampledRow{row, fraction, ratio_estimate(unit_column(c), population, design)});
     }
     for (std::size_t c = 0; c < configs_.size(); ++c) {
       const NodeCacheConfig& split = configs_[c];
@@ -226,7 +228,7 @@ class SampledRun {
           continue;
         }
         out.gains.push_back(GainRow{out.rows[c].row, out.rows[s].row, fraction,
-                                    gain_estimate(unit_column(s), unit_column(c), population)});
+                                    gain_estimate(unit_column(s), unit_column(c), population, design)});
         break;
       }
     }

@@ -1,6 +1,7 @@
 // The ratio estimator of SAMPLING.md: residuals e_i = m_i - R f_i, the
-// linearised variance (1 - n/N) / (n fbar^2) * sum e_i^2 / (n - 1), and for
-// the gain the same over the difference of the two standardised residuals.
+// linearised variance (1 - n/N) / (n fbar^2) * S^2 with S^2 the residuals'
+// spread (random or successive differences), and for the gain the same over
+// the difference of the two standardised residuals.
 #include "nodetrace/cachesim/sampling_estimate.hpp"
 
 #include <array>
@@ -41,10 +42,25 @@ Totals totals(const std::vector<UnitCounts>& units) {
   return sum;
 }
 
+// The spread S^2 of the residuals z_i under `design` (n >= 2).
+double spread(const std::vector<double>& residuals, SampleDesign design) {
+  const std::size_t n = residuals.size();
+  double sum_squares = 0;
+  if (design == SampleDesign::Stratified) {
+    for (std::size_t i = 1; i < n; ++i) {
+      const double step = residuals[i] - residuals[i - 1];
+      sum_squares += step * step;
+    }
+    return sum_squares / (2.0 * static_cast<double>(n - 1));
+  }
+  for (const double z : residuals) sum_squares += z * z;
+  return sum_squares / static_cast<double>(n - 1);
+}
+
 // The interval from per-unit linearised residuals z_i (already divided by
-// the mean fetches per unit): var = (1 - f) / n * sum z_i^2 / (n - 1).
+// the mean fetches per unit): var = (1 - f) / n * S^2.
 Estimate with_error(double value, const std::vector<double>& residuals,
-                    std::uint64_t population_units) {
+                    std::uint64_t population_units, SampleDesign design) {
   Estimate estimate;
   estimate.value = value;
   const std::uint64_t n = residuals.size();
@@ -55,10 +71,8 @@ Estimate with_error(double value, const std::vector<double>& residuals,
   } else if (n < 2) {
     return estimate;
   } else {
-    double sum_squares = 0;
-    for (const double z : residuals) sum_squares += z * z;
     const double kept = static_cast<double>(n) / static_cast<double>(population_units);
-    variance = (1.0 - kept) / static_cast<double>(n) * sum_squares / static_cast<double>(n - 1);
+    variance = (1.0 - kept) / static_cast<double>(n) * spread(residuals, design);
   }
   const double error = std::sqrt(variance);
   const double half = n >= 2 ? student_t975(n - 1) * error : 0.0;
@@ -85,20 +99,21 @@ std::vector<double> standardised_residuals(const std::vector<UnitCounts>& units,
 
 }  // namespace
 
-Estimate ratio_estimate(const std::vector<UnitCounts>& units, std::uint64_t population_units) {
+Estimate ratio_estimate(const std::vector<UnitCounts>& units, std::uint64_t population_units,
+                        SampleDesign design) {
   const Totals sum = totals(units);
-  return with_error(sum.ratio(), standardised_residuals(units, sum), population_units);
+  return with_error(sum.ratio(), standardised_residuals(units, sum), population_units, design);
 }
 
 Estimate gain_estimate(const std::vector<UnitCounts>& single, const std::vector<UnitCounts>& split,
-                       std::uint64_t population_units) {
+                       std::uint64_t population_units, SampleDesign design) {
   if (single.size() != split.size()) throw std::invalid_argument("gain: unequal unit counts");
   const Totals single_sum = totals(single);
   const Totals split_sum = totals(split);
   std::vector<double> residuals = standardised_residuals(single, single_sum);
   const std::vector<double> split_residuals = standardised_residuals(split, split_sum);
   for (std::size_t i = 0; i < residuals.size(); ++i) residuals[i] -= split_residuals[i];
-  return with_error(single_sum.ratio() - split_sum.ratio(), residuals, population_units);
+  return with_error(single_sum.ratio() - split_sum.ratio(), residuals, population_units, design);
 }
 
 }  // namespace nodetrace::cachesim

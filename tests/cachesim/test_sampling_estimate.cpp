@@ -35,6 +35,23 @@ TEST(SamplingEstimate, GainIsSingleMinusSplitWithThePairedResidualsVariance) {
   EXPECT_NEAR(*gain.high95 - *gain.low95, 2 * 4.303 * *gain.standard_error, 1e-12);
 }
 
+TEST(SamplingEstimate, StratifiedDesignUsesSuccessiveDifferences) {
+  // Residuals -5, 5, 0 in order: differences 10, -5; S^2 = 125 / (2 * 2);
+  // var = (1 - 3/8) / (3 fbar^2) * 31.25 = 0.0003662109375.
+  const Estimate estimate = ratio_estimate(kSingle, 8, SampleDesign::Stratified);
+  EXPECT_DOUBLE_EQ(estimate.value, 0.15);
+  EXPECT_NEAR(*estimate.standard_error * *estimate.standard_error, 0.0003662109375, 1e-15);
+  // The gain's residual differences 0, 5, -5: steps 5, -10, the same S^2.
+  const Estimate gain = gain_estimate(kSingle, kSplit, 8, SampleDesign::Stratified);
+  EXPECT_NEAR(*gain.standard_error * *gain.standard_error, 0.0003662109375, 1e-15);
+  // A steady trend (residuals -10, 0, 10) is no spread between neighbours
+  // beyond the trend's steps: S^2 = (100 + 100) / 4 = 50, against 100 at random.
+  const std::vector<UnitCounts> trend{{100, 0}, {100, 10}, {100, 20}};
+  const double stratified = *ratio_estimate(trend, 30, SampleDesign::Stratified).standard_error;
+  const double random = *ratio_estimate(trend, 30, SampleDesign::Random).standard_error;
+  EXPECT_NEAR(stratified * stratified * 2, random * random, 1e-15);
+}
+
 TEST(SamplingEstimate, FullCoverageGivesTheTotalsRatioWithZeroError) {
   const Estimate estimate = ratio_estimate(kSingle, 3);
   EXPECT_EQ(estimate.value, 60.0 / 400.0);
