@@ -11,14 +11,33 @@ namespace {
 
 const char* const kMarkerKeys[] = {"frame", "time", "nodes_per_level", "nodes", "leaves", "depth"};
 
-// A marker's unsigned integer field; an error names the key and what it holds.
-std::uint64_t unsigned_field(const nlohmann::json& value, const std::string& key, std::uint64_t limit) {
+const char* const kWindowKeys[] = {"window", "frame"};
+const char* const kSamplingKeys[] = {"method", "every", "band_height", "seed", "bands"};
+constexpr std::uint64_t kAny = ~std::uint64_t{0};
+
+// An unsigned integer field of `what` (a marker, the header's "sampling"); an
+// error names the key and what it holds.
+std::uint64_t unsigned_field(const nlohmann::json& value, const std::string& key, std::uint64_t limit,
+                             const char* what = "animation frame marker") {
   if (!value.is_number_unsigned() || value.get<std::uint64_t>() > limit) {
-    throw FormatError(fmt::format("animation frame marker: \"{}\" is {}, expected an unsigned integer{}", key,
+    throw FormatError(fmt::format("{}: \"{}\" is {}, expected an unsigned integer{}", what, key,
                                   value.dump().substr(0, 40),
                                   limit == ~std::uint64_t{0} ? "" : fmt::format(" up to {}", limit)));
   }
   return value.get<std::uint64_t>();
+}
+
+// The keys of `json` that are not among `known`, for a struct's `extra`.
+template <std::size_t N>
+nlohmann::json other_keys(const nlohmann::json& json, const char* const (&known)[N]) {
+  nlohmann::json extra = nlohmann::json::object();
+  for (const auto& [key, value] : json.items()) {
+    if (std::find_if(std::begin(known), std::end(known), [&](const char* name) { return key == name; }) ==
+        std::end(known)) {
+      extra[key] = value;
+    }
+  }
+  return extra;
 }
 
 }  // namespace
@@ -36,7 +55,6 @@ nlohmann::json FrameMarker::to_json() const {
 
 FrameMarker FrameMarker::from_json(const nlohmann::json& json) {
   if (!json.is_object()) throw FormatError("animation frame marker is not a JSON object");
-  constexpr std::uint64_t kAny = ~std::uint64_t{0};
   FrameMarker marker;
   if (!json.contains("frame")) throw FormatError("animation frame marker: no \"frame\" key");
   marker.frame = unsigned_field(json["frame"], "frame", kAny);
@@ -62,12 +80,58 @@ FrameMarker FrameMarker::from_json(const nlohmann::json& json) {
   if (json.contains("depth")) {
     marker.depth = static_cast<std::uint32_t>(unsigned_field(json["depth"], "depth", 0xFFFFFFFFu));
   }
-  for (const auto& [key, value] : json.items()) {
-    bool known = false;
-    for (const char* name : kMarkerKeys) known = known || key == name;
-    if (!known) marker.extra[key] = value;
-  }
+  marker.extra = other_keys(json, kMarkerKeys);
   return marker;
+}
+
+nlohmann::json WindowMarker::to_json() const {
+  nlohmann::json json = extra.is_object() ? extra : nlohmann::json::object();
+  json["window"] = window;
+  json["frame"] = frame;
+  return json;
+}
+
+WindowMarker WindowMarker::from_json(const nlohmann::json& json) {
+  constexpr const char* kWhat = "sample window marker";
+  if (!json.is_object()) throw FormatError("sample window marker is not a JSON object");
+  WindowMarker marker;
+  for (const char* key : kWindowKeys) {
+    if (!json.contains(key)) throw FormatError(fmt::format("sample window marker: no \"{}\" key", key));
+  }
+  marker.window = unsigned_field(json["window"], "window", kAny, kWhat);
+  marker.frame = unsigned_field(json["frame"], "frame", kAny, kWhat);
+  marker.extra = other_keys(json, kWindowKeys);
+  return marker;
+}
+
+nlohmann::json SamplingInfo::to_json() const {
+  nlohmann::json json = extra.is_object() ? extra : nlohmann::json::object();
+  json["method"] = method;
+  json["every"] = every;
+  json["band_height"] = band_height;
+  json["seed"] = seed;
+  json["bands"] = bands;
+  return json;
+}
+
+SamplingInfo SamplingInfo::from_json(const nlohmann::json& json) {
+  constexpr const char* kWhat = "header \"sampling\"";
+  if (!json.is_object()) throw FormatError("header \"sampling\" is not a JSON object");
+  SamplingInfo info;
+  const auto method = json.find("method");
+  if (method == json.end() || !method->is_string() || method->get<std::string>().empty()) {
+    throw FormatError("header \"sampling\": \"method\" must be a non-empty string (e.g. \"rows\")");
+  }
+  info.method = method->get<std::string>();
+  if (json.contains("every")) {
+    info.every = unsigned_field(json["every"], "every", kAny, kWhat);
+    if (info.every == 0) throw FormatError("header \"sampling\": \"every\" is 0, expected at least 1");
+  }
+  if (json.contains("band_height")) info.band_height = unsigned_field(json["band_height"], "band_height", kAny, kWhat);
+  if (json.contains("seed")) info.seed = unsigned_field(json["seed"], "seed", kAny, kWhat);
+  if (json.contains("bands")) info.bands = unsigned_field(json["bands"], "bands", kAny, kWhat);
+  info.extra = other_keys(json, kSamplingKeys);
+  return info;
 }
 
 std::optional<std::uint32_t> FrameMarker::layout_split_level() const {
@@ -112,6 +176,13 @@ LayoutInfo TraceHeader::layout() const {
     info.node_base = base->get<std::uint64_t>();
   }
   return info;
+}
+
+std::optional<SamplingInfo> TraceHeader::sampling() const {
+  if (!json.is_object()) return std::nullopt;
+  const auto found = json.find("sampling");
+  if (found == json.end()) return std::nullopt;
+  return SamplingInfo::from_json(*found);
 }
 
 LevelPlacement level_placement(const LayoutInfo& layout, std::optional<std::uint32_t> frame_split_level,

@@ -84,7 +84,13 @@ class Input {
       // Grown as bytes arrive, never to a size only claimed: a damaged
       // length field costs no more memory than the bytes that are there.
       if (end_ == buffer_.size()) buffer_.resize(std::min(count, buffer_.size() * 2));
-      const ssize_t got = ::read(fd_, buffer_.data() + end_, buffer_.size() - end_);
+      std::size_t want = buffer_.size() - end_;
+      if (read_limit_ != 0) {  // read ahead no further than the limit unless `count` needs it
+        const std::uint64_t position = offset_ + (end_ - begin_);
+        const std::uint64_t room = read_limit_ > position ? read_limit_ - position : 0;
+        want = static_cast<std::size_t>(std::min<std::uint64_t>(want, std::max<std::uint64_t>(room, count - end_)));
+      }
+      const ssize_t got = ::read(fd_, buffer_.data() + end_, want);
       if (got < 0) {
         if (errno == EINTR) continue;
         throw IoError(fmt::format("{}: read error: {}", name_, std::strerror(errno)));
@@ -106,6 +112,19 @@ class Input {
     begin_ += count;
     offset_ += count;
   }
+
+  // Moves `count` bytes on, reading none of them that are not already read.
+  void skip(std::uint64_t count) {
+    if (count <= available()) {
+      consume(static_cast<std::size_t>(count));
+    } else {
+      seek(offset_ + count);
+    }
+  }
+
+  // Reads ahead stop at file offset `position` (0: no limit), so bytes that
+  // will be skipped are not read.
+  void limit_reads_to(std::uint64_t position) { read_limit_ = position; }
 
   // Reads `count` bytes at `position` without disturbing the stream.
   std::string read_at(std::uint64_t position, std::size_t count) const {
@@ -138,6 +157,7 @@ class Input {
   std::vector<char> buffer_;
   std::size_t begin_ = 0, end_ = 0;
   std::uint64_t offset_ = 0;
+  std::uint64_t read_limit_ = 0;
   bool eof_ = false;
 };
 
@@ -208,8 +228,10 @@ Chunk decode_data_frame(const std::string& frame, detail::ParseSettings settings
 
 // One item of the in-order pipeline.
 struct Unit {
-  bool is_marker = false;
+  enum class Kind { Records, FrameMarker, WindowMarker, SkippedFrame };
+  Kind kind = Kind::Records;
   FrameMarker marker;
+  WindowMarker window;
   std::future<Chunk> chunk;
   // Containers: where the data frame is and what the index should say.
   FrameIndexEntry entry;
@@ -234,6 +256,8 @@ class Reader final : public TraceReader {
   const std::optional<TraceTrailer>& trailer() const override { return trailer_; }
   std::uint64_t record_bytes() const override { return record_bytes_; }
   std::uint64_t records_with_ignored_fields() const override { return ignored_fields_; }
+  std::uint64_t data_frames_decompressed() const override { return data_frames_decompressed_; }
+  std::uint64_t data_frames_skipped() const override { return data_frames_skipped_; }
   std::string_view input_kind() const override {
     return mode_ == Mode::Container ? "container" : mode_ == Mode::PlainZstd ? "zstd" : "plain";
   }
@@ -242,29 +266,39 @@ class Reader final : public TraceReader {
     if (batch.records.capacity() > 0) stock_->records.give(std::move(batch.records));
     batch.records.clear();
     batch.marker.reset();
+    batch.window.reset();
     for (;;) {
       fill_pipeline();
       if (units_.empty()) {
         if (!finished_) finish();
-        if (pending_marker_) {
-          batch.marker = std::move(pending_marker_);
-          pending_marker_.reset();
-          batch.first_record = records_delivered_;
-          return true;
-        }
-        return false;
+        return deliver_pending(batch);
       }
+      // Markers that begin at the records of a skipped data frame go out on
+      // their own, before the jump.
+      if (units_.front().kind == Unit::Kind::SkippedFrame && deliver_pending(batch)) return true;
       Unit unit = std::move(units_.front());
       units_.pop_front();
-      if (unit.is_marker) {
-        if (pending_marker_) {  // an animation frame with no records
-          batch.marker = std::move(pending_marker_);
+      switch (unit.kind) {
+        case Unit::Kind::FrameMarker: {
+          // Whatever is pending began an animation frame or window with no records.
+          const bool delivered = deliver_pending(batch);
           pending_marker_ = std::move(unit.marker);
-          batch.first_record = records_delivered_;
-          return true;
+          if (delivered) return true;
+          continue;
         }
-        pending_marker_ = std::move(unit.marker);
-        continue;
+        case Unit::Kind::WindowMarker: {
+          const bool delivered = pending_window_ && deliver_pending(batch);  // a window with no records
+          pending_window_ = std::move(unit.window);
+          if (delivered) return true;
+          continue;
+        }
+        case Unit::Kind::SkippedFrame:
+          records_read_ += unit.entry.record_count;
+          records_delivered_ += unit.entry.record_count;
+          seen_.push_back(unit.entry);
+          ++data_frames_skipped_;
+          continue;
+        case Unit::Kind::Records: break;
       }
       Chunk chunk = unit.chunk.get();
       if (mode_ == Mode::Container) check_data_frame(unit, chunk);
@@ -274,14 +308,11 @@ class Reader final : public TraceReader {
                                       chunk.record_error.message));
       }
       ignored_fields_ += chunk.ignored_fields;
-      if (chunk.records.empty() && !pending_marker_) continue;
+      if (chunk.records.empty() && !pending_marker_ && !pending_window_) continue;
       batch.first_record = records_delivered_;
       records_delivered_ += chunk.records.size();
       batch.records = std::move(chunk.records);
-      if (pending_marker_) {
-        batch.marker = std::move(pending_marker_);
-        pending_marker_.reset();
-      }
+      deliver_pending(batch);
       return true;
     }
   }
@@ -301,8 +332,10 @@ class Reader final : public TraceReader {
     drain();
     input_.seek(found->offset);
     data_frames_ = static_cast<std::uint64_t>(found - index.begin());
+    next_skip_ = static_cast<std::size_t>(data_frames_);
     records_read_ = records_delivered_ = found->first_record;
     pending_marker_.reset();
+    pending_window_.reset();
     markers_ = found->animation_frame + 1;
     hashes_valid_ = false;
     saw_trailer_ = false;
@@ -313,6 +346,18 @@ class Reader final : public TraceReader {
  private:
   [[noreturn]] void fail(const std::string& message) const {
     throw FormatError(fmt::format("{}: {}", name_, message));
+  }
+
+  // Moves the pending markers into `batch` (at the current record); false
+  // when none is pending.
+  bool deliver_pending(RecordBatch& batch) {
+    if (!pending_marker_ && !pending_window_) return false;
+    if (batch.records.empty()) batch.first_record = records_delivered_;
+    batch.marker = std::move(pending_marker_);
+    batch.window = std::move(pending_window_);
+    pending_marker_.reset();
+    pending_window_.reset();
+    return true;
   }
 
   void open() {
@@ -451,6 +496,10 @@ class Reader final : public TraceReader {
     settings_.tags_are_levels = options_.tags_are_levels || header_.tags_are_levels();
     header_end_ = input_.offset();
     if (input_.seekable() && header_.announces_trailer()) trailer_ = read_trailer_from_end();
+    if (input_.seekable() && trailer_ && options_.keep_data_frame) {
+      skip_.reserve(trailer_->index.size());
+      for (const FrameIndexEntry& entry : trailer_->index) skip_.push_back(!options_.keep_data_frame(entry));
+    }
   }
 
   TraceTrailer read_trailer_from_end() {
@@ -493,6 +542,7 @@ class Reader final : public TraceReader {
   }
 
   void read_container_unit() {
+    if (skip_data_frame_here()) return;
     if (input_.at_end()) {
       input_done_ = true;
       return;
@@ -532,21 +582,54 @@ class Reader final : public TraceReader {
       read_stream_trailer(offset);
       return;
     }
+    const char* what = magic == detail::kMarkerMagic   ? "animation frame marker"
+                       : magic == detail::kWindowMagic ? "sample window marker"
+                                                       : "skippable frame";
     std::string payload;
-    read_skippable(payload, magic == detail::kMarkerMagic ? "animation frame marker" : "skippable frame");
+    read_skippable(payload, what);
     if (magic == detail::kHeaderMagic) fail(fmt::format("a second header at byte {}", offset));
-    if (magic != detail::kMarkerMagic) return;  // someone else's skippable frame
+    if (magic != detail::kMarkerMagic && magic != detail::kWindowMagic) return;  // someone else's skippable frame
     Unit unit;
-    unit.is_marker = true;
     try {
-      unit.marker = FrameMarker::from_json(nlohmann::json::parse(payload));
+      const nlohmann::json json = nlohmann::json::parse(payload);
+      if (magic == detail::kMarkerMagic) {
+        unit.kind = Unit::Kind::FrameMarker;
+        unit.marker = FrameMarker::from_json(json);
+      } else {
+        unit.kind = Unit::Kind::WindowMarker;
+        unit.window = WindowMarker::from_json(json);
+      }
     } catch (const nlohmann::json::exception& error) {
-      fail(fmt::format("animation frame marker at byte {} is not valid JSON ({})", offset, error.what()));
+      fail(fmt::format("{} at byte {} is not valid JSON ({})", what, offset, error.what()));
     } catch (const FormatError& error) {
       fail(fmt::format("at byte {}: {}", offset, error.what()));
     }
-    ++markers_;
+    if (unit.kind == Unit::Kind::FrameMarker) ++markers_;
     units_.push_back(std::move(unit));
+  }
+
+  // keep_data_frame: when the index's next data frame starts here and is not
+  // kept, steps over it (nothing read, nothing decompressed) and queues its
+  // place; otherwise keeps reads ahead from running into the next skipped one.
+  bool skip_data_frame_here() {
+    if (skip_.empty()) return false;
+    const auto& index = trailer_->index;
+    while (next_skip_ < skip_.size() && (!skip_[next_skip_] || next_skip_ < data_frames_)) ++next_skip_;
+    input_.limit_reads_to(next_skip_ < skip_.size() ? index[next_skip_].offset : 0);
+    if (next_skip_ != data_frames_ || index[data_frames_].offset != input_.offset()) return false;
+    const FrameIndexEntry& entry = index[data_frames_];
+    if (entry.compressed_size == 0 || entry.offset + entry.compressed_size > input_.size()) {
+      fail(fmt::format("damaged index: data frame {} at byte {} of {} bytes runs past the end of the file",
+                       data_frames_ + 1, entry.offset, entry.compressed_size));
+    }
+    Unit unit;
+    unit.kind = Unit::Kind::SkippedFrame;
+    unit.entry = entry;
+    unit.data_frame = data_frames_++;
+    input_.skip(entry.compressed_size);
+    skipped_bytes_ = true;
+    units_.push_back(std::move(unit));
+    return true;
   }
 
   void read_stream_trailer(std::uint64_t offset) {
@@ -673,6 +756,7 @@ class Reader final : public TraceReader {
     seen.record_count = chunk.records.size();
     records_read_ += seen.record_count;
     record_bytes_ += chunk.bytes.size();
+    ++data_frames_decompressed_;
     if (chunk.bad_record) return;
     if (hashes_valid_) XXH64_update(record_hash_.get(), chunk.bytes.data(), chunk.bytes.size());
     stock_->bytes.give(std::move(chunk.bytes));
@@ -722,6 +806,7 @@ class Reader final : public TraceReader {
     if (totals != trailer_->totals.end() && (!totals->is_number_unsigned() || totals->get<std::uint64_t>() != records_read_)) {
       fail(fmt::format("the trailer's totals say {} records but the data frames hold {}", totals->dump(), records_read_));
     }
+    if (skipped_bytes_) return;  // the hashes cover the skipped data frames
     if (XXH64_digest(record_hash_.get()) != trailer_->record_hash) {
       fail("record hash mismatch: the records are not the ones the trailer describes");
     }
@@ -757,6 +842,12 @@ class Reader final : public TraceReader {
   std::unique_ptr<detail::ThreadPool> pool_;
   std::deque<Unit> units_;
   std::optional<FrameMarker> pending_marker_;
+  std::optional<WindowMarker> pending_window_;
+  std::vector<bool> skip_;     // keep_data_frame's answer per index entry (true: skip)
+  std::size_t next_skip_ = 0;  // the first skipped data frame not yet passed
+  bool skipped_bytes_ = false;
+  std::uint64_t data_frames_decompressed_ = 0;
+  std::uint64_t data_frames_skipped_ = 0;
   bool input_done_ = false;
   bool finished_ = false;
   bool saw_trailer_ = false;

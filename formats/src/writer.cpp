@@ -117,13 +117,14 @@ class Writer final : public TraceWriter {
 
   void begin_frame(const FrameMarker& marker) override {
     check_open();
-    submit_pending();
-    ++markers_;
-    if (!container_) return;
-    Item item;
-    item.ready = detail::skippable_frame(detail::kMarkerMagic, marker.to_json().dump());
-    queue_.push_back(std::move(item));
-    drain(false);
+    queue_marker(detail::kMarkerMagic, marker.to_json());
+    ++markers_;  // after queue_marker: the data frame it ends belongs to the previous animation frame
+  }
+
+  void begin_window(const WindowMarker& marker) override {
+    check_open();
+    queue_marker(detail::kWindowMagic, marker.to_json());
+    ++windows_;
   }
 
   void write(std::span<const Record> records) override {
@@ -173,6 +174,8 @@ class Writer final : public TraceWriter {
       trailer.totals["records_per_tag"] = std::move(per_tag);
       trailer.totals["records_per_type"] = std::move(per_type);
       trailer.totals["animation_frames"] = markers_;
+      // Only sampled traces say it, so unsampled traces keep their bytes.
+      if (windows_ > 0) trailer.totals["sample_windows"] = windows_;
       trailer.totals["data_frames"] = trailer.index.size();
       trailer.totals["record_bytes"] = record_bytes_;
       trailer.record_hash = XXH64_digest(record_hash_.get());
@@ -237,6 +240,17 @@ class Writer final : public TraceWriter {
       ++pending_records_;
       ++records_total_;
     }
+  }
+
+  // A marker ends the pending data frame (a marker never splits one) and,
+  // in a container, follows it in the file.
+  void queue_marker(std::uint32_t magic, const nlohmann::json& json) {
+    submit_pending();
+    if (!container_) return;
+    Item item;
+    item.ready = detail::skippable_frame(magic, json.dump());
+    queue_.push_back(std::move(item));
+    drain(false);
   }
 
   [[noreturn]] void fail(const std::string& message) const { throw FormatError(fmt::format("{}: {}", name_, message)); }
@@ -332,6 +346,7 @@ class Writer final : public TraceWriter {
   std::array<std::uint64_t, kAccessTypeCount> type_counts_{};
   std::uint64_t records_total_ = 0;
   std::uint64_t markers_ = 0;
+  std::uint64_t windows_ = 0;
   std::uint64_t offset_ = 0;
   std::uint64_t record_bytes_ = 0;
   nlohmann::json extra_totals_ = nlohmann::json::object();

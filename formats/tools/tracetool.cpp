@@ -305,12 +305,13 @@ int run_convert(const std::string& in, const std::string& out, const ConvertOpti
   formats::RecordBatch batch;
   while (reader->next(batch)) {
     if (batch.marker) writer->begin_frame(*batch.marker);
+    if (batch.window) writer->begin_window(*batch.window);
     writer->write(batch.records);
   }
   if (reader->trailer()) {
     nlohmann::json totals = reader->trailer()->totals;
-    for (const char* key : {"records", "records_per_tag", "records_per_type", "animation_frames", "data_frames",
-                            "record_bytes"})
+    for (const char* key : {"records", "records_per_tag", "records_per_type", "animation_frames", "sample_windows",
+                            "data_frames", "record_bytes"})
       totals.erase(key);
     if (options.form == reader->form()) writer->add_totals(totals);
   }

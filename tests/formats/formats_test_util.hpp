@@ -2,8 +2,11 @@
 // catching the error a reader gives.
 #pragma once
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "nodetrace/formats/error.hpp"
@@ -41,6 +44,37 @@ inline std::string read_error(const std::string& path, const ReaderOptions& opti
     return error.what();
   }
   return {};
+}
+
+// Runs `body` with standard input reading `bytes` through a pipe (fed in
+// 4 KiB pieces by another thread), then restores standard input. Returns the
+// message of an exception `body` threw, or "".
+template <typename Body>
+std::string with_stdin_from(const std::string& bytes, Body&& body) {
+  int pipe_fds[2];
+  if (::pipe(pipe_fds) != 0) return "cannot make a pipe";
+  const int saved_stdin = ::dup(0);
+  ::dup2(pipe_fds[0], 0);
+  ::close(pipe_fds[0]);
+  std::thread feeder([&] {
+    std::size_t done = 0;
+    while (done < bytes.size()) {
+      const auto wrote = ::write(pipe_fds[1], bytes.data() + done, std::min<std::size_t>(4096, bytes.size() - done));
+      if (wrote <= 0) break;
+      done += static_cast<std::size_t>(wrote);
+    }
+    ::close(pipe_fds[1]);
+  });
+  std::string error;
+  try {
+    body();
+  } catch (const std::exception& caught) {
+    error = caught.what();
+  }
+  feeder.join();
+  ::dup2(saved_stdin, 0);
+  ::close(saved_stdin);
+  return error;
 }
 
 inline void write_trace(const std::string& path, const std::vector<Record>& records, const WriterOptions& options,

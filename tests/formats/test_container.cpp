@@ -142,23 +142,8 @@ TEST_F(Container, MarkersArriveInOrderThroughAPipe) {
   write_trace(path("t.din.zst"), records, options_for(RecordForm::Din, 700), {}, markers);
   const std::string bytes = read_file(path("t.din.zst"));
 
-  int pipe_fds[2];
-  ASSERT_EQ(::pipe(pipe_fds), 0);
-  const int saved_stdin = ::dup(0);
-  ::dup2(pipe_fds[0], 0);
-  ::close(pipe_fds[0]);
-  std::thread feeder([&] {
-    std::size_t done = 0;
-    while (done < bytes.size()) {
-      const auto wrote = ::write(pipe_fds[1], bytes.data() + done, std::min<std::size_t>(4096, bytes.size() - done));
-      if (wrote <= 0) break;
-      done += static_cast<std::size_t>(wrote);
-    }
-    ::close(pipe_fds[1]);
-  });
   testing_util::ReadResult result;
-  std::string error;
-  try {
+  const std::string error = testing_util::with_stdin_from(bytes, [&] {
     auto reader = TraceReader::open("-");
     EXPECT_EQ(reader->source_name(), "<stdin>");
     EXPECT_FALSE(reader->trailer());
@@ -169,12 +154,7 @@ TEST_F(Container, MarkersArriveInOrderThroughAPipe) {
     }
     EXPECT_TRUE(reader->trailer());  // available once the stream has ended
     EXPECT_THROW(reader->seek_to_record(0), UsageError);
-  } catch (const std::exception& caught) {
-    error = caught.what();
-  }
-  feeder.join();
-  ::dup2(saved_stdin, 0);
-  ::close(saved_stdin);
+  });
   ASSERT_EQ(error, "");
   EXPECT_EQ(result.records, as_read_back(records, RecordForm::Din, true));
   ASSERT_EQ(result.markers.size(), markers.size());

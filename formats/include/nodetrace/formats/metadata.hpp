@@ -1,5 +1,5 @@
-// Container metadata: the header, the animation-frame markers and the
-// trailer's totals (formats/FORMAT.md gives the JSON of each).
+// Container metadata: the header, the animation-frame and sample-window
+// markers and the trailer's totals (formats/FORMAT.md gives the JSON of each).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -34,6 +34,30 @@ struct FrameMarker {
   std::optional<std::uint32_t> layout_split_level() const;
 };
 
+// A sample window begins (FORMAT.md: skippable frame, magic 0x184D2A52).
+struct WindowMarker {
+  std::uint64_t window = 0;  // 0-based number of the window in the full domain
+                             // of its animation frame (e.g. band b of the image)
+  std::uint64_t frame = 0;   // animation frame number it belongs to
+  nlohmann::json extra = nlohmann::json::object();  // producer keys, e.g. "rows": [y0, y1)
+
+  nlohmann::json to_json() const;
+  static WindowMarker from_json(const nlohmann::json& json);  // throws FormatError
+};
+
+// The header's "sampling" key (absent: the trace is not sampled).
+struct SamplingInfo {
+  std::string method;             // "rows" (the tracer's row bands)
+  std::uint64_t every = 1;        // one band in every `every` (rate 1/every)
+  std::uint64_t band_height = 0;  // rows per band
+  std::uint64_t seed = 0;
+  std::uint64_t bands = 0;        // bands in one full image (last band may be shorter)
+  nlohmann::json extra = nlohmann::json::object();  // further producer keys
+
+  nlohmann::json to_json() const;
+  static SamplingInfo from_json(const nlohmann::json& json);  // throws FormatError
+};
+
 // The header's "layout": how the producer placed the kd-tree nodes
 // (address = node_base + slot * node_size).
 struct LayoutInfo {
@@ -58,6 +82,9 @@ struct TraceHeader {
   // The "layout" object; defaults (node_size 8, base 0, no name) for what it
   // does not say or when absent.
   LayoutInfo layout() const;
+  // The "sampling" object; nullopt when absent (the trace is not sampled).
+  // Throws FormatError when it is there but malformed.
+  std::optional<SamplingInfo> sampling() const;
 };
 
 // Where the nodes of the top levels lie, for K-sizing.

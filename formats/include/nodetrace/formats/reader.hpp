@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -24,6 +25,13 @@ struct ReaderOptions {
   std::optional<RecordForm> form;
   // Decoding threads; 0 means one per core.
   unsigned threads = 0;
+  // Seekable containers with an index: data frames for which this returns
+  // false are neither read nor decompressed; markers (frame and window) are
+  // still delivered in order. The record and content hashes, which cover
+  // skipped bytes, are then not checked (footer, index and every frame read
+  // are). Ignored (every frame delivered) for input that cannot seek. Called
+  // once per data frame, in file order, when the trace is opened.
+  std::function<bool(const FrameIndexEntry&)> keep_data_frame;
 };
 
 // A run of consecutive records, delivered in trace order.
@@ -31,8 +39,13 @@ struct RecordBatch {
   // Set when an animation frame begins at records[0] (or, for an animation
   // frame with no records, on an empty batch).
   std::optional<FrameMarker> marker;
+  // Set when a sample window begins at records[0] (or on an empty batch: a
+  // window with no records, or one whose data frames were skipped). With
+  // `marker` too, the window is the first of that animation frame.
+  std::optional<WindowMarker> window;
   std::vector<Record> records;
-  // 0-based position of records[0] in the whole trace.
+  // 0-based position of records[0] in the whole trace (it jumps over the
+  // records of data frames skipped by keep_data_frame).
   std::uint64_t first_record = 0;
 };
 
@@ -73,6 +86,11 @@ class TraceReader {
   virtual std::uint64_t records_with_ignored_fields() const { return 0; }
   // What the input is: "container", "zstd" (plain zstd) or "plain".
   virtual std::string_view input_kind() const { return "plain"; }
+  // Container data frames decompressed / skipped by keep_data_frame so far
+  // (counted as next() delivers them, so the figures do not depend on the
+  // thread count).
+  virtual std::uint64_t data_frames_decompressed() const { return 0; }
+  virtual std::uint64_t data_frames_skipped() const { return 0; }
 };
 
 }  // namespace nodetrace::formats

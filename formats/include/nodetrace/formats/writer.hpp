@@ -48,6 +48,12 @@ class TraceWriter {
   // plain output). Records written before any begin_frame belong to frame 0
   // with no marker.
   virtual void begin_frame(const FrameMarker& marker) = 0;
+  // Starts a sample window: ends the current data frame and writes a window
+  // marker (container); nothing in plain output. A window never spans an
+  // animation-frame marker: begin_frame ends the open window. When both
+  // begin at one record, call begin_frame first (the file holds the frame
+  // marker, then the window marker).
+  virtual void begin_window(const WindowMarker& marker) = 0;
   virtual void write(std::span<const Record> records) = 0;
   void write(const Record& record) { write(std::span<const Record>(&record, 1)); }
   // Extra totals known only at the end (ray-kind counts, ...), merged into the
