@@ -129,19 +129,7 @@ class SampledRun {
   }
 
   bool window_chosen(std::uint64_t window) const {
-    const std::uint64_t every = options_.window_every;
-    if (every <= 1) return true;
-    return chosen_in_stratum(options_.seed, window / every, every) == window % every;
-  }
-
-  // Whether any record of [first, first + count) is in a chosen window.
-  bool range_chosen(std::uint64_t first, std::uint64_t count) const {
-    if (count == 0) return false;
-    const std::uint64_t last_window = (first + count - 1) / options_.window_records;
-    for (std::uint64_t w = first / options_.window_records; w <= last_window; ++w) {
-      if (window_chosen(w)) return true;
-    }
-    return false;
+    return cachesim::window_chosen(options_, window);
   }
 
   void feed(const formats::RecordBatch& batch) {
@@ -314,6 +302,32 @@ std::uint64_t trailer_records(const formats::TraceReader& reader) {
 
 std::uint64_t chosen_in_stratum(std::uint64_t seed, std::uint64_t stratum, std::uint64_t every) {
   return splitmix64(splitmix64(seed) ^ stratum) % every;
+}
+
+bool window_chosen(const SamplingOptions& options, std::uint64_t window) {
+  const std::uint64_t every = options.window_every;
+  if (every <= 1) return true;
+  return chosen_in_stratum(options.seed, window / every, every) == window % every;
+}
+
+bool records_chosen(const SamplingOptions& options, std::uint64_t first, std::uint64_t count) {
+  if (count == 0) return false;
+  const std::uint64_t first_window = first / options.window_records;
+  const std::uint64_t last_window = (first + count - 1) / options.window_records;
+  // Every whole stratum holds a chosen window: at most 2 K windows to look at.
+  if (options.window_every <= 1 || last_window - first_window >= 2 * options.window_every) {
+    return true;
+  }
+  for (std::uint64_t w = first_window; w <= last_window; ++w) {
+    if (window_chosen(options, w)) return true;
+  }
+  return false;
+}
+
+std::function<bool(const formats::FrameIndexEntry&)> data_frame_filter(const SamplingOptions& options) {
+  return [options](const formats::FrameIndexEntry& entry) {
+    return records_chosen(options, entry.first_record, entry.record_count);
+  };
 }
 
 SampledResult run_sampled_sweep(formats::TraceReader& reader,

@@ -90,7 +90,9 @@ int sampled_command(const RunCommandLine& line, const std::vector<NodeCacheConfi
   std::vector<GainRow> gains;
   std::vector<std::string> notes;
   for (const std::string& trace : line.traces) {
-    auto reader = formats::TraceReader::open(trace, reader_options(line));
+    formats::ReaderOptions options = reader_options(line);
+    options.keep_data_frame = data_frame_filter(sampling);
+    auto reader = formats::TraceReader::open(trace, options);
     SampledResult result = run_sampled_sweep(*reader, configs, trace, sampling);
     rows.insert(rows.end(), result.rows.begin(), result.rows.end());
     gains.insert(gains.end(), result.gains.begin(), result.gains.end());

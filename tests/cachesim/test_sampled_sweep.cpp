@@ -83,5 +83,58 @@ TEST(SampledSweep, OneWindowPerStratumChosenBySeed) {
   EXPECT_EQ(result.windows_simulated, expected);
 }
 
+TEST(SampledSweep, SkippedDataFramesAreNotDecompressedAndChangeNoNumber) {
+  testing::TempDir dir;
+  write_walks(dir / "walks.din.zst");
+  SamplingOptions options;
+  options.window_every = 4;
+  options.window_records = kRecordsPerDataFrame;  // one window, one data frame
+  options.seed = 5;
+  formats::ReaderOptions skipping;
+  skipping.keep_data_frame = data_frame_filter(options);
+  auto reader = formats::TraceReader::open((dir / "walks.din.zst").string(), skipping);
+  const SampledResult skipped = run_sampled_sweep(*reader, configs(), "t", options);
+  // 40 data frames, 10 strata of 4: one frame of each stratum read.
+  EXPECT_EQ(reader->data_frames_decompressed(), 10u);
+  EXPECT_EQ(reader->data_frames_skipped(), 30u);
+  EXPECT_EQ(skipped.windows, 40u);
+  EXPECT_EQ(skipped.windows_simulated, 10u);
+  const SampledResult read_all = sampled(dir / "walks.din.zst", options);
+  ASSERT_EQ(skipped.rows.size(), read_all.rows.size());
+  for (std::size_t c = 0; c < skipped.rows.size(); ++c) {
+    EXPECT_EQ(skipped.rows[c].row.refs, read_all.rows[c].row.refs);
+    EXPECT_EQ(skipped.rows[c].row.misses, read_all.rows[c].row.misses);
+    EXPECT_EQ(skipped.rows[c].sampled_fraction, 0.25);
+    EXPECT_EQ(skipped.rows[c].estimate.standard_error, read_all.rows[c].estimate.standard_error);
+  }
+  // Windows of 1.5 data frames: a frame is read when any chosen record is in it.
+  options.window_records = kRecordsPerDataFrame * 3 / 2;
+  skipping.keep_data_frame = data_frame_filter(options);
+  auto partial = formats::TraceReader::open((dir / "walks.din.zst").string(), skipping);
+  const SampledResult partly = run_sampled_sweep(*partial, configs(), "t", options);
+  const SampledResult partly_all = sampled(dir / "walks.din.zst", options);
+  EXPECT_GT(partial->data_frames_skipped(), 0u);
+  for (std::size_t c = 0; c < partly.rows.size(); ++c) {
+    EXPECT_EQ(partly.rows[c].row.misses, partly_all.rows[c].row.misses);
+  }
+}
+
+TEST(SampledSweep, DataFrameFilterKeepsEveryFrameWithAChosenRecord) {
+  SamplingOptions options;
+  options.window_every = 4;
+  options.window_records = 100;
+  for (std::uint64_t first = 0; first < 2000; first += 37) {
+    bool any = false;
+    for (std::uint64_t record = first; record < first + 150; ++record) {
+      any = any || window_chosen(options, record / 100);
+    }
+    EXPECT_EQ(records_chosen(options, first, 150), any) << first;
+  }
+  EXPECT_FALSE(records_chosen(options, 0, 0));
+  EXPECT_TRUE(records_chosen(options, 0, 100000));  // many strata
+  options.window_every = 0;  // sets only: every frame
+  EXPECT_TRUE(data_frame_filter(options)(formats::FrameIndexEntry{0, 10, 5000, 1024, 0, 0}));
+}
+
 }  // namespace
 }  // namespace nodetrace::cachesim

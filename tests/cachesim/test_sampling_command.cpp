@@ -130,6 +130,20 @@ TEST_F(SamplingCommand, QuarterOfTheWindowsSimulatesAQuarterWithAnIntervalAround
   }
 }
 
+TEST_F(SamplingCommand, StandardInputWhichCannotSkipGivesTheSameNumbers) {
+  const std::string options = kConfigs + " --sample-windows 1/4 --window-records 1500";
+  const Csv file = parse_csv(run(options));
+  const auto piped = run_command("cat " + shell_quoted(trace_) + " | " + cachesim() + " run -" + options);
+  ASSERT_EQ(piped.exit_code, 0) << piped.err;
+  const Csv stdin_csv = parse_csv(piped.out);
+  ASSERT_EQ(stdin_csv.rows.size(), file.rows.size());
+  for (std::size_t r = 0; r < file.rows.size(); ++r) {
+    EXPECT_EQ(stdin_csv.rows[r][0], "-");
+    EXPECT_EQ(std::vector<std::string>(stdin_csv.rows[r].begin() + 1, stdin_csv.rows[r].end()),
+              std::vector<std::string>(file.rows[r].begin() + 1, file.rows[r].end()));
+  }
+}
+
 TEST_F(SamplingCommand, BadRatesAreUsageErrorsNamingTheOption) {
   for (const std::string option : {"--sample-windows", "--sample-sets"}) {
     for (const std::string rate : {"1/0", "3/2", "abc", "1/", "/4", "1/4x", "0/4"}) {

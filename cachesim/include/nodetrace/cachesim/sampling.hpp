@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -34,6 +35,15 @@ std::uint64_t parse_sample_rate(std::string_view text, std::string_view option);
 // Which window (0 .. every - 1) of a stratum of `every` consecutive windows
 // is simulated: a hash of (seed, stratum), so any offset is equally likely.
 std::uint64_t chosen_in_stratum(std::uint64_t seed, std::uint64_t stratum, std::uint64_t every);
+
+// Whether `options` simulates window `window`, and any record of
+// [first, first + count).
+bool window_chosen(const SamplingOptions& options, std::uint64_t window);
+bool records_chosen(const SamplingOptions& options, std::uint64_t first, std::uint64_t count);
+
+// The reader's keep_data_frame for these options: container data frames
+// with no record in a chosen window are never decompressed.
+std::function<bool(const formats::FrameIndexEntry&)> data_frame_filter(const SamplingOptions& options);
 
 struct SampledRow {
   ResultRow row;                  // the counts simulated; miss_ratio is the estimate
