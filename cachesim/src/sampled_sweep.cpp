@@ -114,10 +114,17 @@ void add_since(Unit& unit, const std::vector<ResultRow>& now, const std::vector<
 // The sweeps of a sampled run (one per set group) and the per-unit counts.
 class SampledRun {
  public:
+  // `rows`: the trace's header "sampling" (its windows are its markers).
   SampledRun(const std::vector<NodeCacheConfig>& configs, const TraceContext& context,
-             const SamplingOptions& options)
-      : configs_(configs), options_(options) {
+             const SamplingOptions& options, const std::optional<formats::SamplingInfo>& rows)
+      : configs_(configs), options_(options), rows_(rows) {
     if (options.window_records == 0) throw UsageError("--window-records: must be at least 1");
+    if (rows_ && options.window_every != 0) {
+      throw UsageError(fmt::format(
+          "--sample-windows: {} is already sampled ({} 1/{} in its header \"sampling\"); its "
+          "windows are the ones its markers begin",
+          context.source_name, rows_->method, rows_->every));
+    }
     if (options.set_every != 0) {
       groups_ = set_groups(configs, options.set_every);
       residue_ = splitmix64(options.seed ^ kSetStream) % options.set_every;
@@ -134,8 +141,12 @@ class SampledRun {
 
   void feed(const formats::RecordBatch& batch) {
     end_ = std::max(end_, batch.first_record + batch.records.size());
+    if (rows_) {
+      feed_marked(batch);
+      return;
+    }
     if (batch.records.empty()) {
-      if (batch.marker) feed_piece(batch, 0, 0, open_window_);  // an empty animation frame
+      if (batch.marker) feed_piece(batch, 0, 0, false);  // an empty animation frame
       return;
     }
     std::size_t begin = 0;
@@ -147,9 +158,9 @@ class SampledRun {
           std::min<std::uint64_t>(batch.records.size(), begin + (window_end - record)));
       if (!window_open_ || window != open_window_) {
         close_window();
-        open_window(window);
+        open_window(window, window_chosen(window));
       }
-      feed_piece(batch, begin, end, window);
+      feed_piece(batch, begin, end, open_chosen_);
       begin = end;
     }
   }
@@ -160,7 +171,16 @@ class SampledRun {
     for (auto& sweep : sweeps_) results.push_back(sweep->finish());
     SampledResult out;
     total_records = std::max(total_records, end_);
-    out.windows = (total_records + options_.window_records - 1) / options_.window_records;
+    double domain_fraction = 1.0;  // of the full render, for a row-sampled trace
+    if (rows_) {
+      // Every band of every animation frame the trace was rendered from.
+      out.windows = std::max(windows_simulated_, rows_->bands * std::max<std::uint64_t>(frames_, 1));
+      domain_fraction = out.windows == 0 ? 1.0
+                                         : static_cast<double>(windows_simulated_) /
+                                               static_cast<double>(out.windows);
+    } else {
+      out.windows = (total_records + options_.window_records - 1) / options_.window_records;
+    }
     out.windows_simulated = windows_simulated_;
     // The units and how many there are in all.
     std::vector<Unit> units;
@@ -173,15 +193,18 @@ class SampledRun {
         add_since(unit, result.rows, {});
         units.push_back(std::move(unit));
       }
-      population = groups_ * options_.set_every *
-                   (options_.window_every != 0 ? options_.window_every : 1);
+      const std::uint64_t window_every =
+          rows_ ? std::max<std::uint64_t>(rows_->every, 1)
+                : (options_.window_every != 0 ? options_.window_every : 1);
+      population = groups_ * options_.set_every * window_every;
     } else {
       units = window_units_;
       population = out.windows;
     }
     const double fraction =
-        total_records == 0 ? 1.0
-                           : static_cast<double>(records_simulated_) / static_cast<double>(total_records);
+        domain_fraction *
+        (total_records == 0 ? 1.0
+                            : static_cast<double>(records_simulated_) / static_cast<double>(total_records));
     auto unit_column = [&](std::size_t config) {
       std::vector<UnitCounts> column;
       for (const Unit& unit : units) {
@@ -229,17 +252,36 @@ class SampledRun {
   }
 
  private:
-  void open_window(std::uint64_t window) {
+  // A row-sampled trace: a window marker begins a window, an animation-frame
+  // marker ends it (records before any window marker are a window too).
+  void feed_marked(const formats::RecordBatch& batch) {
+    if (batch.marker) {
+      close_window();
+      window_open_ = false;
+      ++frames_;
+    }
+    if (batch.window) {
+      close_window();
+      open_window(marked_windows_++, true);
+    } else if (!window_open_ && !batch.records.empty()) {
+      open_window(marked_windows_++, true);
+    }
+    feed_piece(batch, 0, batch.records.size(), window_open_);
+  }
+
+  void open_window(std::uint64_t window, bool chosen) {
     window_open_ = true;
     open_window_ = window;
-    if (!window_chosen(window)) return;
+    open_chosen_ = chosen;
+    if (!chosen) return;
     ++windows_simulated_;
     at_window_start_.clear();
     for (auto& sweep : sweeps_) at_window_start_.push_back(sweep->counts());
   }
 
   void close_window() {
-    if (!window_open_ || !window_chosen(open_window_)) return;
+    if (!window_open_ || !open_chosen_) return;
+    open_chosen_ = false;
     Unit unit;
     for (std::size_t g = 0; g < sweeps_.size(); ++g) {
       add_since(unit, sweeps_[g]->counts(), at_window_start_[g]);
@@ -247,12 +289,12 @@ class SampledRun {
     window_units_.push_back(std::move(unit));
   }
 
-  // Records [begin, end) of `batch`, all in `window` (the marker only goes
-  // with the piece at records[0]).
+  // Records [begin, end) of `batch`, all in one window, simulated when it
+  // is `chosen` (the marker only goes with the piece at records[0]).
   void feed_piece(const formats::RecordBatch& batch, std::size_t begin, std::size_t end,
-                  std::uint64_t window) {
+                  bool chosen) {
     const bool marker = begin == 0 && batch.marker.has_value();
-    const bool chosen = window_chosen(window) && end > begin;
+    chosen = chosen && end > begin;
     if (!chosen && !marker) return;
     for (std::uint64_t g = 0; g < groups_; ++g) {
       formats::RecordBatch& piece = group_batches_[g];
@@ -282,8 +324,12 @@ class SampledRun {
   std::uint64_t residue_ = 0;
   std::vector<std::unique_ptr<Sweep>> sweeps_;
   std::vector<formats::RecordBatch> group_batches_;
+  std::optional<formats::SamplingInfo> rows_;
   bool window_open_ = false;
+  bool open_chosen_ = false;
   std::uint64_t open_window_ = 0;
+  std::uint64_t marked_windows_ = 0;  // row-sampled: windows begun
+  std::uint64_t frames_ = 0;          // row-sampled: animation-frame markers
   std::vector<std::vector<ResultRow>> at_window_start_;
   std::vector<Unit> window_units_;
   std::uint64_t windows_simulated_ = 0;
@@ -333,7 +379,8 @@ std::function<bool(const formats::FrameIndexEntry&)> data_frame_filter(const Sam
 SampledResult run_sampled_sweep(formats::TraceReader& reader,
                                 const std::vector<NodeCacheConfig>& configs,
                                 const std::string& trace_column, const SamplingOptions& options) {
-  SampledRun run(configs, trace_context(reader, trace_column), options);
+  const std::optional<formats::SamplingInfo> rows = reader.header().sampling();
+  SampledRun run(configs, trace_context(reader, trace_column), options, rows);
   formats::RecordBatch batch;
   while (reader.next(batch)) run.feed(batch);
   return run.finish(trailer_records(reader));

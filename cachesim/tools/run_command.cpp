@@ -84,16 +84,35 @@ SamplingOptions sampling_options(const SamplingCommandLine& line, const RunComma
   return options;
 }
 
+using Readers = std::vector<std::unique_ptr<formats::TraceReader>>;
+
+// Every trace opened before any is read: whether one is row-sampled decides
+// the report's columns. Window sampling skips data frames from the start.
+Readers open_traces(const RunCommandLine& line, const SamplingOptions& sampling) {
+  formats::ReaderOptions options = reader_options(line);
+  if (sampling.window_every != 0) options.keep_data_frame = data_frame_filter(sampling);
+  Readers readers;
+  for (const std::string& trace : line.traces) {
+    readers.push_back(formats::TraceReader::open(trace, options));
+  }
+  return readers;
+}
+
+// The first row-sampled trace (header "sampling"), or nullptr.
+const formats::TraceReader* row_sampled(const Readers& readers) {
+  for (const auto& reader : readers) {
+    if (reader->header().sampling()) return reader.get();
+  }
+  return nullptr;
+}
+
 int sampled_command(const RunCommandLine& line, const std::vector<NodeCacheConfig>& configs,
-                    const SamplingOptions& sampling) {
+                    const SamplingOptions& sampling, const Readers& readers) {
   std::vector<SampledRow> rows;
   std::vector<GainRow> gains;
   std::vector<std::string> notes;
-  for (const std::string& trace : line.traces) {
-    formats::ReaderOptions options = reader_options(line);
-    options.keep_data_frame = data_frame_filter(sampling);
-    auto reader = formats::TraceReader::open(trace, options);
-    SampledResult result = run_sampled_sweep(*reader, configs, trace, sampling);
+  for (std::size_t t = 0; t < readers.size(); ++t) {
+    SampledResult result = run_sampled_sweep(*readers[t], configs, line.traces[t], sampling);
     rows.insert(rows.end(), result.rows.begin(), result.rows.end());
     gains.insert(gains.end(), result.gains.begin(), result.gains.end());
     notes.insert(notes.end(), result.notes.begin(), result.notes.end());
@@ -127,7 +146,17 @@ int run_command(int argc, char** argv) {
     const SamplingOptions sampling = sampling_options(sampling_line, line);
     if (line.curve) return curve_command(line, options);
     const std::vector<NodeCacheConfig> configs = expand_configurations(options);
-    if (sampling.sampling()) return sampled_command(line, configs, sampling);
+    const Readers readers = open_traces(line, sampling);
+    if (const formats::TraceReader* sampled = row_sampled(readers)) {
+      if (line.per_level || line.per_frame) {
+        throw formats::UsageError(fmt::format(
+            "{} is row-sampled (header \"sampling\"): not with --per-level or --per-frame",
+            sampled->source_name()));
+      }
+    }
+    if (sampling.sampling() || row_sampled(readers)) {
+      return sampled_command(line, configs, sampling, readers);
+    }
     std::vector<ResultRow> rows;
     std::vector<LevelRow> levels;
     std::vector<FrameRow> frames;
@@ -146,11 +175,11 @@ int run_command(int argc, char** argv) {
                      static_cast<unsigned long long>(records_read / 1000000));
       };
     }
-    for (const std::string& trace : line.traces) {
+    for (std::size_t t = 0; t < readers.size(); ++t) {
+      const std::string& trace = line.traces[t];
       current_trace = trace;
-      auto reader = formats::TraceReader::open(trace, reader_options(line));
       TraceResult result =
-          run_sweep(*reader, configs, trace, options.per_level, progress, options.per_frame);
+          run_sweep(*readers[t], configs, trace, options.per_level, progress, options.per_frame);
       if (show_progress) std::fputs("\r\033[K", stderr);
       rows.insert(rows.end(), result.rows.begin(), result.rows.end());
       levels.insert(levels.end(), result.level_rows.begin(), result.level_rows.end());

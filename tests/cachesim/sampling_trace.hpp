@@ -48,4 +48,56 @@ inline void write_walks(const std::filesystem::path& path) {
   writer->finish();
 }
 
+// A row-sampled trace as `tracer render --sample-rows 1/every` writes it:
+// header "sampling", then per animation frame one window marker and 600
+// records for one band of each stratum of `every` bands (of `bands`).
+inline void write_row_sampled(const std::filesystem::path& path, std::uint64_t every,
+                              std::uint64_t bands, std::uint64_t frames) {
+  formats::WriterOptions options;
+  options.form = formats::RecordForm::Din;
+  formats::SamplingInfo info;
+  info.method = "rows";
+  info.every = every;
+  info.band_height = 2;
+  info.bands = bands;
+  nlohmann::json header = {{"layout", {{"name", "bfl"}, {"split_level", 4},
+                                       {"node_size", 8}, {"node_base", 4096}}},
+                           {"sampling", info.to_json()}};
+  auto writer = formats::TraceWriter::create(path.string(), header, options);
+  std::uint64_t state = 99;
+  for (std::uint64_t frame = 0; frame < frames; ++frame) {
+    formats::FrameMarker marker;
+    marker.frame = frame;
+    marker.nodes_per_level = {1, 2, 4, 8, 16, 32, 64, 128, 256, 512};
+    marker.nodes = 1023;
+    marker.leaves = 512;
+    marker.depth = 10;
+    writer->begin_frame(marker);
+    for (std::uint64_t stratum = 0; stratum * every < bands; ++stratum) {
+      const std::uint64_t band = stratum * every + (stratum * 7 + frame) % every;
+      if (band >= bands) continue;
+      formats::WindowMarker window;
+      window.window = band;
+      window.frame = frame;
+      window.extra = {{"rows", {band * 2, band * 2 + 2}}};
+      writer->begin_window(window);
+      for (std::uint64_t walk = 0; walk < 60; ++walk) {
+        std::uint64_t slot = 0;
+        for (formats::Tag level = 0; level < 10; ++level) {
+          formats::Record record;
+          record.address = 0x1000 + slot * 8;
+          record.size = 8;
+          record.tag = level;
+          writer->write(record);
+          state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+          // Bands lower in the image go right more often: windows differ.
+          const bool right = ((state >> 33) % 16) < 2 + band % 12;
+          slot = 2 * slot + 1 + (right ? 1 : 0);
+        }
+      }
+    }
+  }
+  writer->finish();
+}
+
 }  // namespace nodetrace::cachesim

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "nodetrace/cachesim/sampling.hpp"
+#include "nodetrace/formats/error.hpp"
 #include "sampling_trace.hpp"
 #include "test_support.hpp"
 
@@ -134,6 +135,41 @@ TEST(SampledSweep, DataFrameFilterKeepsEveryFrameWithAChosenRecord) {
   EXPECT_TRUE(records_chosen(options, 0, 100000));  // many strata
   options.window_every = 0;  // sets only: every frame
   EXPECT_TRUE(data_frame_filter(options)(formats::FrameIndexEntry{0, 10, 5000, 1024, 0, 0}));
+}
+
+TEST(SampledSweep, RowSampledTraceIsEstimatedFromItsMarkedWindows) {
+  testing::TempDir dir;
+  // 16 bands, one in 4: 4 windows per frame, 2 frames.
+  write_row_sampled(dir / "rows.din.zst", 4, 16, 2);
+  const SampledResult result = sampled(dir / "rows.din.zst", {});
+  EXPECT_EQ(result.windows, 32u);
+  EXPECT_EQ(result.windows_simulated, 8u);
+  for (const SampledRow& row : result.rows) {
+    EXPECT_EQ(row.row.refs, 8u * 600u);  // every record of the trace
+    EXPECT_EQ(row.sampled_fraction, 0.25);
+    EXPECT_EQ(row.estimate.value,
+              static_cast<double>(row.row.misses) / static_cast<double>(row.row.fetches));
+    ASSERT_TRUE(row.estimate.standard_error);
+    EXPECT_GT(*row.estimate.standard_error, 0.0);
+  }
+  EXPECT_EQ(result.gains.size(), 12u);  // one per split configuration: 3 sizes x 2 assocs x 2 high policies
+  // Every band present (1/1): exact, zero error.
+  write_row_sampled(dir / "all.din.zst", 1, 16, 1);
+  const SampledResult all = sampled(dir / "all.din.zst", {});
+  EXPECT_EQ(all.windows, 16u);
+  EXPECT_EQ(all.windows_simulated, 16u);
+  for (const SampledRow& row : all.rows) {
+    EXPECT_EQ(row.sampled_fraction, 1.0);
+    EXPECT_EQ(*row.estimate.standard_error, 0.0);
+  }
+}
+
+TEST(SampledSweep, RowSampledTraceRefusesWindowSampling) {
+  testing::TempDir dir;
+  write_row_sampled(dir / "rows.din.zst", 4, 16, 1);
+  SamplingOptions options;
+  options.window_every = 2;
+  EXPECT_THROW(sampled(dir / "rows.din.zst", options), formats::UsageError);
 }
 
 }  // namespace

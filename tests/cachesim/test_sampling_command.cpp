@@ -144,6 +144,33 @@ TEST_F(SamplingCommand, StandardInputWhichCannotSkipGivesTheSameNumbers) {
   }
 }
 
+TEST_F(SamplingCommand, RowSampledTraceGetsTheSamplingColumnsWithoutOptions) {
+  write_row_sampled(dir_ / "rows.din.zst", 4, 16, 1);
+  const auto result = run_command(cachesim() + " run " + shell_quoted(dir_ / "rows.din.zst") + kConfigs);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const Csv csv = parse_csv(result.out);
+  ASSERT_EQ(csv.columns.size(), 23u);
+  EXPECT_EQ(csv.columns[19], "sampled_fraction");
+  ASSERT_EQ(csv.rows.size(), 6u);
+  EXPECT_EQ(csv.rows[0][19], "0.250000");
+  EXPECT_EQ(csv.rows[4][1], "gain");
+  // An unsampled trace beside it gets the columns too: full coverage, no error.
+  const auto both = run_command(cachesim() + " run " + shell_quoted(trace_) + " " +
+                                shell_quoted(dir_ / "rows.din.zst") + kConfigs);
+  ASSERT_EQ(both.exit_code, 0) << both.err;
+  const Csv two = parse_csv(both.out);
+  EXPECT_EQ(two.rows[0][19], "1.000000");
+  EXPECT_EQ(two.rows[0][20], "0.000000");
+  const auto per_level = run_command(cachesim() + " run " + shell_quoted(dir_ / "rows.din.zst") +
+                                     " --scheme split --per-level");
+  EXPECT_EQ(per_level.exit_code, 2);
+  EXPECT_NE(per_level.err.find("is row-sampled"), std::string::npos) << per_level.err;
+  const auto windows = run_command(cachesim() + " run " + shell_quoted(dir_ / "rows.din.zst") +
+                                   " --sample-windows 1/2");
+  EXPECT_EQ(windows.exit_code, 2);
+  EXPECT_NE(windows.err.find("--sample-windows"), std::string::npos) << windows.err;
+}
+
 TEST_F(SamplingCommand, BadRatesAreUsageErrorsNamingTheOption) {
   for (const std::string option : {"--sample-windows", "--sample-sets"}) {
     for (const std::string rate : {"1/0", "3/2", "abc", "1/", "/4", "1/4x", "0/4"}) {
