@@ -37,7 +37,8 @@ nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
                            {"max_depth", r.max_depth},
                            {"pixel_order", pixel_order_name(r.pixel_order)},
                            {"frames", frame_count},
-                           {"first_frame", options.first_frame}};
+                           {"first_frame", options.frames.first}};
+  if (options.frames.step != 1) render["frame_step"] = options.frames.step;
   if (r.pixel_order == PixelOrder::Tiled) render["tile_size"] = r.tile_size;
   if (options.time) render["time"] = *options.time;
   if (r.camera) {
@@ -89,7 +90,35 @@ nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
     header["streams"]["triangle_base"] = r.addresses.triangle_base;
     header["streams"]["triangle_size"] = r.addresses.triangle_size;
   }
+  if (options.sampling) {
+    const RowSampling& sampling = *options.sampling;
+    formats::SamplingInfo info;
+    info.method = "rows";
+    info.every = sampling.every;
+    info.band_height = sampling.band_height;
+    info.seed = sampling.seed;
+    info.bands = band_count(r.height, sampling.band_height);
+    // A band is a run of band_height x width positions of the pixel sequence
+    // (row_sampling.hpp): whole rows in scanline order.
+    info.extra = {{"band_pixels", std::uint64_t(sampling.band_height) * std::uint64_t(r.width)}};
+    header["sampling"] = info.to_json();
+  }
   return header;
+}
+
+// The window marker of a sampled band: its number among the image's bands,
+// its pixel-sequence positions, and its rows when it is whole rows.
+formats::WindowMarker window_marker(const TraceJobOptions& options, const SampledBand& band, std::uint64_t frame) {
+  const RenderOptions& r = options.render;
+  formats::WindowMarker marker;
+  marker.window = band.band;
+  marker.frame = frame;
+  marker.extra = {{"pixels", {band.first_pixel, band.end_pixel}}};
+  std::uint64_t first_row = 0, end_row = 0;
+  if (band_rows(*options.sampling, r.pixel_order, r.tile_size, r.width, r.height, band, first_row, end_row)) {
+    marker.extra["rows"] = {first_row, end_row};
+  }
+  return marker;
 }
 
 }  // namespace
@@ -127,6 +156,9 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
   const RenderOptions& r = options.render;
   if (r.width <= 0 || r.height <= 0) throw formats::UsageError("width and height must be positive");
   if (r.max_depth < 1) throw formats::UsageError("--max-depth must be at least 1");
+  if (options.sampling && (options.sampling->every == 0 || options.sampling->band_height == 0)) {
+    throw formats::UsageError("--sample-rows and --band-height must be at least 1");
+  }
   if (r.addresses.node_size == 0) throw formats::UsageError("--node-size must be positive");
   if (!r.streams.nodes && !r.streams.lists && !r.streams.triangles) {
     throw formats::UsageError("--streams selects no stream");
@@ -137,19 +169,10 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
   const Animation& animation = source.animation();
   std::vector<std::pair<std::uint64_t, double>> frames;
   if (options.time) {
-    frames.emplace_back(options.first_frame, *options.time);
+    frames.emplace_back(options.frames.first, *options.time);
   } else {
-    if (options.last_frame < options.first_frame) {
-      throw formats::UsageError("--frames A-B needs A <= B");
-    }
-    if (options.last_frame >= animation.frames) {
-      throw formats::UsageError("frame " + std::to_string(options.last_frame) + " is out of range: " +
-                                source.name() + " has " + std::to_string(animation.frames) +
-                                " frame(s), numbered from 0");
-    }
-    for (auto f = options.first_frame; f <= options.last_frame; ++f) {
-      frames.emplace_back(f, animation.time_of_frame(f));
-    }
+    check_frame_range(options.frames, animation.frames, source.name());
+    for (const auto f : options.frames.frames()) frames.emplace_back(f, animation.time_of_frame(f));
   }
 
   TraceJobResult result;
@@ -217,7 +240,20 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
     Renderer::RecordSink sink;
     if (writer) sink = [&](std::span<const formats::Record> records) { writer->write(records); };
     if (options.discard_records) sink = [](std::span<const formats::Record>) {};
-    report.render = renderer.render(sink, want_image ? &image : nullptr, frame_progress);
+    if (options.sampling) {
+      // Only the chosen bands are rendered; each begins a sample window.
+      const std::vector<SampledBand> bands = choose_bands(*options.sampling, frame, r.width, r.height);
+      report.bands_rendered = bands.size();
+      std::vector<Renderer::PixelRun> runs;
+      for (const auto& band : bands) runs.push_back({band.first_pixel, band.end_pixel});
+      Renderer::RunStart begin_window;
+      if (writer) {
+        begin_window = [&](std::size_t run) { writer->begin_window(window_marker(options, bands[run], frame)); };
+      }
+      report.render = renderer.render_runs(runs, begin_window, sink, want_image ? &image : nullptr, frame_progress);
+    } else {
+      report.render = renderer.render(sink, want_image ? &image : nullptr, frame_progress);
+    }
     if (want_image) write_png(image, options.image);
     result.total += report.render;
     result.total.seconds += report.render.seconds;

@@ -1,6 +1,6 @@
 // The watertight ray/triangle test (Woop, Benthin and Wald 2013), inline for
 // the traversal loop. Internal header: the public entry is
-// intersect_triangle (render.hpp).
+// intersect_triangle (ray.hpp).
 //
 // Everything after the float inputs is computed in double: translation,
 // shear and edge functions, each vertex on its own, so two triangles sharing
@@ -20,7 +20,7 @@
 #include <utility>
 
 #include "nodetrace/tracer/interaction.hpp"
-#include "nodetrace/tracer/render.hpp"
+#include "nodetrace/tracer/ray.hpp"
 
 namespace nodetrace::tracer::detail {
 

@@ -47,10 +47,7 @@ int info_command(int argc, char** argv) {
     for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer info: warning: %s\n", warning.c_str());
     const Animation& animation = source->animation();
     const std::uint64_t frame = scene_options.frame.value_or(0);
-    if (!scene_options.time && frame >= animation.frames) {
-      throw formats::UsageError("frame " + std::to_string(frame) + " is out of range: " + source->name() +
-                                " has " + std::to_string(animation.frames) + " frame(s)");
-    }
+    if (!scene_options.time) check_frame_range({frame, frame, 1}, animation.frames, source->name());
     const double time = scene_options.time.value_or(animation.time_of_frame(frame));
     const Scene scene = source->at_time(time);
     const KdTree tree = KdTree::build(scene.triangles, build_options);

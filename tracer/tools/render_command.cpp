@@ -61,6 +61,15 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
                static_cast<unsigned long long>(t.node_fetches), double(t.node_fetches) / rays,
                static_cast<unsigned long long>(t.leaf_visits),
                static_cast<unsigned long long>(t.triangle_tests));
+  if (const auto& sampling = options.sampling) {
+    std::uint64_t bands = 0;
+    for (const auto& f : result.frames) bands += f.bands_rendered;
+    std::fprintf(stderr, "  sampled: one band of %u row(s) in every %llu (seed %llu): %llu of %llu bands rendered\n",
+                 sampling->band_height, static_cast<unsigned long long>(sampling->every),
+                 static_cast<unsigned long long>(sampling->seed), static_cast<unsigned long long>(bands),
+                 static_cast<unsigned long long>(band_count(options.render.height, sampling->band_height) *
+                                                 result.frames.size()));
+  }
   std::fprintf(stderr, "  render: %.3f s, %.3f M rays/s; %llu records\n", t.seconds,
                t.seconds > 0 ? double(t.total_rays()) / t.seconds / 1e6 : 0.0,
                static_cast<unsigned long long>(t.records));

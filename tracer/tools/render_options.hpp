@@ -90,7 +90,7 @@ struct SceneCommandOptions {
 inline void add_scene_options(CLI::App& app, SceneCommandOptions& o) {
   auto* frame = app.add_option("--frame", o.frame, "animation frame to render (default 0)");
   auto* time = app.add_option("--time", o.time, "scene time to render instead of a frame");
-  auto* frames = app.add_option("--frames", o.frames, "a run of animation frames A-B, one trace");
+  auto* frames = app.add_option("--frames", o.frames, "a run of animation frames A-B, or every STEP-th of them A-B:STEP, one trace");
   frame->excludes(time)->excludes(frames);
   time->excludes(frames);
   app.add_option("--traversal-cost", o.traversal_cost, "SAH cost of a traversal step")->capture_default_str();
@@ -102,6 +102,14 @@ inline void add_scene_options(CLI::App& app, SceneCommandOptions& o) {
       ->check(CLI::Range(1, kMaxLevelLimit));
 }
 
+// Rows per sampled band by default: one. Measured on BART Robot frame 0 at
+// 800x600 (hybrid layout for 8 KB, --sample-rows 1/16, seeds 1-6, cachesim
+// single and split at 4/8/16 KB): the mean absolute error of the miss ratios
+// was 0.07 points with bands of 1 row, 0.12 with 2, 0.26 with 4, 0.22 with
+// 8, 0.93 with 16 and 2.5 with 32, at the same render time: thinner bands
+// make more, finer strata.
+inline constexpr std::uint32_t kDefaultBandHeight = 1;
+
 struct RenderCommandOptions {
   int width = 800, height = 600, max_depth = 10, tile_size = 8;
   std::string pixel_order = "scanline";
@@ -112,6 +120,9 @@ struct RenderCommandOptions {
   std::optional<std::uint32_t> split_level;
   std::string high_size, node_base = "0", list_base, triangle_base;
   std::uint32_t node_size = 8;
+  std::string sample_rows;
+  std::uint32_t band_height = kDefaultBandHeight;
+  std::uint64_t sample_seed = 0;
 };
 
 inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
@@ -151,6 +162,20 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
   app.add_option("--node-size", o.node_size, "bytes per kd-tree node (at most 65535)")
       ->check(CLI::Range(1, kMaxNodeSize))
       ->capture_default_str();
+  auto* rows = app.add_option("--sample-rows", o.sample_rows,
+                              "render one band of rows in every K (rate 1/K), the other bands' rays never traced; "
+                              "each band begins a sample window of the trace (with --pixel-order tiled or morton "
+                              "a band is the same number of pixels, a run of that order)");
+  app.add_option("--band-height", o.band_height,
+                 "--sample-rows: rows per band; 1 measured best (BART Robot 800x600 at 1/16: miss-ratio "
+                 "error 0.07 points with 1 row, 0.26 with 4, 0.93 with 16, at the same time)")
+      ->check(CLI::Range(1, kMaxImageSide))
+      ->needs(rows)
+      ->capture_default_str();
+  app.add_option("--sample-seed", o.sample_seed,
+                 "--sample-rows: seed of the band chosen in each run of K bands (same seed: same bands)")
+      ->needs(rows)
+      ->capture_default_str();
 }
 
 inline KdBuildOptions make_build_options(const SceneCommandOptions& s) {
@@ -172,21 +197,9 @@ inline KdBuildOptions make_build_options(const SceneCommandOptions& s) {
 
 // Frame range from --frame / --time / --frames into the job options.
 inline void apply_frames(const SceneCommandOptions& s, TraceJobOptions& options) {
-  if (s.frame) options.first_frame = options.last_frame = *s.frame;
+  if (s.frame) options.frames = {*s.frame, *s.frame, 1};
   if (s.time) options.time = formats::check_finite(*s.time, "--time");
-  if (!s.frames.empty()) {
-    const auto dash = s.frames.find('-');
-    try {
-      if (dash == std::string::npos) throw std::invalid_argument("no dash");
-      std::size_t used_a = 0, used_b = 0;
-      const std::string a = s.frames.substr(0, dash), b = s.frames.substr(dash + 1);
-      options.first_frame = std::stoull(a, &used_a);
-      options.last_frame = std::stoull(b, &used_b);
-      if (used_a != a.size() || used_b != b.size()) throw std::invalid_argument("trailing text");
-    } catch (const std::exception&) {
-      throw formats::UsageError("--frames: expected A-B such as 0-9, got '" + s.frames + "'");
-    }
-  }
+  if (!s.frames.empty()) options.frames = parse_frame_range(s.frames, "--frames");
 }
 
 // A point or direction option: finite, and within kMaxCameraCoordinate.
@@ -253,6 +266,9 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
       case CameraProblem::None: break;
     }
     render.camera = camera;
+  }
+  if (!r.sample_rows.empty()) {
+    options.sampling = RowSampling{parse_sample_rate(r.sample_rows, "--sample-rows"), r.band_height, r.sample_seed};
   }
   options.split_level = r.split_level;
   if (!r.high_size.empty()) options.high_size = parse_byte_size(r.high_size, "--high-size");

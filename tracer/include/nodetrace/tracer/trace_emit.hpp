@@ -11,9 +11,11 @@
 #include <nlohmann/json.hpp>
 
 #include "nodetrace/formats/record.hpp"
+#include "nodetrace/tracer/frame_range.hpp"
 #include "nodetrace/tracer/kdtree.hpp"
 #include "nodetrace/tracer/layout.hpp"
 #include "nodetrace/tracer/render.hpp"
+#include "nodetrace/tracer/row_sampling.hpp"
 #include "nodetrace/tracer/scene.hpp"
 
 namespace nodetrace::tracer {
@@ -25,9 +27,12 @@ struct TraceJobOptions {
   // Hybrid K: a fixed level, or derived per frame from the high cache size.
   std::optional<std::uint32_t> split_level;
   std::optional<std::uint64_t> high_size;
-  // Frames first..last of the source's animation, or one instant `time`.
-  std::uint64_t first_frame = 0, last_frame = 0;
+  // Frames of the source's animation, or one instant `time` (numbered
+  // frames.first).
+  FrameRange frames;
   std::optional<double> time;
+  // Render only sampled row bands (row_sampling.hpp); nullopt: every pixel.
+  std::optional<RowSampling> sampling;
   std::string output;  // trace path, "-" for stdout; empty: no trace
   bool discard_records = false;  // make the records but write none (benchmarks)
   formats::RecordForm form = formats::RecordForm::Din;
@@ -41,6 +46,7 @@ struct FrameReport {
   std::uint64_t triangles = 0;
   KdTreeStats tree;
   std::uint32_t split_level = 0;
+  std::uint64_t bands_rendered = 0;  // sampled renders: the bands chosen in this frame
   RenderStats render;
 };
 
