@@ -76,6 +76,12 @@ std::vector<CacheSets> cache_sets(const NodeCacheConfig& config) {
 // How many set groups (a power of two, at most kMaxSetGroups) every cache
 // can be cut into with `every`: the groups' blocks must never share a set.
 std::uint64_t set_groups(const std::vector<NodeCacheConfig>& configs, std::uint64_t every) {
+  if (!is_power_of_two(every)) {
+    throw UsageError(fmt::format(
+        "--sample-sets 1/{}: K must be a power of two (set counts are, and block number mod K "
+        "picks whole sets only when K divides them)",
+        every));
+  }
   std::uint64_t fewest_sets = UINT64_MAX;
   for (const NodeCacheConfig& config : configs) {
     if (config.block != configs.front().block) {
@@ -101,7 +107,10 @@ struct Unit {
   std::vector<UnitCounts> per_config;
 };
 
+// Adds one sweep's counts since `before` (empty: since its start); a sweep
+// that has seen no batch yet has no counts and adds nothing.
 void add_since(Unit& unit, const std::vector<ResultRow>& now, const std::vector<ResultRow>& before) {
+  if (now.empty()) return;
   unit.per_config.resize(now.size());
   for (std::size_t c = 0; c < now.size(); ++c) {
     const std::uint64_t fetches = before.empty() ? 0 : before[c].fetches;
@@ -296,26 +305,41 @@ class SampledRun {
     const bool marker = begin == 0 && batch.marker.has_value();
     chosen = chosen && end > begin;
     if (!chosen && !marker) return;
-    for (std::uint64_t g = 0; g < groups_; ++g) {
-      formats::RecordBatch& piece = group_batches_[g];
+    if (options_.set_every == 0) {
+      if (chosen) records_simulated_ += end - begin;
+      if (chosen && begin == 0 && end == batch.records.size()) {
+        sweeps_[0]->feed(batch);  // a whole batch: no copy
+        return;
+      }
+      formats::RecordBatch& piece = group_batches_[0];
       piece.marker = marker ? batch.marker : std::nullopt;
       piece.first_record = batch.first_record + begin;
       piece.records.clear();
       if (chosen) {
-        for (std::size_t i = begin; i < end; ++i) {
-          if (in_group(batch.records[i], g)) piece.records.push_back(batch.records[i]);
-        }
+        piece.records.assign(batch.records.begin() + static_cast<std::ptrdiff_t>(begin),
+                             batch.records.begin() + static_cast<std::ptrdiff_t>(end));
       }
+      sweeps_[0]->feed(piece);
+      return;
+    }
+    for (formats::RecordBatch& piece : group_batches_) {
+      piece.marker = marker ? batch.marker : std::nullopt;
+      piece.first_record = batch.first_record + begin;
+      piece.records.clear();
+    }
+    if (chosen) {  // one pass routes each sampled record to its group
+      const std::uint64_t block_size = configs_.front().block;
+      for (std::size_t i = begin; i < end; ++i) {
+        const std::uint64_t block = batch.records[i].address / block_size;
+        if (block % options_.set_every != residue_) continue;
+        group_batches_[(block / options_.set_every) % groups_].records.push_back(batch.records[i]);
+      }
+    }
+    for (std::uint64_t g = 0; g < groups_; ++g) {
+      formats::RecordBatch& piece = group_batches_[g];
       records_simulated_ += piece.records.size();
       if (piece.marker || !piece.records.empty()) sweeps_[g]->feed(piece);
     }
-  }
-
-  bool in_group(const formats::Record& record, std::uint64_t group) const {
-    if (options_.set_every == 0) return true;
-    const std::uint64_t block = record.address / configs_.front().block;
-    return block % options_.set_every == residue_ &&
-           (block / options_.set_every) % groups_ == group;
   }
 
   const std::vector<NodeCacheConfig>& configs_;

@@ -62,7 +62,7 @@ void add_sampling_options(CLI::App& app, SamplingCommandLine& line) {
                  "Records per window of --sample-windows (default: one container data frame)")
       ->capture_default_str();
   app.add_option("--sample-sets", line.sets,
-                 "Simulate the blocks of one cache set in every K (1/K); needs one --block and "
+                 "Simulate the blocks of one cache set in every K (1/K, K a power of two); needs one --block and "
                  "power-of-two set counts of at least K");
   app.add_option("--sample-seed", line.seed, "Seed of the sampled windows and sets")
       ->capture_default_str();

@@ -188,7 +188,7 @@ TEST_F(SamplingCommand, BadRatesAreUsageErrorsNamingTheOption) {
   EXPECT_NE(zero.err.find("--window-records"), std::string::npos) << zero.err;
 }
 
-TEST_F(SamplingCommand, SetSamplingRefusesCachesWithTooFewSets) {
+TEST_F(SamplingCommand, SetSamplingRefusesCachesWithTooFewSetsAndRatesNotPowersOfTwo) {
   const auto full = run_command(cachesim() + " run " + shell_quoted(trace_) +
                                 " --size 1k --assoc full --sample-sets 1/2");
   EXPECT_EQ(full.exit_code, 2);
@@ -199,6 +199,10 @@ TEST_F(SamplingCommand, SetSamplingRefusesCachesWithTooFewSets) {
   EXPECT_NE(small.err.find("--sample-sets 1/64: the 256-byte cache (block 8) has 32 set(s)"),
             std::string::npos)
       << small.err;
+  const auto three = run_command(cachesim() + " run " + shell_quoted(trace_) + " --sample-sets 1/3");
+  EXPECT_EQ(three.exit_code, 2);
+  EXPECT_NE(three.err.find("--sample-sets 1/3: K must be a power of two"), std::string::npos)
+      << three.err;
   const auto blocks = run_command(cachesim() + " run " + shell_quoted(trace_) +
                                   " --block 8,16 --sample-sets 1/2");
   EXPECT_EQ(blocks.exit_code, 2);
