@@ -76,6 +76,13 @@ FRAME_LAST ?= 799
 FRAME_STEP ?= 40
 FRAME_WIDTH ?= $(WIDTH)
 FRAME_HEIGHT ?= $(HEIGHT)
+# Sampling: each method at each rate 1/R and seed, against the full run.
+SAMPLING_SCENES ?= robot kitchen
+SAMPLING_SIZES ?= $(SIZES)
+SAMPLING_METHODS ?= rows windows sets
+SAMPLING_RATES ?= 2 4 8 16 32 64
+SAMPLING_SEEDS ?= 1 2
+SAMPLING_WINDOW_RECORDS ?= 1048576
 
 scene_robot := $(SHARED)/scenes/bart/robots/Robot.aff
 scene_kitchen := $(SHARED)/scenes/bart/kitchen/kitchen.aff
@@ -174,11 +181,11 @@ common_params = param;width=$(WIDTH) param;height=$(HEIGHT) param;frame=$(FRAME)
 goals := $(or $(MAKECMDGOALS),$(.DEFAULT_GOAL))
 wanted = $(filter $1 all,$(goals))
 
-.PHONY: all table1 baselines assoc levels sensitivity calibration calibration-grid frames clean FORCE
+.PHONY: all table1 baselines assoc levels sensitivity calibration calibration-grid frames sampling clean FORCE
 .DELETE_ON_ERROR:
 
 # The sampling study (issue 8) adds its target to this list and its section below.
-ALL_TARGETS := table1 baselines assoc levels sensitivity calibration frames
+ALL_TARGETS := table1 baselines assoc levels sensitivity calibration frames sampling
 all: $(ALL_TARGETS)
 
 %/.dir:
@@ -290,6 +297,45 @@ frames_lines := $(common_params) param;frame_width=$(FRAME_WIDTH) param;frame_he
   sim,frames,$(call trace,$s,$(call render_options,$(FRAME_WIDTH),$(FRAME_HEIGHT),$f,$(kd_default)) $(call \
   hybrid_for,$z)),--size $z --block $(BLOCK) --assoc 1 --scheme single$(comma)split --split-level auto))))
 $(eval $(call study_rule,frames))
+endif
+
+# --- sampling: sampled renders and simulations against the full run --------
+# Every run is timed (scripts/timed-run.py: wall and user + sys of render and
+# simulation). The full run renders the trace that windows and sets sample
+# (their render time is the full one); rows renders a sampled trace of its own.
+sampling_figures := sampling.png
+ifneq ($(call wanted,sampling),)
+samp_runs := $(OUT)/sampling/runs
+samp_render = $(TRACER) render $(call scene_arg,$1) -q $(render_default) $(call hybrid_for,$2)
+samp_sim = $(CACHESIM) run --size $1 --block $(BLOCK) --assoc 1 --scheme single$(comma)split --split-level auto
+samp_method_render = $(if $(filter rows,$1),--sample-rows 1/$2 --sample-seed $3)
+samp_method_sim = $(if $(filter windows,$1),--sample-windows 1/$2 --window-records $(SAMPLING_WINDOW_RECORDS) \
+  --sample-seed $3)$(if \
+  $(filter sets,$1),--sample-sets 1/$2 --sample-seed $3)
+# $(call samp_full,SCENE,SIZE): the full run's CSV (its trace beside it, .din.zst).
+samp_full = $(call define_samp,$(samp_runs)/full-$(call hash_text,$(tracer_hash) $(cachesim_hash) $(call \
+  scene_hash,$1) $(call samp_render,$1,$2) $(call samp_sim,$2)).csv,--render '$(call samp_render,$1,$2)' \
+  --keep-trace --simulate '$(call samp_sim,$2)',,full $1 $2)
+# $(call samp_run,SCENE,SIZE,METHOD,RATE,SEED): one sampled run's CSV.
+samp_run = $(if $(filter rows,$3),$(call define_samp,$(samp_runs)/rows-$(call hash_text,$(tracer_hash) \
+  $(cachesim_hash) $(call scene_hash,$1) $(call samp_render,$1,$2) $(call samp_method_render,$3,$4,$5) \
+  $(call samp_sim,$2)).csv,--render '$(call samp_render,$1,$2) $(call samp_method_render,$3,$4,$5)' \
+  --simulate '$(call samp_sim,$2)',,rows 1/$4 seed $5 $1 $2),$(call define_samp,$(samp_runs)/$3-$(call \
+  hash_text,$(call samp_full,$1,$2) $(cachesim_hash) $(call samp_method_sim,$3,$4,$5)).csv,--simulate \
+  '$(call samp_sim,$2) $(call samp_method_sim,$3,$4,$5)',$(call samp_full,$1,$2),$3 1/$4 seed $5 $1 $2))
+define_samp = $(if $(defined_$1),,$(eval $(call samp_rule,$1,$2,$3,$4))$(eval defined_$1 := 1))$1
+# The trace of a run: a full run's own, or its full run's for windows and sets.
+samp_trace = $(patsubst %.csv,%.din.zst,$(or $1,$2))
+define samp_rule
+$1: $3 $(MK_DIR)/timed-run.py | $(samp_runs)/.dir
+	@echo "sampling: $4" >&2
+	@$(RUN) $(PYTHON) $(MK_DIR)/timed-run.py --out $$@ --trace $(call samp_trace,$3,$1) $2
+endef
+sampling_lines := $(common_params) param;tracer=$(TRACER) \
+  $(foreach s,$(SAMPLING_SCENES),$(foreach z,$(SAMPLING_SIZES),row;scene=$s;size=$z;method=full;rate=1;seed=0;file=$(call \
+  samp_full,$s,$z) $(foreach m,$(SAMPLING_METHODS),$(foreach r,$(SAMPLING_RATES),$(foreach e,$(SAMPLING_SEEDS),row;scene=$s;size=$z;method=$m;rate=$r;seed=$e;file=$(call \
+  samp_run,$s,$z,$m,$r,$e))))))
+$(eval $(call study_rule,sampling))
 endif
 
 # The traces this make renders (progress: which of them this one is).

@@ -252,4 +252,78 @@ std::string format_report(const std::vector<ResultRow>& rows,
   return out;
 }
 
+const std::vector<std::string>& sampling_columns() {
+  static const std::vector<std::string> columns{"sampled_fraction", "miss_ratio_se",
+                                                "miss_ratio_low95", "miss_ratio_high95"};
+  return columns;
+}
+
+const std::vector<std::string>& sampled_report_columns() {
+  static const std::vector<std::string> columns = [] {
+    std::vector<std::string> all = report_columns();
+    all.insert(all.end(), sampling_columns().begin(), sampling_columns().end());
+    return all;
+  }();
+  return columns;
+}
+
+namespace {
+
+std::string decimal_text(const std::optional<double>& value) {
+  if (!value) return {};
+  const std::string text = fmt::format("{:.6f}", *value);
+  return text == "-0.000000" ? "0.000000" : text;
+}
+
+void append_sampling_cells(std::vector<std::string>& cells, double fraction,
+                           const Estimate& estimate) {
+  cells.push_back(decimal_text(fraction));
+  cells.push_back(decimal_text(estimate.standard_error));
+  cells.push_back(decimal_text(estimate.low95));
+  cells.push_back(decimal_text(estimate.high95));
+}
+
+}  // namespace
+
+std::vector<std::string> sampled_report_cells(const SampledRow& row) {
+  std::vector<std::string> cells = report_cells(row.row);
+  append_sampling_cells(cells, row.sampled_fraction, row.estimate);
+  return cells;
+}
+
+std::string gain_text(const ResultRow& single, const ResultRow& split) {
+  // (m1 f2 - m2 f1) / (f1 f2); a side without fetches has ratio 0.
+  using Wide = __int128;
+  const Wide f1 = single.fetches ? Wide(single.fetches) : 1;
+  const Wide f2 = split.fetches ? Wide(split.fetches) : 1;
+  const Wide m1 = single.fetches ? Wide(single.misses) : 0;
+  const Wide m2 = split.fetches ? Wide(split.misses) : 0;
+  const Wide numerator = m1 * f2 - m2 * f1;
+  const Wide denominator = f1 * f2;
+  const bool negative = numerator < 0;
+  const Wide magnitude = negative ? -numerator : numerator;
+  const Wide scaled = (magnitude * 2000000 + denominator) / (denominator * 2);
+  const auto whole = static_cast<std::uint64_t>(scaled / 1000000);
+  const auto fraction = static_cast<std::uint64_t>(scaled % 1000000);
+  return fmt::format("{}{}.{:06}", negative && scaled != 0 ? "-" : "", whole, fraction);
+}
+
+std::vector<std::string> gain_report_cells(const GainRow& row) {
+  std::vector<std::string> cells = report_cells(row.split);
+  cells[1] = "gain";
+  cells[12].clear();  // misses
+  cells[13] = gain_text(row.single, row.split);
+  for (std::size_t c = 14; c < cells.size(); ++c) cells[c].clear();
+  append_sampling_cells(cells, row.sampled_fraction, row.estimate);
+  return cells;
+}
+
+std::string format_sampled_report(const std::vector<SampledRow>& rows,
+                                  const std::vector<GainRow>& gains, ReportFormat format) {
+  std::vector<std::vector<std::string>> cells;
+  for (const SampledRow& row : rows) cells.push_back(sampled_report_cells(row));
+  for (const GainRow& row : gains) cells.push_back(gain_report_cells(row));
+  return format_cells(sampled_report_columns(), cells, format, is_text_column);
+}
+
 }  // namespace nodetrace::cachesim

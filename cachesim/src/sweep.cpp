@@ -204,6 +204,16 @@ void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t firs
   part.prepared.demand_only = demand_only;
 }
 
+std::vector<ResultRow> Sweep::counts() const {
+  std::vector<ResultRow> rows;
+  rows.reserve(simulators_.size());
+  for (std::size_t s = 0; s < simulators_.size(); ++s) {
+    rows.push_back(simulators_[s]->result());
+    rows.back().split_level = plan_->first(s);
+  }
+  return rows;
+}
+
 TraceResult Sweep::finish() {
   if (!started_) start(formats::RecordBatch{});
   TraceResult result;

@@ -13,6 +13,7 @@
 #include "exit_status.hpp"
 #include "nodetrace/cachesim/curve.hpp"
 #include "nodetrace/cachesim/report.hpp"
+#include "nodetrace/cachesim/sampling.hpp"
 #include "nodetrace/cachesim/sweep.hpp"
 #include "nodetrace/formats/error.hpp"
 #include "nodetrace/formats/reader.hpp"
@@ -45,6 +46,84 @@ int curve_command(const RunCommandLine& line, const SweepOptions& options) {
   return 0;
 }
 
+// The sampling options of `cachesim run` (dinero-wrap has none).
+struct SamplingCommandLine {
+  std::string windows;
+  std::string sets;
+  std::uint64_t window_records = kDefaultWindowRecords;
+  std::uint64_t seed = 0;
+};
+
+void add_sampling_options(CLI::App& app, SamplingCommandLine& line) {
+  app.add_option("--sample-windows", line.windows,
+                 "Simulate one window of records in every K (1/K), chosen by --sample-seed; the "
+                 "report gains each miss ratio's standard error and 95% interval");
+  app.add_option("--window-records", line.window_records,
+                 "Records per window of --sample-windows (default: one container data frame)")
+      ->capture_default_str();
+  app.add_option("--sample-sets", line.sets,
+                 "Simulate the blocks of one cache set in every K (1/K, K a power of two); needs one --block and "
+                 "power-of-two set counts of at least K");
+  app.add_option("--sample-seed", line.seed, "Seed of the sampled windows and sets")
+      ->capture_default_str();
+}
+
+SamplingOptions sampling_options(const SamplingCommandLine& line, const RunCommandLine& run) {
+  SamplingOptions options;
+  if (!line.windows.empty()) options.window_every = parse_sample_rate(line.windows, "--sample-windows");
+  if (!line.sets.empty()) options.set_every = parse_sample_rate(line.sets, "--sample-sets");
+  if (line.window_records == 0) {
+    throw formats::UsageError("--window-records: 0 is not a window length: expected at least 1");
+  }
+  options.window_records = line.window_records;
+  options.seed = line.seed;
+  if (options.sampling() && (run.per_level || run.per_frame || run.curve)) {
+    throw formats::UsageError(
+        "--sample-windows / --sample-sets: not with --per-level, --per-frame or --curve");
+  }
+  return options;
+}
+
+using Readers = std::vector<std::unique_ptr<formats::TraceReader>>;
+
+// Every trace opened before any is read: whether one is row-sampled decides
+// the report's columns. Window sampling skips data frames from the start.
+Readers open_traces(const RunCommandLine& line, const SamplingOptions& sampling) {
+  formats::ReaderOptions options = reader_options(line);
+  if (sampling.window_every != 0) options.keep_data_frame = data_frame_filter(sampling);
+  Readers readers;
+  for (const std::string& trace : line.traces) {
+    readers.push_back(formats::TraceReader::open(trace, options));
+  }
+  return readers;
+}
+
+// The first row-sampled trace (header "sampling"), or nullptr.
+const formats::TraceReader* row_sampled(const Readers& readers) {
+  for (const auto& reader : readers) {
+    if (reader->header().sampling()) return reader.get();
+  }
+  return nullptr;
+}
+
+int sampled_command(const RunCommandLine& line, const std::vector<NodeCacheConfig>& configs,
+                    const SamplingOptions& sampling, const Readers& readers) {
+  std::vector<SampledRow> rows;
+  std::vector<GainRow> gains;
+  std::vector<std::string> notes;
+  for (std::size_t t = 0; t < readers.size(); ++t) {
+    SampledResult result = run_sampled_sweep(*readers[t], configs, line.traces[t], sampling);
+    rows.insert(rows.end(), result.rows.begin(), result.rows.end());
+    gains.insert(gains.end(), result.gains.begin(), result.gains.end());
+    notes.insert(notes.end(), result.notes.begin(), result.notes.end());
+  }
+  const ReportFormat format = parse_report_format(line.format).value_or(ReportFormat::Table);
+  const std::string report = format_sampled_report(rows, gains, format);
+  std::fwrite(report.data(), 1, report.size(), stdout);
+  print_notes(notes, format);
+  return 0;
+}
+
 }  // namespace
 
 int run_command(int argc, char** argv) {
@@ -55,6 +134,8 @@ int run_command(int argc, char** argv) {
       "cachesim run"};
   RunCommandLine line;
   add_run_options(app, line);
+  SamplingCommandLine sampling_line;
+  add_sampling_options(app, sampling_line);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -62,8 +143,20 @@ int run_command(int argc, char** argv) {
   }
   return exit_status_of("cachesim run", [&] {
     const SweepOptions options = sweep_options(line);
+    const SamplingOptions sampling = sampling_options(sampling_line, line);
     if (line.curve) return curve_command(line, options);
     const std::vector<NodeCacheConfig> configs = expand_configurations(options);
+    const Readers readers = open_traces(line, sampling);
+    if (const formats::TraceReader* sampled = row_sampled(readers)) {
+      if (line.per_level || line.per_frame) {
+        throw formats::UsageError(fmt::format(
+            "{} is row-sampled (header \"sampling\"): not with --per-level or --per-frame",
+            sampled->source_name()));
+      }
+    }
+    if (sampling.sampling() || row_sampled(readers)) {
+      return sampled_command(line, configs, sampling, readers);
+    }
     std::vector<ResultRow> rows;
     std::vector<LevelRow> levels;
     std::vector<FrameRow> frames;
@@ -82,11 +175,11 @@ int run_command(int argc, char** argv) {
                      static_cast<unsigned long long>(records_read / 1000000));
       };
     }
-    for (const std::string& trace : line.traces) {
+    for (std::size_t t = 0; t < readers.size(); ++t) {
+      const std::string& trace = line.traces[t];
       current_trace = trace;
-      auto reader = formats::TraceReader::open(trace, reader_options(line));
       TraceResult result =
-          run_sweep(*reader, configs, trace, options.per_level, progress, options.per_frame);
+          run_sweep(*readers[t], configs, trace, options.per_level, progress, options.per_frame);
       if (show_progress) std::fputs("\r\033[K", stderr);
       rows.insert(rows.end(), result.rows.begin(), result.rows.end());
       levels.insert(levels.end(), result.level_rows.begin(), result.level_rows.end());

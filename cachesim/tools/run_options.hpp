@@ -178,6 +178,15 @@ inline formats::ReaderOptions reader_options(const RunCommandLine& line) {
   return options;
 }
 
+// Prints notes under a table, or on standard error so that CSV and JSON stay
+// machine-readable.
+inline void print_notes(const std::vector<std::string>& notes, ReportFormat format) {
+  for (const std::string& note : notes) {
+    std::fprintf(format == ReportFormat::Table ? stdout : stderr, "note: %s\n", note.c_str());
+  }
+  std::fflush(stdout);
+}
+
 // Prints the report and its notes: under a table, or on standard error so
 // that CSV and JSON stay machine-readable.
 inline void print_report(const std::vector<ResultRow>& rows, const std::vector<LevelRow>& levels,
@@ -187,10 +196,7 @@ inline void print_report(const std::vector<ResultRow>& rows, const std::vector<L
   const std::string report =
       format_report(rows, levels, line.per_level, format, frames, line.per_frame);
   std::fwrite(report.data(), 1, report.size(), stdout);
-  for (const std::string& note : notes) {
-    std::fprintf(format == ReportFormat::Table ? stdout : stderr, "note: %s\n", note.c_str());
-  }
-  std::fflush(stdout);
+  print_notes(notes, format);
 }
 
 }  // namespace nodetrace::cachesim::cli

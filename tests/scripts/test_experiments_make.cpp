@@ -175,18 +175,32 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
       " SENS_K='4 8' SENS_TREE_DEPTHS='16 24' SENS_RESOLUTIONS='16x12 32x24'"
       " CAL_SCENES=robot CAL_WIDTH=16 CAL_HEIGHT=12 CAL_TREE_DEPTHS='16 default' CAL_COSTS=1:1.5"
       " CAL_EMPTY_BONUSES=0.2 CAL_BEST=1 CAL_FINAL_WIDTH=32 CAL_FINAL_HEIGHT=24"
-      " FRAME_SCENES='robot kitchen' FRAME_WIDTH=16 FRAME_HEIGHT=12 FRAME_STEP=400 2>&1");
+      " FRAME_SCENES='robot kitchen' FRAME_WIDTH=16 FRAME_HEIGHT=12 FRAME_STEP=400"
+      " SAMPLING_SCENES=robot SAMPLING_SIZES=4k SAMPLING_RATES='1 4' SAMPLING_SEEDS=1"
+      " SAMPLING_WINDOW_RECORDS=512 2>&1");
   ASSERT_EQ(result.exit_code, 0) << result.out;
   for (const std::string file :
        {"table1/table1.md", "table1/table1.png", "baselines/baselines.md", "baselines/baselines.png",
         "assoc/assoc.md", "assoc/assoc.png", "levels/levels.md", "levels/levels-robot.png",
         "sensitivity/sensitivity.md", "sensitivity/sensitivity.png", "calibration-grid/best.txt",
-        "calibration/calibration.md", "calibration/calibration.png", "frames/frames.md", "frames/frames.png"}) {
+        "calibration/calibration.md", "calibration/calibration.png", "frames/frames.md", "frames/frames.png",
+        "sampling/sampling.md", "sampling/sampling.csv", "sampling/sampling.png"}) {
     EXPECT_TRUE(std::filesystem::exists(out / file)) << file;
   }
   const auto frames = read_file(out / "frames" / "frames.csv");
   EXPECT_EQ(count_lines_with(frames, "robot,"), 2) << frames;
   EXPECT_EQ(count_lines_with(frames, "kitchen,"), 2) << frames;
+  // Three methods x two rates x three quantities; at 1/1 every estimate is the full run's.
+  const auto sampling = read_file(out / "sampling" / "sampling.csv");
+  EXPECT_EQ(count_lines_with(sampling, "robot,"), 18) << sampling;
+  EXPECT_EQ(count_lines_with(sampling, ",1/1,1,single,"), 3) << sampling;
+  int exact = 0;
+  std::istringstream lines(sampling);
+  for (std::string line; std::getline(lines, line);) {
+    // abs_error_points 0, and the interval (the point) holds the true value.
+    exact += line.find(",1/1,1,") != std::string::npos && line.find(",0.0000,1,") != std::string::npos;
+  }
+  EXPECT_EQ(exact, 9) << sampling;
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "nodetrace/cachesim/sampling.hpp"
 #include "nodetrace/cachesim/sweep.hpp"
 
 namespace nodetrace::cachesim {
@@ -47,5 +48,22 @@ std::string format_report(const std::vector<ResultRow>& rows,
                           const std::vector<LevelRow>& level_rows, bool per_level,
                           ReportFormat format, const std::vector<FrameRow>& frame_rows = {},
                           bool per_frame = false);
+
+// Sampled runs (DESIGN.md "Report columns", cachesim/SAMPLING.md): the main
+// columns, then these, in every row; then one `gain` row per split
+// configuration that has a single one of the same size, block, assoc and
+// policy: the split row's configuration columns, its refs and fetches, an
+// empty misses column, miss_ratio = single minus split (signed, six
+// decimals), empty high / low columns, then the gain's sampling columns.
+const std::vector<std::string>& sampling_columns();
+// The main columns and the sampling ones.
+const std::vector<std::string>& sampled_report_columns();
+std::vector<std::string> sampled_report_cells(const SampledRow& row);
+std::vector<std::string> gain_report_cells(const GainRow& row);
+// single minus split miss ratio, exact from the counts, rounded half away
+// from zero to six decimals ("-0.012345").
+std::string gain_text(const ResultRow& single, const ResultRow& split);
+std::string format_sampled_report(const std::vector<SampledRow>& rows,
+                                  const std::vector<GainRow>& gains, ReportFormat format);
 
 }  // namespace nodetrace::cachesim

@@ -84,6 +84,10 @@ class Sweep {
   // K is resolved per animation frame, from each frame's marker.
   void feed(const formats::RecordBatch& batch);
   TraceResult finish();
+  // Each configuration's totals so far, in report order (sampled runs take
+  // differences at window boundaries). Only between batches, while no
+  // feed_part runs; empty before the first batch.
+  std::vector<ResultRow> counts() const;
 
   // Work split over threads: before the first batch, set_parts(n) divides
   // the configurations into n parts of about equal cost. Then for each batch,
