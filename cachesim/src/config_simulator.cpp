@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "nodetrace/formats/error.hpp"
+#include "record_blocks.hpp"
 #include "retained_blocks.hpp"
 
 namespace nodetrace::cachesim {
@@ -72,10 +73,7 @@ class Simulator final : public ConfigSimulator {
     low_mask_ = low_sets > 0 ? low_sets - 1 : 0;
     high_mask_ = high_sets > 0 ? high_sets - 1 : 0;
     high_offset_ = low_sets;
-    // One more slot at the end: where a group's loop writes the low caches'
-    // updates for high-level records (never read as a cache line).
-    dummy_slot_ = low_sets + high_sets;
-    table_.assign(dummy_slot_ + 1, NodeCache::kInvalid);
+    table_.assign(low_sets + high_sets, NodeCache::kInvalid);
   }
 
   void begin_frame(std::uint64_t animation_frame, std::uint32_t split_level) override {
@@ -99,36 +97,6 @@ class Simulator final : public ConfigSimulator {
       return;
     }
     feed_generic(records, count, first_record);
-  }
-
-  std::string group_key() const override {
-    if constexpr (kPerLevel || (kSplit && !kRetain)) {
-      return {};
-    } else {
-      if (!low_direct_) return {};
-      // Members must share K in every animation frame: the same given K, or
-      // auto for the same high-cache size.
-      const std::string k_rule = config_.split_level
-                                     ? std::to_string(*config_.split_level)
-                                     : fmt::format("auto{}", kSplit ? config_.high_size : 0);
-      return fmt::format("{}/{}/{}/{}/{}/{}", kSplit, kRetain, kAlignedDin, config_.block, k_rule,
-                         config_.count_loads);
-    }
-  }
-
-  bool feed_group(const std::vector<ConfigSimulator*>& members, const Record* records,
-                  std::size_t count, std::uint64_t first_record,
-                  const PreparedBatch& prepared) override {
-    if constexpr (kPerLevel || (kSplit && !kRetain)) {
-      (void)members, (void)records, (void)count, (void)first_record, (void)prepared;
-      return false;
-    } else {
-      if (!prepared.demand_only || prepared.span_bits >= config_.block) return false;
-      group_.clear();
-      for (ConfigSimulator* member : members) group_.push_back(static_cast<Simulator*>(member));
-      feed_group_flat(records, count, first_record);
-      return true;
-    }
   }
 
   ResultRow result() const override {
@@ -197,60 +165,6 @@ class Simulator final : public ConfigSimulator {
       }
     }
     count_fast(count, high_refs, high_misses, low_misses);
-  }
-
-  // feed_flat for a group: the record and its level are read once; each
-  // member's low cache is one slot update (high-level records write the
-  // dummy slot); under retain the leader's filter stands for all, and a first
-  // touch is recorded in every member (whose loads are then equal).
-  void feed_group_flat(const Record* records, std::size_t count, std::uint64_t first_record) {
-    constexpr std::size_t kMaxGroup = 8;
-    const std::size_t group_size = std::min(group_.size(), kMaxGroup);
-    std::uint64_t* tables[kMaxGroup];
-    std::uint64_t masks[kMaxGroup];
-    std::uint64_t dummies[kMaxGroup];
-    std::uint64_t low_misses[kMaxGroup] = {};
-    for (std::size_t g = 0; g < group_size; ++g) {
-      tables[g] = group_[g]->table_.data();
-      masks[g] = group_[g]->low_mask_;
-      dummies[g] = group_[g]->dummy_slot_;
-    }
-    const unsigned shift = block_shift_;
-    std::uint64_t* const filter = table_.data() + high_offset_;
-    const std::uint64_t filter_mask = high_mask_;
-    const std::uint64_t split_level = split_level_;
-    std::uint64_t high_refs = 0;
-    for (std::size_t i = 0; i < count; ++i) {
-      const std::uint64_t block = records[i].address >> shift;
-      std::uint64_t high = 0;
-      if constexpr (kSplit) high = records[i].tag < split_level;
-      const std::uint64_t select = std::uint64_t{0} - high;  // all ones when high
-      for (std::size_t g = 0; g < group_size; ++g) {
-        const std::uint64_t index = (block & masks[g] & ~select) | (dummies[g] & select);
-        const std::uint64_t differ = tables[g][index] != block;
-        tables[g][index] = block;
-        low_misses[g] += differ & (high ^ 1);
-      }
-      if constexpr (kRetain) {
-        high_refs += high;
-        std::uint64_t& slot = filter[block & filter_mask];
-        std::uint64_t first_touch = static_cast<std::uint64_t>(slot != block) & high;
-        asm("" : "+r"(first_touch));  // see feed_flat
-        if (first_touch != 0) [[unlikely]] {
-          for (std::size_t g = 0; g < group_size; ++g) group_[g]->group_first_touch(block, first_record + i + 1);
-        }
-      }
-    }
-    for (std::size_t g = 0; g < group_size; ++g) {
-      group_[g]->count_fast(count, high_refs, group_[g]->pending_high_misses_, low_misses[g]);
-      group_[g]->pending_high_misses_ = 0;
-    }
-  }
-
-  // A retained block first seen by the group's leader this frame.
-  [[gnu::noinline]] void group_first_touch(std::uint64_t block, std::uint64_t record_number) {
-    table_[high_offset_ + (block & high_mask_)] = block;
-    if (retain_insert(block, record_number)) pending_high_misses_ += config_.count_loads;
   }
 
   // Fast path with a set-associative cache: one block per record.
@@ -340,18 +254,7 @@ class Simulator final : public ConfigSimulator {
       const Record& record = records[i];
       const Tag tag = record.tag;
       if (is_other_stream(tag)) continue;
-      std::uint64_t first_block;
-      std::uint64_t last_block;
-      if constexpr (kAlignedDin) {
-        first_block = record.address >> shift;
-        last_block = first_block;
-      } else {
-        const Record view = formats::dinero_view(record, context_.form);
-        first_block = view.address >> shift;
-        const std::uint64_t span = view.size == 0 ? 0 : view.size - 1;
-        last_block = (view.address + span) >> shift;
-        if (last_block < first_block) last_block = first_block;  // wraps past 2^64
-      }
+      const BlockRange blocks = blocks_of(record, context_.form, shift, kAlignedDin);
       ++counters_.refs;
       bool high = false;
       if constexpr (kSplit) high = tag < split_level_;
@@ -362,7 +265,7 @@ class Simulator final : public ConfigSimulator {
       }
       if constexpr (kPerLevel) count_level_ref(tag);
       const AccessType type = record.type;
-      for (std::uint64_t block = first_block;; ++block) {
+      for (std::uint64_t block = blocks.first;; ++block) {
         if (type <= AccessType::Misc) {
           ++counters_.fetches;
           bool miss;
@@ -379,7 +282,7 @@ class Simulator final : public ConfigSimulator {
         } else if (type == AccessType::Invalidate) {
           invalidate(high, block);
         }
-        if (block == last_block) break;
+        if (block == blocks.last) break;
       }
     }
   }
@@ -394,14 +297,8 @@ class Simulator final : public ConfigSimulator {
   void count_level_miss(Tag tag) { ++level_misses_[tag]; }
 
   [[noreturn]] void throw_does_not_fit(std::uint64_t record_number) const {
-    throw UsageError(fmt::format(
-        "{}: record {}: the high-level nodes (levels < {}) touched in animation frame {} do not "
-        "fit the high-level cache: more than {} distinct {}-byte blocks, but the {}-byte high "
-        "cache (of a {}-byte total, low cache {} bytes) holds {}; give a smaller --split-level "
-        "or a larger --high-size",
-        context_.source_name, record_number, split_level_, animation_frame_,
-        retained_.capacity(), config_.block, config_.high_size, config_.size, config_.low_size,
-        retained_.capacity()));
+    throw_high_levels_do_not_fit(context_, config_, record_number, split_level_, animation_frame_,
+                                 retained_.capacity());
   }
 
   NodeCacheConfig config_;
@@ -416,12 +313,9 @@ class Simulator final : public ConfigSimulator {
   std::uint64_t low_mask_ = 0;
   std::uint64_t high_mask_ = 0;
   std::uint64_t high_offset_ = 0;
-  std::uint64_t dummy_slot_ = 0;
   std::optional<NodeCache> low_cache_;   // set-associative low (or single) cache
   std::optional<NodeCache> high_cache_;  // set-associative high cache under `cache`
   RetainedBlocks retained_;
-  std::vector<Simulator*> group_;  // feed_group's members (this one first)
-  std::uint64_t pending_high_misses_ = 0;  // counted loads of a group's chunk
   std::uint64_t animation_frame_ = 0;
   Counters counters_;
   std::vector<std::uint64_t> level_refs_;

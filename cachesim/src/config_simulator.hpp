@@ -24,18 +24,6 @@ class ConfigSimulator {
   virtual ResultRow result() const = 0;
   virtual void append_level_rows(std::vector<LevelRow>& rows) const = 0;
 
-  // Configurations with equal group keys (same kind, block, rule for K, all
-  // direct mapped) can be simulated together by one loop over the records:
-  // the leader's feed_group(members) is then feed() of each member, on chunks
-  // of demand fetches of one block each (returns false for other chunks,
-  // which the members take one by one). Empty key: no grouping.
-  virtual std::string group_key() const { return {}; }
-  virtual bool feed_group(const std::vector<ConfigSimulator*>& members, const formats::Record* records,
-                          std::size_t count, std::uint64_t first_record,
-                          const PreparedBatch& prepared) {
-    (void)members, (void)records, (void)count, (void)first_record, (void)prepared;
-    return false;
-  }
 };
 
 // The simulator of one configuration with K `split_level` for the first
