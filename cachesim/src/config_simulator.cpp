@@ -1,27 +1,57 @@
-// The per-configuration simulators: a router (single, or split by level K)
-// in front of cache models (direct-mapped tables, set-associative NodeCache,
-// the retain set), with fast loops for the common chunk shapes.
+// The per-configuration simulator, composed of parts: a router (single, or
+// split by this frame's K), a low cache model and a high cache model
+// (cache_models.hpp), per-level counts or none, and a per-frame hook that
+// gives the router its K and clears a retained high cache. The fast loops
+// are specialisations of that composition for the common chunk shapes.
 #include "config_simulator.hpp"
 
-#include <fmt/format.h>
-
-#include <algorithm>
 #include <bit>
-#include <optional>
+#include <type_traits>
 
-#include "nodetrace/formats/error.hpp"
+#include "cache_models.hpp"
 #include "record_blocks.hpp"
-#include "retained_blocks.hpp"
 
 namespace nodetrace::cachesim {
 
 using formats::AccessType;
 using formats::Record;
 using formats::Tag;
-using formats::UsageError;
 
 namespace {
 
+// Routers: which cache a record of a level goes to.
+struct SingleRouter {
+  static constexpr bool kSplit = false;
+  std::uint32_t split_level = 0;  // unused
+  bool high(Tag) const { return false; }
+};
+struct SplitRouter {
+  static constexpr bool kSplit = true;
+  std::uint32_t split_level = 0;  // K of the current animation frame
+  bool high(Tag tag) const { return tag < split_level; }
+};
+
+// Per-level counts (--per-level) or none.
+struct LevelCounts {
+  static constexpr bool kCounting = true;
+  std::vector<std::uint64_t> refs;
+  std::vector<std::uint64_t> misses;
+  void count_ref(Tag tag) {
+    if (tag >= refs.size()) {
+      refs.resize(tag + 1u, 0);
+      misses.resize(tag + 1u, 0);
+    }
+    ++refs[tag];
+  }
+  void count_miss(Tag tag) { ++misses[tag]; }
+};
+struct NoLevelCounts {
+  static constexpr bool kCounting = false;
+  std::vector<std::uint64_t> refs;
+  std::vector<std::uint64_t> misses;
+  void count_ref(Tag) {}
+  void count_miss(Tag) {}
+};
 
 struct Counters {
   std::uint64_t refs = 0;
@@ -33,63 +63,40 @@ struct Counters {
   std::uint64_t low_misses = 0;
 };
 
-// kSplit: route by level; kRetain: high part retained per animation frame;
-// kPerLevel: count per level; kAlignedDin: din records (4 bytes at a multiple
-// of 4) with blocks of at least 4 bytes, so every record is one block.
-template <bool kSplit, bool kRetain, bool kPerLevel, bool kAlignedDin>
+template <typename Model>
+constexpr bool kTable = std::is_same_v<Model, DirectMappedTable>;
+
+template <typename Router, typename Low, typename High, typename Levels>
 class Simulator final : public ConfigSimulator {
+  static constexpr bool kRetain = std::is_same_v<High, RetainSet>;
+  // Every cache a slot in a table: the fast loop picks the table without
+  // a branch on the record's level.
+  static constexpr bool kFlat =
+      kTable<Low> && (!Router::kSplit || kTable<High> || kRetain);
+
  public:
-  Simulator(const NodeCacheConfig& config, std::uint32_t split_level, const TraceContext& context)
+  Simulator(const NodeCacheConfig& config, std::uint32_t split_level, const TraceContext& context,
+            Low low, High high)
       : config_(config),
         context_(context),
-        split_level_(split_level),
-        retained_(kRetain ? config.high_size / config.block : 0) {
-    const CacheGeometry low{kSplit ? config.low_size : config.size, config.block, config.assoc,
-                                config.policy};
-    block_shift_ = static_cast<unsigned>(std::countr_zero(config.block));
-    // Direct-mapped caches (and the retain filter) live in one flat table:
-    // low sets first, then the high part, so the fast loop picks either with
-    // arithmetic instead of a branch on the record's level.
-    std::uint64_t low_sets = 0;
-    if (low.assoc == 1) {
-      low_sets = low.size / low.block;
-    } else {
-      low_cache_.emplace(low);
-    }
-    std::uint64_t high_sets = 0;
-    if constexpr (kRetain) {
-      high_sets = std::bit_ceil(std::max<std::uint64_t>(64, 4 * (config.high_size / config.block)));
-    } else if constexpr (kSplit) {
-      const CacheGeometry high{config.high_size, config.block, config.high_assoc,
-                                   config.policy};
-      if (high.assoc == 1) {
-        high_sets = high.size / high.block;
-      } else {
-        high_cache_.emplace(high, 0x5eed + 1);
-      }
-    }
-    low_direct_ = low_sets > 0;
-    high_direct_ = kRetain || high_sets > 0;
-    low_mask_ = low_sets > 0 ? low_sets - 1 : 0;
-    high_mask_ = high_sets > 0 ? high_sets - 1 : 0;
-    high_offset_ = low_sets;
-    table_.assign(low_sets + high_sets, NodeCache::kInvalid);
+        shift_(static_cast<unsigned>(std::countr_zero(config.block))),
+        aligned_din_(context.form == formats::RecordForm::Din && config.block >= 4),
+        low_(std::move(low)),
+        high_(std::move(high)) {
+    router_.split_level = split_level;
   }
 
+  // The per-frame hook.
   void begin_frame(std::uint64_t animation_frame, std::uint32_t split_level) override {
     animation_frame_ = animation_frame;
-    split_level_ = split_level;
-    if constexpr (kRetain) {
-      retained_.clear();
-      std::fill(table_.begin() + static_cast<std::ptrdiff_t>(high_offset_), table_.end(),
-                NodeCache::kInvalid);
-    }
+    router_.split_level = split_level;
+    if constexpr (kRetain) high_.begin_frame();
   }
 
   void feed(const Record* records, std::size_t count, std::uint64_t first_record,
             const PreparedBatch& prepared) override {
-    if (!kPerLevel && prepared.demand_only && prepared.span_bits < config_.block) {
-      if (low_direct_ && (!kSplit || high_direct_)) {
+    if (!Levels::kCounting && prepared.demand_only && prepared.span_bits < config_.block) {
+      if constexpr (kFlat) {
         feed_flat(records, count, first_record);
       } else {
         feed_blocks(records, count, first_record);
@@ -107,8 +114,8 @@ class Simulator final : public ConfigSimulator {
     row.refs = c.refs;
     row.fetches = c.fetches;
     row.misses = c.high_misses + c.low_misses;
-    if constexpr (kSplit) {
-      row.split_level = split_level_;
+    if constexpr (Router::kSplit) {
+      row.split_level = router_.split_level;
       row.high_refs = c.high_refs;
       row.high_misses = c.high_misses;
       if constexpr (kRetain) row.high_loads = c.high_loads;
@@ -119,37 +126,44 @@ class Simulator final : public ConfigSimulator {
   }
 
   void append_level_rows(std::vector<LevelRow>& rows) const override {
-    for (std::size_t level = 0; level < level_refs_.size(); ++level) {
-      if (level_refs_[level] == 0) continue;
+    for (std::size_t level = 0; level < levels_.refs.size(); ++level) {
+      if (levels_.refs[level] == 0) continue;
       rows.push_back(LevelRow{context_.trace, config_.scheme, config_.size,
-                              static_cast<std::uint32_t>(level), level_refs_[level],
-                              level_misses_[level]});
+                              static_cast<std::uint32_t>(level), levels_.refs[level],
+                              levels_.misses[level]});
     }
   }
 
  private:
-  // Fast path, every cache direct mapped: one demand fetch of one block per
+  // Fast path, every cache a table: one demand fetch of one block per
   // record, no branch but the rare first touch of a retained block.
   // Din addresses need no rounding here: blocks are at least 4 bytes.
-  void feed_flat(const Record* records, std::size_t count, std::uint64_t first_record) {
-    const unsigned shift = block_shift_;
-    std::uint64_t* const table = table_.data();
-    const std::uint64_t low_mask = low_mask_;
-    const std::uint64_t mask_difference = low_mask_ ^ high_mask_;
-    const std::uint64_t high_offset = high_offset_;
-    const std::uint64_t split_level = split_level_;
+  void feed_flat(const Record* records, std::size_t count, std::uint64_t first_record)
+    requires kFlat
+  {
+    const unsigned shift = shift_;
+    std::uint64_t* const low_slots = low_.slots();
+    const std::uint64_t low_mask = low_.mask();
+    std::uint64_t* high_slots = low_slots;
+    std::uint64_t high_mask = low_mask;
+    if constexpr (kRetain) {
+      high_slots = high_.filter().slots();
+      high_mask = high_.filter().mask();
+    } else if constexpr (Router::kSplit) {
+      high_slots = high_.slots();
+      high_mask = high_.mask();
+    }
+    const Router router = router_;
     std::uint64_t high_refs = 0;
     std::uint64_t high_misses = 0;
     std::uint64_t low_misses = 0;
     for (std::size_t i = 0; i < count; ++i) {
       const std::uint64_t block = records[i].address >> shift;
-      std::uint64_t high = 0;
-      if constexpr (kSplit) high = records[i].tag < split_level;
-      const std::uint64_t select = std::uint64_t{0} - high;  // all ones when high
-      const std::uint64_t index =
-          (block & (low_mask ^ (mask_difference & select))) + (high_offset & select);
-      const std::uint64_t differ = table[index] != block;
-      table[index] = block;
+      const std::uint64_t high = router.high(records[i].tag);
+      std::uint64_t* const slots = high ? high_slots : low_slots;
+      std::uint64_t& slot = slots[block & (high ? high_mask : low_mask)];
+      const std::uint64_t differ = slot != block;
+      slot = block;
       high_refs += high;
       low_misses += differ & (high ^ 1);
       if constexpr (kRetain) {
@@ -158,7 +172,9 @@ class Simulator final : public ConfigSimulator {
         // misprediction for every change of level).
         asm("" : "+r"(first_touch));
         if (first_touch != 0) [[unlikely]] {
-          if (retain_insert(block, first_record + i + 1)) high_misses += config_.count_loads;
+          if (high_.insert_after_filter(block)) {
+            high_misses += count_load(first_record + i + 1);
+          }
         }
       } else {
         high_misses += differ & high;
@@ -170,19 +186,17 @@ class Simulator final : public ConfigSimulator {
   // Fast path with a set-associative cache: one block per record.
   // Din addresses need no rounding here: blocks are at least 4 bytes.
   void feed_blocks(const Record* records, std::size_t count, std::uint64_t first_record) {
-    const unsigned shift = block_shift_;
+    const unsigned shift = shift_;
     std::uint64_t high_refs = 0;
     std::uint64_t high_misses = 0;
     std::uint64_t low_misses = 0;
     for (std::size_t i = 0; i < count; ++i) {
       const std::uint64_t block = records[i].address >> shift;
-      bool high = false;
-      if constexpr (kSplit) high = records[i].tag < split_level_;
-      if (high) {
+      if (router_.high(records[i].tag)) {
         ++high_refs;
         high_misses += high_access(block, first_record + i + 1);
       } else {
-        low_misses += low_access(block);
+        low_misses += low_.access(block);
       }
     }
     count_fast(count, high_refs, high_misses, low_misses);
@@ -198,72 +212,40 @@ class Simulator final : public ConfigSimulator {
     counters_.low_misses += low_misses;
   }
 
-  bool low_access(std::uint64_t block) {
-    if (!low_direct_) return low_cache_->access(block);
-    std::uint64_t& slot = table_[block & low_mask_];
-    const bool miss = slot != block;
-    slot = block;
-    return miss;
-  }
-
   // A high-level fetch; returns whether it counts as a miss.
   bool high_access(std::uint64_t block, std::uint64_t record_number) {
     if constexpr (kRetain) {
-      std::uint64_t& filter = table_[high_offset_ + (block & high_mask_)];
-      if (filter == block) return false;
-      filter = block;
-      return retain_insert(block, record_number) && config_.count_loads;
+      return high_.access(block) && count_load(record_number);
     } else {
-      if (!high_direct_) return high_cache_->access(block);
-      std::uint64_t& slot = table_[high_offset_ + (block & high_mask_)];
-      const bool miss = slot != block;
-      slot = block;
-      return miss;
+      return high_.access(block);
     }
   }
 
-  // A block missing from the retain filter: true when it is a new load.
-  [[gnu::noinline]] bool retain_insert(std::uint64_t block, std::uint64_t record_number) {
-    if (!retained_.insert(block)) return false;
+  // A new load of the retained high cache: whether it counts as a miss.
+  bool count_load(std::uint64_t record_number) {
     ++counters_.high_loads;
-    if (retained_.count() > retained_.capacity()) throw_does_not_fit(record_number);
-    return true;
-  }
-
-  void invalidate(bool high, std::uint64_t block) {
-    if (!high) {
-      if (!low_direct_) {
-        low_cache_->invalidate(block);
-      } else if (std::uint64_t& slot = table_[block & low_mask_]; slot == block) {
-        slot = NodeCache::kInvalid;
-      }
-    } else if constexpr (!kRetain) {
-      if (!high_direct_) {
-        high_cache_->invalidate(block);
-      } else if (std::uint64_t& slot = table_[high_offset_ + (block & high_mask_)];
-                 slot == block) {
-        slot = NodeCache::kInvalid;
-      }
+    if (high_.count() > high_.capacity()) {
+      throw_high_levels_do_not_fit(context_, config_, record_number, router_.split_level,
+                                   animation_frame_, high_.capacity());
     }
+    return config_.count_loads;
   }
 
   // Any record: types, spans, other streams, per-level counts.
   void feed_generic(const Record* records, std::size_t count, std::uint64_t first_record) {
-    const unsigned shift = block_shift_;
     for (std::size_t i = 0; i < count; ++i) {
       const Record& record = records[i];
       const Tag tag = record.tag;
       if (is_other_stream(tag)) continue;
-      const BlockRange blocks = blocks_of(record, context_.form, shift, kAlignedDin);
+      const BlockRange blocks = blocks_of(record, context_.form, shift_, aligned_din_);
       ++counters_.refs;
-      bool high = false;
-      if constexpr (kSplit) high = tag < split_level_;
+      const bool high = router_.high(tag);
       if (high) {
         ++counters_.high_refs;
       } else {
         ++counters_.low_refs;
       }
-      if constexpr (kPerLevel) count_level_ref(tag);
+      levels_.count_ref(tag);
       const AccessType type = record.type;
       for (std::uint64_t block = blocks.first;; ++block) {
         if (type <= AccessType::Misc) {
@@ -273,74 +255,67 @@ class Simulator final : public ConfigSimulator {
             miss = high_access(block, first_record + i + 1);
             counters_.high_misses += miss;
           } else {
-            miss = low_access(block);
+            miss = low_.access(block);
             counters_.low_misses += miss;
           }
-          if constexpr (kPerLevel) {
-            if (miss) count_level_miss(tag);
-          }
+          if (miss) levels_.count_miss(tag);
         } else if (type == AccessType::Invalidate) {
-          invalidate(high, block);
+          // A retained high cache keeps its blocks for the frame.
+          if (!high) {
+            low_.invalidate(block);
+          } else if constexpr (!kRetain) {
+            high_.invalidate(block);
+          }
         }
         if (block == blocks.last) break;
       }
     }
   }
 
-  void count_level_ref(Tag tag) {
-    if (tag >= level_refs_.size()) {
-      level_refs_.resize(tag + 1u, 0);
-      level_misses_.resize(tag + 1u, 0);
-    }
-    ++level_refs_[tag];
-  }
-  void count_level_miss(Tag tag) { ++level_misses_[tag]; }
-
-  [[noreturn]] void throw_does_not_fit(std::uint64_t record_number) const {
-    throw_high_levels_do_not_fit(context_, config_, record_number, split_level_, animation_frame_,
-                                 retained_.capacity());
-  }
-
   NodeCacheConfig config_;
   const TraceContext& context_;
-  std::uint32_t split_level_;
-  unsigned block_shift_ = 0;
-  // Direct-mapped low cache, then the direct-mapped high cache or the retain
-  // filter (blocks already loaded this frame, found with one compare).
-  std::vector<std::uint64_t> table_;
-  bool low_direct_ = false;
-  bool high_direct_ = false;
-  std::uint64_t low_mask_ = 0;
-  std::uint64_t high_mask_ = 0;
-  std::uint64_t high_offset_ = 0;
-  std::optional<NodeCache> low_cache_;   // set-associative low (or single) cache
-  std::optional<NodeCache> high_cache_;  // set-associative high cache under `cache`
-  RetainedBlocks retained_;
+  unsigned shift_;
+  bool aligned_din_;
+  Router router_;
+  Low low_;
+  High high_;
+  Levels levels_;
   std::uint64_t animation_frame_ = 0;
   Counters counters_;
-  std::vector<std::uint64_t> level_refs_;
-  std::vector<std::uint64_t> level_misses_;
 };
 
-template <bool kSplit, bool kRetain, bool kPerLevel>
-std::unique_ptr<ConfigSimulator> make_simulator_3(const NodeCacheConfig& config,
-                                                  std::uint32_t split_level,
-                                                  const TraceContext& context) {
-  const bool aligned_din = context.form == formats::RecordForm::Din && config.block >= 4;
-  if (aligned_din) {
-    return std::make_unique<Simulator<kSplit, kRetain, kPerLevel, true>>(config, split_level,
-                                                                          context);
+template <typename Router, typename Low, typename High>
+std::unique_ptr<ConfigSimulator> compose(const NodeCacheConfig& config, std::uint32_t split_level,
+                                         const TraceContext& context, bool per_level, Low low,
+                                         High high) {
+  if (per_level) {
+    return std::make_unique<Simulator<Router, Low, High, LevelCounts>>(
+        config, split_level, context, std::move(low), std::move(high));
   }
-  return std::make_unique<Simulator<kSplit, kRetain, kPerLevel, false>>(config, split_level,
-                                                                         context);
+  return std::make_unique<Simulator<Router, Low, High, NoLevelCounts>>(
+      config, split_level, context, std::move(low), std::move(high));
 }
 
-template <bool kSplit, bool kRetain>
-std::unique_ptr<ConfigSimulator> make_simulator_2(const NodeCacheConfig& config,
-                                                  std::uint32_t split_level,
-                                                  const TraceContext& context, bool per_level) {
-  if (per_level) return make_simulator_3<kSplit, kRetain, true>(config, split_level, context);
-  return make_simulator_3<kSplit, kRetain, false>(config, split_level, context);
+// The low side chosen, the high side next.
+template <typename Low>
+std::unique_ptr<ConfigSimulator> with_high(const NodeCacheConfig& config, std::uint32_t split_level,
+                                           const TraceContext& context, bool per_level, Low low) {
+  if (config.scheme == Scheme::Single) {
+    return compose<SingleRouter>(config, split_level, context, per_level, std::move(low),
+                                 NoCache{});
+  }
+  if (config.high_policy == HighPolicy::Retain) {
+    return compose<SplitRouter>(config, split_level, context, per_level, std::move(low),
+                                RetainSet(config.high_size / config.block));
+  }
+  if (config.high_assoc == 1) {
+    return compose<SplitRouter>(config, split_level, context, per_level, std::move(low),
+                                DirectMappedTable(config.high_size / config.block));
+  }
+  return compose<SplitRouter>(
+      config, split_level, context, per_level, std::move(low),
+      SetAssociativeCache({config.high_size, config.block, config.high_assoc, config.policy},
+                          0x5eed + 1));
 }
 
 }  // namespace
@@ -348,13 +323,13 @@ std::unique_ptr<ConfigSimulator> make_simulator_2(const NodeCacheConfig& config,
 std::unique_ptr<ConfigSimulator> make_simulator(const NodeCacheConfig& config,
                                                 std::uint32_t split_level,
                                                 const TraceContext& context, bool per_level) {
-  if (config.scheme == Scheme::Single) {
-    return make_simulator_2<false, false>(config, split_level, context, per_level);
+  const CacheGeometry low{config.scheme == Scheme::Split ? config.low_size : config.size,
+                          config.block, config.assoc, config.policy};
+  if (low.assoc == 1) {
+    return with_high(config, split_level, context, per_level,
+                     DirectMappedTable(low.size / low.block));
   }
-  if (config.high_policy == HighPolicy::Retain) {
-    return make_simulator_2<true, true>(config, split_level, context, per_level);
-  }
-  return make_simulator_2<true, false>(config, split_level, context, per_level);
+  return with_high(config, split_level, context, per_level, SetAssociativeCache(low, 0x5eed));
 }
 
 }  // namespace nodetrace::cachesim

@@ -11,7 +11,7 @@
 
 #include "nodetrace/cachesim/set_stacks.hpp"
 #include "record_blocks.hpp"
-#include "retained_blocks.hpp"
+#include "cache_models.hpp"
 
 namespace nodetrace::cachesim {
 
@@ -80,17 +80,13 @@ class StackGroup {
           break;
         }
       }
-      filter_.assign(std::bit_ceil(std::max<std::uint64_t>(64, 4 * capacity)), NodeCache::kInvalid);
     }
   }
 
   void begin_frame(std::uint64_t animation_frame, std::uint32_t split_level) {
     animation_frame_ = animation_frame;
     split_level_ = split_level;
-    if (retain_) {
-      retained_.clear();
-      std::fill(filter_.begin(), filter_.end(), NodeCache::kInvalid);
-    }
+    if (retain_) retained_.begin_frame();
   }
 
   void feed(const Record* records, std::size_t count, std::uint64_t first_record,
@@ -242,10 +238,7 @@ class StackGroup {
   }
 
   void retain_access(std::uint64_t block, Tag tag, std::uint64_t record_number) {
-    std::uint64_t& slot = filter_[block & (filter_.size() - 1)];
-    if (slot == block) return;
-    slot = block;
-    if (!retained_.insert(block)) return;
+    if (!retained_.access(block)) return;
     ++loads_;
     if (per_level_) {
       if (tag >= loads_by_tag_.size()) loads_by_tag_.resize(tag + 1u, 0);
@@ -343,8 +336,7 @@ class StackGroup {
   std::uint64_t animation_frame_ = 0;
   SetStacks low_;                // the single caches, or the split scheme's low caches
   std::optional<SetStacks> high_;  // split under `cache`
-  RetainedBlocks retained_;        // split under `retain`: the tightest member's capacity
-  std::vector<std::uint64_t> filter_;  // blocks loaded this frame, found with one compare
+  RetainSet retained_;             // split under `retain`: the tightest member's capacity
   std::size_t tightest_ = 0;
   std::uint64_t loads_ = 0;
   std::vector<std::uint64_t> loads_by_tag_;
