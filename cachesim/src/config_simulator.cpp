@@ -5,7 +5,10 @@
 // are specialisations of that composition for the common chunk shapes.
 #include "config_simulator.hpp"
 
+#include <fmt/format.h>
+
 #include <bit>
+#include <stdexcept>
 #include <type_traits>
 
 #include "cache_models.hpp"
@@ -66,6 +69,18 @@ struct Counters {
 template <typename Model>
 constexpr bool kTable = std::is_same_v<Model, DirectMappedTable>;
 
+// The slot of `block` in the low or the high table (`high` 0 or 1) by
+// arithmetic: a branch on the level would mispredict at every change.
+inline std::uint64_t& pick_slot(std::uint64_t high, std::uint64_t block, std::uint64_t* low_slots,
+                                std::uint64_t low_mask, std::uint64_t* high_slots,
+                                std::uint64_t high_mask) {
+  const std::uint64_t select = std::uint64_t{0} - high;  // all ones when high
+  const auto low_base = reinterpret_cast<std::uintptr_t>(low_slots);
+  const auto high_base = reinterpret_cast<std::uintptr_t>(high_slots);
+  auto* const slots = reinterpret_cast<std::uint64_t*>(low_base ^ ((low_base ^ high_base) & select));
+  return slots[block & (low_mask ^ ((low_mask ^ high_mask) & select))];
+}
+
 template <typename Router, typename Low, typename High, typename Levels>
 class Simulator final : public ConfigSimulator {
   static constexpr bool kRetain = std::is_same_v<High, RetainSet>;
@@ -73,6 +88,11 @@ class Simulator final : public ConfigSimulator {
   // a branch on the record's level.
   static constexpr bool kFlat =
       kTable<Low> && (!Router::kSplit || kTable<High> || kRetain);
+  // Split configurations of this shape but other K can share one loop.
+  static constexpr bool kTogether = kFlat && Router::kSplit && !Levels::kCounting;
+
+  template <typename, typename, typename, typename>
+  friend class Simulator;
 
  public:
   Simulator(const NodeCacheConfig& config, std::uint32_t split_level, const TraceContext& context,
@@ -95,15 +115,27 @@ class Simulator final : public ConfigSimulator {
 
   void feed(const Record* records, std::size_t count, std::uint64_t first_record,
             const PreparedBatch& prepared) override {
-    if (!Levels::kCounting && prepared.demand_only && prepared.span_bits < config_.block) {
-      if constexpr (kFlat) {
-        feed_flat(records, count, first_record);
-      } else {
-        feed_blocks(records, count, first_record);
+    if constexpr (kTogether) {
+      if (fed_by_leader_) return;
+      if (!together_.empty()) {
+        if (prepared.demand_only && prepared.span_bits < config_.block) {
+          feed_flat_together(records, count, first_record);
+        } else {
+          for (Simulator* member : together_) member->feed_own(records, count, first_record, prepared);
+        }
+        return;
       }
-      return;
     }
-    feed_generic(records, count, first_record);
+    feed_own(records, count, first_record, prepared);
+  }
+
+  // `members` (this one first, at most kMaxTogether) are fed by this one's
+  // feed(); theirs then do nothing.
+  void feed_together(const std::vector<Simulator*>& members)
+    requires kTogether
+  {
+    together_ = members;
+    for (Simulator* member : members) member->fed_by_leader_ = member != this;
   }
 
   ResultRow result() const override {
@@ -135,6 +167,19 @@ class Simulator final : public ConfigSimulator {
   }
 
  private:
+  void feed_own(const Record* records, std::size_t count, std::uint64_t first_record,
+                const PreparedBatch& prepared) {
+    if (!Levels::kCounting && prepared.demand_only && prepared.span_bits < config_.block) {
+      if constexpr (kFlat) {
+        feed_flat(records, count, first_record);
+      } else {
+        feed_blocks(records, count, first_record);
+      }
+      return;
+    }
+    feed_generic(records, count, first_record);
+  }
+
   // Fast path, every cache a table: one demand fetch of one block per
   // record, no branch but the rare first touch of a retained block.
   // Din addresses need no rounding here: blocks are at least 4 bytes.
@@ -160,8 +205,7 @@ class Simulator final : public ConfigSimulator {
     for (std::size_t i = 0; i < count; ++i) {
       const std::uint64_t block = records[i].address >> shift;
       const std::uint64_t high = router.high(records[i].tag);
-      std::uint64_t* const slots = high ? high_slots : low_slots;
-      std::uint64_t& slot = slots[block & (high ? high_mask : low_mask)];
+      std::uint64_t& slot = pick_slot(high, block, low_slots, low_mask, high_slots, high_mask);
       const std::uint64_t differ = slot != block;
       slot = block;
       high_refs += high;
@@ -181,6 +225,65 @@ class Simulator final : public ConfigSimulator {
       }
     }
     count_fast(count, high_refs, high_misses, low_misses);
+  }
+
+  // feed_flat of several members, each with its own K, low table and high
+  // table or retain set: each record is read once.
+  void feed_flat_together(const Record* records, std::size_t count, std::uint64_t first_record)
+    requires kTogether
+  {
+    const std::size_t members = std::min(together_.size(), kMaxTogether);
+    std::uint32_t split_levels[kMaxTogether];
+    std::uint64_t* low_slots[kMaxTogether];
+    std::uint64_t low_masks[kMaxTogether];
+    std::uint64_t* high_slots[kMaxTogether];
+    std::uint64_t high_masks[kMaxTogether];
+    std::uint64_t high_refs[kMaxTogether] = {};
+    std::uint64_t high_misses[kMaxTogether] = {};
+    std::uint64_t low_misses[kMaxTogether] = {};
+    for (std::size_t m = 0; m < members; ++m) {
+      Simulator& member = *together_[m];
+      split_levels[m] = member.router_.split_level;
+      low_slots[m] = member.low_.slots();
+      low_masks[m] = member.low_.mask();
+      if constexpr (kRetain) {
+        high_slots[m] = member.high_.filter().slots();
+        high_masks[m] = member.high_.filter().mask();
+      } else {
+        high_slots[m] = member.high_.slots();
+        high_masks[m] = member.high_.mask();
+      }
+    }
+    const unsigned shift = shift_;
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint64_t block = records[i].address >> shift;
+      const Tag tag = records[i].tag;
+      for (std::size_t m = 0; m < members; ++m) {
+        const std::uint64_t high = tag < split_levels[m];
+        // Branches here measured faster than pick_slot's arithmetic.
+        std::uint64_t* const slots = high ? high_slots[m] : low_slots[m];
+        std::uint64_t& slot = slots[block & (high ? high_masks[m] : low_masks[m])];
+        const std::uint64_t differ = slot != block;
+        slot = block;
+        high_refs[m] += high;
+        low_misses[m] += differ & (high ^ 1);
+        if constexpr (kRetain) {
+          std::uint64_t first_touch = differ & high;
+          asm("" : "+r"(first_touch));  // see feed_flat
+          if (first_touch != 0) [[unlikely]] {
+            Simulator& member = *together_[m];
+            if (member.high_.insert_after_filter(block)) {
+              high_misses[m] += member.count_load(first_record + i + 1);
+            }
+          }
+        } else {
+          high_misses[m] += differ & high;
+        }
+      }
+    }
+    for (std::size_t m = 0; m < members; ++m) {
+      together_[m]->count_fast(count, high_refs[m], high_misses[m], low_misses[m]);
+    }
   }
 
   // Fast path with a set-associative cache: one block per record.
@@ -282,6 +385,8 @@ class Simulator final : public ConfigSimulator {
   Levels levels_;
   std::uint64_t animation_frame_ = 0;
   Counters counters_;
+  std::vector<Simulator*> together_;  // feed_together's members, this one first
+  bool fed_by_leader_ = false;
 };
 
 template <typename Router, typename Low, typename High>
@@ -318,7 +423,48 @@ std::unique_ptr<ConfigSimulator> with_high(const NodeCacheConfig& config, std::u
                           0x5eed + 1));
 }
 
+template <typename High>
+std::vector<std::unique_ptr<ConfigSimulator>> together(const std::vector<NodeCacheConfig>& configs,
+                                                       const std::vector<std::uint32_t>& split_levels,
+                                                       const TraceContext& context) {
+  using Member = Simulator<SplitRouter, DirectMappedTable, High, NoLevelCounts>;
+  std::vector<std::unique_ptr<ConfigSimulator>> simulators;
+  std::vector<Member*> members;
+  for (std::size_t m = 0; m < configs.size(); ++m) {
+    const NodeCacheConfig& config = configs[m];
+    auto high = [&] {
+      if constexpr (std::is_same_v<High, RetainSet>) {
+        return RetainSet(config.high_size / config.block);
+      } else {
+        return DirectMappedTable(config.high_size / config.block);
+      }
+    };
+    auto member = std::make_unique<Member>(config, split_levels[m], context,
+                                           DirectMappedTable(config.low_size / config.block), high());
+    members.push_back(member.get());
+    simulators.push_back(std::move(member));
+  }
+  members.front()->feed_together(members);
+  return simulators;
+}
+
 }  // namespace
+
+std::string together_key(const NodeCacheConfig& config, bool per_level) {
+  if (per_level || config.scheme != Scheme::Split || config.assoc != 1) return {};
+  if (config.high_policy == HighPolicy::Cache && config.high_assoc != 1) return {};
+  return fmt::format("{}/{}", config.block, high_policy_name(config.high_policy));
+}
+
+std::vector<std::unique_ptr<ConfigSimulator>> make_together(
+    const std::vector<NodeCacheConfig>& configs, const std::vector<std::uint32_t>& split_levels,
+    const TraceContext& context) {
+  if (configs.size() > kMaxTogether) throw std::logic_error("make_together: too many members");
+  if (configs.front().high_policy == HighPolicy::Retain) {
+    return together<RetainSet>(configs, split_levels, context);
+  }
+  return together<DirectMappedTable>(configs, split_levels, context);
+}
 
 std::unique_ptr<ConfigSimulator> make_simulator(const NodeCacheConfig& config,
                                                 std::uint32_t split_level,

@@ -26,6 +26,17 @@ class ConfigSimulator {
 
 };
 
+// Split configurations whose caches are all direct mapped (the retain set
+// or a direct-mapped high cache), of one block size, can be fed by one loop
+// whatever their K: those of equal non-empty keys, at most kMaxTogether.
+inline constexpr std::size_t kMaxTogether = 8;
+std::string together_key(const NodeCacheConfig& config, bool per_level);
+// Their simulators (`split_levels`: each one's K of the first animation
+// frame); the first one's feed() feeds all, the others' do nothing.
+std::vector<std::unique_ptr<ConfigSimulator>> make_together(
+    const std::vector<NodeCacheConfig>& configs, const std::vector<std::uint32_t>& split_levels,
+    const TraceContext& context);
+
 // The simulator of one configuration with K `split_level` for the first
 // animation frame (begin_frame gives each later frame's).
 std::unique_ptr<ConfigSimulator> make_simulator(const NodeCacheConfig& config,

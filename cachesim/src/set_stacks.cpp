@@ -35,11 +35,34 @@ SetStacks::SetStacks(std::vector<Level> levels, bool by_tag) : by_tag_(by_tag) {
     count += level.depth + 1;
     levels_.push_back(std::move(state));
   }
+  for (const LevelState& level : levels_) direct_mapped_ = direct_mapped_ && level.depth == 1;
   first_large_ = levels_.size();
   while (first_large_ > 0 &&
          (levels_[first_large_ - 1].mask + 1) * levels_[first_large_ - 1].depth * 8 > 16384) {
     --first_large_;
   }
+}
+
+void SetStacks::access_direct_mapped(const std::uint64_t* blocks, std::size_t count) {
+  constexpr std::size_t kMaxLevels = 64;  // set counts 2^0 .. 2^63
+  std::uint64_t* stacks[kMaxLevels];
+  std::uint64_t masks[kMaxLevels];
+  std::uint64_t misses[kMaxLevels] = {};
+  const std::size_t levels = levels_.size();
+  for (std::size_t l = 0; l < levels; ++l) {
+    stacks[l] = levels_[l].stacks;
+    masks[l] = levels_[l].mask;
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::uint64_t block = blocks[i];
+    for (std::size_t l = 0; l < levels; ++l) {
+      std::uint64_t& slot = stacks[l][block & masks[l]];
+      misses[l] += slot != block;
+      slot = block;
+    }
+  }
+  for (std::size_t l = 0; l < levels; ++l) levels_[l].deeper[1] += misses[l];
+  fetches_ += count;
 }
 
 void SetStacks::count_tag(LevelState& level, unsigned tag, std::uint32_t position) {

@@ -203,6 +203,28 @@ class StackGroup {
     const unsigned shift = shift_;
     const Tag split_level = static_cast<Tag>(std::min<std::uint32_t>(split_level_, 0xFFFF));
     std::uint64_t high_refs = 0;
+    if (!kByTag && low_.direct_mapped()) {
+      // The low blocks in order, then one branchless pass over them.
+      low_blocks_.clear();
+      for (std::size_t i = 0; i < count; ++i) {
+        const std::uint64_t block = records[i].address >> shift;
+        if (kSplit && records[i].tag < split_level) {
+          ++high_refs;
+          if constexpr (kRetain) {
+            retain_access(block, records[i].tag, first_record + i + 1);
+          } else {
+            high_->access(block, records[i].tag);
+          }
+        } else {
+          low_blocks_.push_back(block);
+        }
+      }
+      low_.access_direct_mapped(low_blocks_.data(), low_blocks_.size());
+      refs_ += count;
+      fetches_ += count;
+      high_refs_ += high_refs;
+      return;
+    }
     constexpr std::size_t kAhead = 8;
     for (std::size_t i = 0; i < count; ++i) {
       if (i + kAhead < count) {
@@ -346,6 +368,7 @@ class StackGroup {
   std::vector<std::uint64_t> refs_by_tag_;
   bool handed_over_ = false;
   std::vector<Member> members_;
+  std::vector<std::uint64_t> low_blocks_;  // feed_blocks' scratch
 };
 
 class StackMember final : public ConfigSimulator {

@@ -38,7 +38,8 @@ void Sweep::start(const formats::RecordBatch& first_batch) {
   plan_ = std::make_unique<SplitLevelPlan>(configs_, context_);
   plan_->begin_frame(first_batch.marker ? &*first_batch.marker : nullptr);
   // Units fed by one loop: a stack group (configurations that set stacks
-  // answer together, two or more of one key) or one configuration.
+  // answer together, two or more of one key), split configurations of
+  // tables only fed together, or one configuration.
   simulators_.resize(configs_.size());
   std::vector<std::vector<std::size_t>> units;
   std::vector<unsigned> unit_cost;
@@ -70,7 +71,40 @@ void Sweep::start(const formats::RecordBatch& first_batch) {
     unit_cost.push_back(static_cast<unsigned>(2 + shapes.size()));
     units.push_back(std::move(members));
   }
+  // Split configurations of tables only, of other K: up to kMaxTogether fed
+  // by one loop (each record read once).
+  std::sort(alone.begin(), alone.end());
+  std::map<std::string, std::vector<std::vector<std::size_t>>> together;
+  std::vector<std::size_t> by_itself;
   for (const std::size_t i : alone) {
+    const std::string key = together_key(configs_[i], per_level_);
+    if (key.empty()) {
+      by_itself.push_back(i);
+      continue;
+    }
+    auto& groups = together[key];
+    if (groups.empty() || groups.back().size() == kMaxTogether) groups.emplace_back();
+    groups.back().push_back(i);
+  }
+  for (auto& [key, groups] : together) {
+    for (auto& members : groups) {
+      if (members.size() == 1) {
+        by_itself.push_back(members.front());
+        continue;
+      }
+      std::vector<NodeCacheConfig> member_configs;
+      std::vector<std::uint32_t> split_levels;
+      for (const std::size_t i : members) {
+        member_configs.push_back(configs_[i]);
+        split_levels.push_back(plan_->current(i));
+      }
+      auto group = make_together(member_configs, split_levels, context_);
+      for (std::size_t m = 0; m < members.size(); ++m) simulators_[members[m]] = std::move(group[m]);
+      unit_cost.push_back(static_cast<unsigned>(2 * members.size()));
+      units.push_back(std::move(members));
+    }
+  }
+  for (const std::size_t i : by_itself) {
     simulators_[i] = make_simulator(configs_[i], plan_->current(i), context_, per_level_);
     const NodeCacheConfig& config = configs_[i];
     // A split configuration does about twice the work of a single one.

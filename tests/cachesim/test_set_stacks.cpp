@@ -199,6 +199,19 @@ void expect_together_equals_alone(const std::vector<NodeCacheConfig>& configs,
                                                .other_stream_records);
 }
 
+NodeCacheConfig split_config(std::uint32_t block, std::uint64_t high_size, std::uint64_t low_size,
+                             std::uint32_t assoc, std::uint32_t split_level) {
+  NodeCacheConfig config;
+  config.scheme = Scheme::Split;
+  config.block = block;
+  config.high_size = high_size;
+  config.low_size = low_size;
+  config.size = high_size + low_size;
+  config.assoc = assoc;
+  config.split_level = split_level;
+  return config;
+}
+
 // Sizes x ways x policies, single and split (retain with given and auto K,
 // cache), so several stack groups and per-configuration simulators mix.
 std::vector<NodeCacheConfig> design_space(std::uint32_t block) {
@@ -214,15 +227,25 @@ std::vector<NodeCacheConfig> design_space(std::uint32_t block) {
   // Split configurations of several totals with one high cache: the low
   // caches of one K are one question across totals too.
   for (const std::uint64_t low : {512u, 1024u, 4096u}) {
-    NodeCacheConfig config;
-    config.scheme = Scheme::Split;
-    config.block = block;
-    config.high_size = 8192;
-    config.low_size = low;
-    config.size = 8192 + low;
-    config.assoc = 2;
-    config.split_level = 6;
+    NodeCacheConfig config = split_config(block, 8192, low, 2, 6);
     config.count_loads = low == 1024;
+    configs.push_back(config);
+  }
+  return configs;
+}
+
+// Table 1's shape: direct mapped, one policy, K = auto for each size (so
+// every split configuration has a K of its own and they are fed together by
+// one loop), and split `cache` ones with three given K.
+std::vector<NodeCacheConfig> table1_grid(std::uint32_t block) {
+  SweepOptions options;
+  options.sizes = {1024, 2048, 4096, 16384};
+  options.blocks = {block};
+  options.schemes = {Scheme::Single, Scheme::Split};
+  std::vector<NodeCacheConfig> configs = expand_configurations(options);
+  for (const std::uint32_t k : {4u, 6u, 9u}) {
+    NodeCacheConfig config = split_config(block, 1024, 2048, 1, k);
+    config.high_policy = HighPolicy::Cache;
     configs.push_back(config);
   }
   return configs;
@@ -237,6 +260,8 @@ TEST(StackPath, EqualsEachConfigurationAloneOnRandomStreams) {
         SCOPED_TRACE(::testing::Message() << "mixed " << mixed << " invalidates " << invalidates
                                           << " per_level " << per_level);
         expect_together_equals_alone(design_space(mixed ? 16 : 8), batches_of(records), form,
+                                     per_level);
+        expect_together_equals_alone(table1_grid(mixed ? 16 : 8), batches_of(records), form,
                                      per_level);
       }
     }
@@ -268,17 +293,22 @@ TEST(StackPath, EqualsEachConfigurationAloneOnARenderedTrace) {
     copy.frame = frame;
     return copy;
   });
-  std::vector<NodeCacheConfig> configs = design_space(8);
-  for (NodeCacheConfig& config : configs) {
-    // Sizes that the mountain's high levels fit.
-    if (config.scheme == Scheme::Split && config.high_size < 2048) {
-      config.high_size *= 4;
-      config.size = config.high_size + config.low_size;
+  // High caches that the mountain's high levels fit.
+  auto fitting = [](std::vector<NodeCacheConfig> configs) {
+    for (NodeCacheConfig& config : configs) {
+      if (config.scheme == Scheme::Split && config.high_size < 2048) {
+        config.high_size *= 4;
+        config.size = config.high_size + config.low_size;
+      }
     }
-  }
+    return configs;
+  };
+  const std::vector<NodeCacheConfig> configs = fitting(design_space(8));
+  const std::vector<NodeCacheConfig> grid = fitting(table1_grid(8));
   for (const bool per_level : {false, true}) {
     SCOPED_TRACE(::testing::Message() << "per_level " << per_level);
     expect_together_equals_alone(configs, batches, reader->form(), per_level);
+    expect_together_equals_alone(grid, batches, reader->form(), per_level);
   }
 }
 

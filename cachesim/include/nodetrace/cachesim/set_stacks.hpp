@@ -56,6 +56,13 @@ class SetStacks {
     }
   }
 
+  // Every level one block deep (direct-mapped caches only)?
+  bool direct_mapped() const { return direct_mapped_; }
+  // access() of each block in turn when direct_mapped(), without the walk's
+  // branches: a hit in one set count changes nothing in the larger ones, so
+  // every level is simply updated (no counts by tag).
+  void access_direct_mapped(const std::uint64_t* blocks, std::size_t count);
+
   // Asks the processor for the sets `block` maps to in the stacks too large
   // for its first-level cache: issued a few fetches ahead, the walk then
   // finds them loaded.
@@ -114,6 +121,7 @@ class SetStacks {
   std::size_t first_large_ = 0;  // levels from here on are larger than 16 KB
   std::uint64_t fetches_ = 0;
   bool by_tag_ = false;
+  bool direct_mapped_ = true;
 };
 
 }  // namespace nodetrace::cachesim
