@@ -1,7 +1,6 @@
 #include "nodetrace/cachesim/set_stacks.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <stdexcept>
 
 namespace nodetrace::cachesim {
@@ -9,10 +8,8 @@ namespace nodetrace::cachesim {
 SetStacks::SetStacks(std::vector<Level> levels, bool by_tag) : by_tag_(by_tag) {
   std::sort(levels.begin(), levels.end(),
             [](const Level& a, const Level& b) { return a.log2_sets < b.log2_sets; });
-  // Stacks are kept a power of two deep (access unrolls each depth).
-  for (Level& level : levels) {
-    if (level.depth == 0 || level.depth > 32) throw std::invalid_argument("SetStacks: depth 1..32");
-    level.depth = std::bit_ceil(level.depth);
+  for (const Level& level : levels) {
+    if (level.depth == 0) throw std::invalid_argument("SetStacks: a depth of 0");
   }
   std::size_t slots = 0;
   std::size_t counts = 0;
@@ -36,11 +33,6 @@ SetStacks::SetStacks(std::vector<Level> levels, bool by_tag) : by_tag_(by_tag) {
     levels_.push_back(std::move(state));
   }
   for (const LevelState& level : levels_) direct_mapped_ = direct_mapped_ && level.depth == 1;
-  first_large_ = levels_.size();
-  while (first_large_ > 0 &&
-         (levels_[first_large_ - 1].mask + 1) * levels_[first_large_ - 1].depth * 8 > 16384) {
-    --first_large_;
-  }
 }
 
 void SetStacks::access_direct_mapped(const std::uint64_t* blocks, std::size_t count) {

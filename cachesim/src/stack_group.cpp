@@ -225,16 +225,7 @@ class StackGroup {
       high_refs_ += high_refs;
       return;
     }
-    constexpr std::size_t kAhead = 8;
     for (std::size_t i = 0; i < count; ++i) {
-      if (i + kAhead < count) {
-        const std::uint64_t ahead = records[i + kAhead].address >> shift;
-        if (kSplit && records[i + kAhead].tag < split_level) {
-          if constexpr (!kRetain) high_->prefetch(ahead);
-        } else {
-          low_.prefetch(ahead);
-        }
-      }
       const std::uint64_t block = records[i].address >> shift;
       const Tag tag = records[i].tag;
       if constexpr (kByTag) count_ref(tag);

@@ -18,7 +18,6 @@
 #pragma once
 
 #include <cstdint>
-#include <span>
 #include <vector>
 
 namespace nodetrace::cachesim {
@@ -29,7 +28,7 @@ class SetStacks {
 
   struct Level {
     unsigned log2_sets = 0;
-    std::uint32_t depth = 1;  // the largest associativity asked of this set count (<= 32)
+    std::uint32_t depth = 1;  // the largest associativity asked of this set count
   };
 
   // `levels`: distinct set counts, any order; `by_tag`: misses are also
@@ -42,15 +41,14 @@ class SetStacks {
     for (LevelState& level : levels_) {
       std::uint64_t* const set = level.stacks + (block & level.mask) * level.depth;
       if (set[0] == block) return;  // on top here, so on top of every larger set count
-      std::uint32_t position;
-      switch (level.depth) {
-        case 1: position = 1; set[0] = block; break;
-        case 2: position = move_to_front<2>(set, block); break;
-        case 4: position = move_to_front<4>(set, block); break;
-        case 8: position = move_to_front<8>(set, block); break;
-        case 16: position = move_to_front<16>(set, block); break;
-        default: position = move_to_front<32>(set, block); break;
-      }
+      // position: 0-based place found, or depth when not among the kept
+      // ones (then the oldest kept block falls off). Measured: this plain
+      // loop is faster than a branchless move-to-front.
+      std::uint32_t position = 1;
+      while (position < level.depth && set[position] != block) ++position;
+      const std::uint32_t moved = position < level.depth ? position : level.depth - 1;
+      for (std::uint32_t i = moved; i > 0; --i) set[i] = set[i - 1];
+      set[0] = block;
       ++level.deeper[position];
       if (by_tag_) count_tag(level, tag, position);
     }
@@ -62,15 +60,6 @@ class SetStacks {
   // branches: a hit in one set count changes nothing in the larger ones, so
   // every level is simply updated (no counts by tag).
   void access_direct_mapped(const std::uint64_t* blocks, std::size_t count);
-
-  // Asks the processor for the sets `block` maps to in the stacks too large
-  // for its first-level cache: issued a few fetches ahead, the walk then
-  // finds them loaded.
-  void prefetch(std::uint64_t block) const {
-    for (const LevelState& level : large_levels()) {
-      __builtin_prefetch(level.stacks + (block & level.mask) * level.depth, 1);
-    }
-  }
 
   std::uint64_t fetches() const { return fetches_; }
   // Misses of the cache with 2^log2_sets sets and `ways` ways (ways <= its
@@ -94,31 +83,11 @@ class SetStacks {
     unsigned log2_sets = 0;
   };
   const LevelState& level(unsigned log2_sets) const;
-  std::span<const LevelState> large_levels() const {
-    return std::span<const LevelState>(levels_).subspan(first_large_);
-  }
-
-  // Finds `block` below the top of a set of kDepth (not on top), moves it
-  // (or, when absent, pushes it, dropping the oldest) to the top; returns
-  // its 0-based place before, kDepth when absent. Without branches: the
-  // place decides by conditional moves which entries shift down.
   static void count_tag(LevelState& level, unsigned tag, std::uint32_t position);
-
-  template <std::uint32_t kDepth>
-  static std::uint32_t move_to_front(std::uint64_t* set, std::uint64_t block) {
-    std::uint64_t ways[kDepth];
-    for (std::uint32_t i = 0; i < kDepth; ++i) ways[i] = set[i];
-    std::uint32_t position = kDepth;
-    for (std::uint32_t i = kDepth - 1; i > 0; --i) position = ways[i] == block ? i : position;
-    for (std::uint32_t i = kDepth - 1; i > 0; --i) set[i] = i <= position ? ways[i - 1] : ways[i];
-    set[0] = block;
-    return position;
-  }
 
   std::vector<LevelState> levels_;
   std::vector<std::uint64_t> storage_;
   std::vector<std::uint64_t> counts_;
-  std::size_t first_large_ = 0;  // levels from here on are larger than 16 KB
   std::uint64_t fetches_ = 0;
   bool by_tag_ = false;
   bool direct_mapped_ = true;
