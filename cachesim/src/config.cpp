@@ -155,6 +155,18 @@ void throw_untagged_record(const TraceContext& context, std::uint64_t record_num
       context.source_name, record_number, what));
 }
 
+void throw_high_levels_do_not_fit(const TraceContext& context, const NodeCacheConfig& config,
+                                  std::uint64_t record_number, std::uint32_t split_level,
+                                  std::uint64_t animation_frame, std::uint64_t capacity) {
+  throw UsageError(fmt::format(
+      "{}: record {}: the high-level nodes (levels < {}) touched in animation frame {} do not "
+      "fit the high-level cache: more than {} distinct {}-byte blocks, but the {}-byte high "
+      "cache (of a {}-byte total, low cache {} bytes) holds {}; give a smaller --split-level "
+      "or a larger --high-size",
+      context.source_name, record_number, split_level, animation_frame, capacity, config.block,
+      config.high_size, config.size, config.low_size, capacity));
+}
+
 std::string other_streams_note(const std::string& trace, std::uint64_t records) {
   return fmt::format(
       "{}: {} records tagged p or t (primitive lists, triangles) counted apart, not simulated "

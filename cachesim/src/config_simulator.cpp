@@ -1,26 +1,60 @@
-// The per-configuration simulators: a router (single, or split by level K)
-// in front of cache models (direct-mapped tables, set-associative NodeCache,
-// the retain set), with fast loops for the common chunk shapes.
+// The per-configuration simulator, composed of parts: a router (single, or
+// split by this frame's K), a low cache model and a high cache model
+// (cache_models.hpp), per-level counts or none, and a per-frame hook that
+// gives the router its K and clears a retained high cache. The fast loops
+// are specialisations of that composition for the common chunk shapes.
 #include "config_simulator.hpp"
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <bit>
-#include <optional>
+#include <stdexcept>
+#include <type_traits>
 
-#include "nodetrace/formats/error.hpp"
-#include "retained_blocks.hpp"
+#include "cache_models.hpp"
+#include "record_blocks.hpp"
 
 namespace nodetrace::cachesim {
 
 using formats::AccessType;
 using formats::Record;
 using formats::Tag;
-using formats::UsageError;
 
 namespace {
 
+// Routers: which cache a record of a level goes to.
+struct SingleRouter {
+  static constexpr bool kSplit = false;
+  std::uint32_t split_level = 0;  // unused
+  bool high(Tag) const { return false; }
+};
+struct SplitRouter {
+  static constexpr bool kSplit = true;
+  std::uint32_t split_level = 0;  // K of the current animation frame
+  bool high(Tag tag) const { return tag < split_level; }
+};
+
+// Per-level counts (--per-level) or none.
+struct LevelCounts {
+  static constexpr bool kCounting = true;
+  std::vector<std::uint64_t> refs;
+  std::vector<std::uint64_t> misses;
+  void count_ref(Tag tag) {
+    if (tag >= refs.size()) {
+      refs.resize(tag + 1u, 0);
+      misses.resize(tag + 1u, 0);
+    }
+    ++refs[tag];
+  }
+  void count_miss(Tag tag) { ++misses[tag]; }
+};
+struct NoLevelCounts {
+  static constexpr bool kCounting = false;
+  std::vector<std::uint64_t> refs;
+  std::vector<std::uint64_t> misses;
+  void count_ref(Tag) {}
+  void count_miss(Tag) {}
+};
 
 struct Counters {
   std::uint64_t refs = 0;
@@ -32,103 +66,76 @@ struct Counters {
   std::uint64_t low_misses = 0;
 };
 
-// kSplit: route by level; kRetain: high part retained per animation frame;
-// kPerLevel: count per level; kAlignedDin: din records (4 bytes at a multiple
-// of 4) with blocks of at least 4 bytes, so every record is one block.
-template <bool kSplit, bool kRetain, bool kPerLevel, bool kAlignedDin>
+template <typename Model>
+constexpr bool kTable = std::is_same_v<Model, DirectMappedTable>;
+
+// The slot of `block` in the low or the high table (`high` 0 or 1) by
+// arithmetic: a branch on the level would mispredict at every change.
+inline std::uint64_t& pick_slot(std::uint64_t high, std::uint64_t block, std::uint64_t* low_slots,
+                                std::uint64_t low_mask, std::uint64_t* high_slots,
+                                std::uint64_t high_mask) {
+  const std::uint64_t select = std::uint64_t{0} - high;  // all ones when high
+  const auto low_base = reinterpret_cast<std::uintptr_t>(low_slots);
+  const auto high_base = reinterpret_cast<std::uintptr_t>(high_slots);
+  auto* const slots = reinterpret_cast<std::uint64_t*>(low_base ^ ((low_base ^ high_base) & select));
+  return slots[block & (low_mask ^ ((low_mask ^ high_mask) & select))];
+}
+
+template <typename Router, typename Low, typename High, typename Levels>
 class Simulator final : public ConfigSimulator {
+  static constexpr bool kRetain = std::is_same_v<High, RetainSet>;
+  // Every cache a slot in a table: the fast loop picks the table without
+  // a branch on the record's level.
+  static constexpr bool kFlat =
+      kTable<Low> && (!Router::kSplit || kTable<High> || kRetain);
+  // Split configurations of this shape but other K can share one loop.
+  static constexpr bool kTogether = kFlat && Router::kSplit && !Levels::kCounting;
+
+  template <typename, typename, typename, typename>
+  friend class Simulator;
+
  public:
-  Simulator(const NodeCacheConfig& config, std::uint32_t split_level, const TraceContext& context)
+  Simulator(const NodeCacheConfig& config, std::uint32_t split_level, const TraceContext& context,
+            Low low, High high)
       : config_(config),
         context_(context),
-        split_level_(split_level),
-        retained_(kRetain ? config.high_size / config.block : 0) {
-    const CacheGeometry low{kSplit ? config.low_size : config.size, config.block, config.assoc,
-                                config.policy};
-    block_shift_ = static_cast<unsigned>(std::countr_zero(config.block));
-    // Direct-mapped caches (and the retain filter) live in one flat table:
-    // low sets first, then the high part, so the fast loop picks either with
-    // arithmetic instead of a branch on the record's level.
-    std::uint64_t low_sets = 0;
-    if (low.assoc == 1) {
-      low_sets = low.size / low.block;
-    } else {
-      low_cache_.emplace(low);
-    }
-    std::uint64_t high_sets = 0;
-    if constexpr (kRetain) {
-      high_sets = std::bit_ceil(std::max<std::uint64_t>(64, 4 * (config.high_size / config.block)));
-    } else if constexpr (kSplit) {
-      const CacheGeometry high{config.high_size, config.block, config.high_assoc,
-                                   config.policy};
-      if (high.assoc == 1) {
-        high_sets = high.size / high.block;
-      } else {
-        high_cache_.emplace(high, 0x5eed + 1);
-      }
-    }
-    low_direct_ = low_sets > 0;
-    high_direct_ = kRetain || high_sets > 0;
-    low_mask_ = low_sets > 0 ? low_sets - 1 : 0;
-    high_mask_ = high_sets > 0 ? high_sets - 1 : 0;
-    high_offset_ = low_sets;
-    // One more slot at the end: where a group's loop writes the low caches'
-    // updates for high-level records (never read as a cache line).
-    dummy_slot_ = low_sets + high_sets;
-    table_.assign(dummy_slot_ + 1, NodeCache::kInvalid);
+        shift_(static_cast<unsigned>(std::countr_zero(config.block))),
+        aligned_din_(context.form == formats::RecordForm::Din && config.block >= 4),
+        low_(std::move(low)),
+        high_(std::move(high)) {
+    router_.split_level = split_level;
   }
 
+  // The per-frame hook.
   void begin_frame(std::uint64_t animation_frame, std::uint32_t split_level) override {
     animation_frame_ = animation_frame;
-    split_level_ = split_level;
-    if constexpr (kRetain) {
-      retained_.clear();
-      std::fill(table_.begin() + static_cast<std::ptrdiff_t>(high_offset_), table_.end(),
-                NodeCache::kInvalid);
-    }
+    router_.split_level = split_level;
+    if constexpr (kRetain) high_.begin_frame();
   }
 
   void feed(const Record* records, std::size_t count, std::uint64_t first_record,
             const PreparedBatch& prepared) override {
-    if (!kPerLevel && prepared.demand_only && prepared.span_bits < config_.block) {
-      if (low_direct_ && (!kSplit || high_direct_)) {
-        feed_flat(records, count, first_record);
-      } else {
-        feed_blocks(records, count, first_record);
+    if constexpr (kTogether) {
+      if (fed_by_leader_) return;
+      if (!together_.empty()) {
+        if (prepared.demand_only && prepared.span_bits < config_.block) {
+          feed_flat_together(records, count, first_record);
+        } else {
+          for (Simulator* member : together_) member->feed_own(records, count, first_record, prepared);
+        }
+        return;
       }
-      return;
     }
-    feed_generic(records, count, first_record);
+    feed_own(records, count, first_record, prepared);
   }
 
-  std::string group_key() const override {
-    if constexpr (kPerLevel || (kSplit && !kRetain)) {
-      return {};
-    } else {
-      if (!low_direct_) return {};
-      // Members must share K in every animation frame: the same given K, or
-      // auto for the same high-cache size.
-      const std::string k_rule = config_.split_level
-                                     ? std::to_string(*config_.split_level)
-                                     : fmt::format("auto{}", kSplit ? config_.high_size : 0);
-      return fmt::format("{}/{}/{}/{}/{}/{}", kSplit, kRetain, kAlignedDin, config_.block, k_rule,
-                         config_.count_loads);
-    }
-  }
-
-  bool feed_group(const std::vector<ConfigSimulator*>& members, const Record* records,
-                  std::size_t count, std::uint64_t first_record,
-                  const PreparedBatch& prepared) override {
-    if constexpr (kPerLevel || (kSplit && !kRetain)) {
-      (void)members, (void)records, (void)count, (void)first_record, (void)prepared;
-      return false;
-    } else {
-      if (!prepared.demand_only || prepared.span_bits >= config_.block) return false;
-      group_.clear();
-      for (ConfigSimulator* member : members) group_.push_back(static_cast<Simulator*>(member));
-      feed_group_flat(records, count, first_record);
-      return true;
-    }
+  // `members` (this one first, at most kMaxTogether) are fed by this one's
+  // feed(); theirs then do nothing.
+  void feed_together(const std::vector<Simulator*>& members)
+    requires kTogether
+  {
+    together_ = members;
+    for (Simulator* member : members) member->fed_by_leader_ = member != this;
   }
 
   ResultRow result() const override {
@@ -139,8 +146,8 @@ class Simulator final : public ConfigSimulator {
     row.refs = c.refs;
     row.fetches = c.fetches;
     row.misses = c.high_misses + c.low_misses;
-    if constexpr (kSplit) {
-      row.split_level = split_level_;
+    if constexpr (Router::kSplit) {
+      row.split_level = router_.split_level;
       row.high_refs = c.high_refs;
       row.high_misses = c.high_misses;
       if constexpr (kRetain) row.high_loads = c.high_loads;
@@ -151,37 +158,56 @@ class Simulator final : public ConfigSimulator {
   }
 
   void append_level_rows(std::vector<LevelRow>& rows) const override {
-    for (std::size_t level = 0; level < level_refs_.size(); ++level) {
-      if (level_refs_[level] == 0) continue;
+    for (std::size_t level = 0; level < levels_.refs.size(); ++level) {
+      if (levels_.refs[level] == 0) continue;
       rows.push_back(LevelRow{context_.trace, config_.scheme, config_.size,
-                              static_cast<std::uint32_t>(level), level_refs_[level],
-                              level_misses_[level]});
+                              static_cast<std::uint32_t>(level), levels_.refs[level],
+                              levels_.misses[level]});
     }
   }
 
  private:
-  // Fast path, every cache direct mapped: one demand fetch of one block per
+  void feed_own(const Record* records, std::size_t count, std::uint64_t first_record,
+                const PreparedBatch& prepared) {
+    if (!Levels::kCounting && prepared.demand_only && prepared.span_bits < config_.block) {
+      if constexpr (kFlat) {
+        feed_flat(records, count, first_record);
+      } else {
+        feed_blocks(records, count, first_record);
+      }
+      return;
+    }
+    feed_generic(records, count, first_record);
+  }
+
+  // Fast path, every cache a table: one demand fetch of one block per
   // record, no branch but the rare first touch of a retained block.
   // Din addresses need no rounding here: blocks are at least 4 bytes.
-  void feed_flat(const Record* records, std::size_t count, std::uint64_t first_record) {
-    const unsigned shift = block_shift_;
-    std::uint64_t* const table = table_.data();
-    const std::uint64_t low_mask = low_mask_;
-    const std::uint64_t mask_difference = low_mask_ ^ high_mask_;
-    const std::uint64_t high_offset = high_offset_;
-    const std::uint64_t split_level = split_level_;
+  void feed_flat(const Record* records, std::size_t count, std::uint64_t first_record)
+    requires kFlat
+  {
+    const unsigned shift = shift_;
+    std::uint64_t* const low_slots = low_.slots();
+    const std::uint64_t low_mask = low_.mask();
+    std::uint64_t* high_slots = low_slots;
+    std::uint64_t high_mask = low_mask;
+    if constexpr (kRetain) {
+      high_slots = high_.filter().slots();
+      high_mask = high_.filter().mask();
+    } else if constexpr (Router::kSplit) {
+      high_slots = high_.slots();
+      high_mask = high_.mask();
+    }
+    const Router router = router_;
     std::uint64_t high_refs = 0;
     std::uint64_t high_misses = 0;
     std::uint64_t low_misses = 0;
     for (std::size_t i = 0; i < count; ++i) {
       const std::uint64_t block = records[i].address >> shift;
-      std::uint64_t high = 0;
-      if constexpr (kSplit) high = records[i].tag < split_level;
-      const std::uint64_t select = std::uint64_t{0} - high;  // all ones when high
-      const std::uint64_t index =
-          (block & (low_mask ^ (mask_difference & select))) + (high_offset & select);
-      const std::uint64_t differ = table[index] != block;
-      table[index] = block;
+      const std::uint64_t high = router.high(records[i].tag);
+      std::uint64_t& slot = pick_slot(high, block, low_slots, low_mask, high_slots, high_mask);
+      const std::uint64_t differ = slot != block;
+      slot = block;
       high_refs += high;
       low_misses += differ & (high ^ 1);
       if constexpr (kRetain) {
@@ -190,7 +216,9 @@ class Simulator final : public ConfigSimulator {
         // misprediction for every change of level).
         asm("" : "+r"(first_touch));
         if (first_touch != 0) [[unlikely]] {
-          if (retain_insert(block, first_record + i + 1)) high_misses += config_.count_loads;
+          if (high_.insert_after_filter(block)) {
+            high_misses += count_load(first_record + i + 1);
+          }
         }
       } else {
         high_misses += differ & high;
@@ -199,76 +227,79 @@ class Simulator final : public ConfigSimulator {
     count_fast(count, high_refs, high_misses, low_misses);
   }
 
-  // feed_flat for a group: the record and its level are read once; each
-  // member's low cache is one slot update (high-level records write the
-  // dummy slot); under retain the leader's filter stands for all, and a first
-  // touch is recorded in every member (whose loads are then equal).
-  void feed_group_flat(const Record* records, std::size_t count, std::uint64_t first_record) {
-    constexpr std::size_t kMaxGroup = 8;
-    const std::size_t group_size = std::min(group_.size(), kMaxGroup);
-    std::uint64_t* tables[kMaxGroup];
-    std::uint64_t masks[kMaxGroup];
-    std::uint64_t dummies[kMaxGroup];
-    std::uint64_t low_misses[kMaxGroup] = {};
-    for (std::size_t g = 0; g < group_size; ++g) {
-      tables[g] = group_[g]->table_.data();
-      masks[g] = group_[g]->low_mask_;
-      dummies[g] = group_[g]->dummy_slot_;
+  // feed_flat of several members, each with its own K, low table and high
+  // table or retain set: each record is read once.
+  void feed_flat_together(const Record* records, std::size_t count, std::uint64_t first_record)
+    requires kTogether
+  {
+    const std::size_t members = std::min(together_.size(), kMaxTogether);
+    std::uint32_t split_levels[kMaxTogether];
+    std::uint64_t* low_slots[kMaxTogether];
+    std::uint64_t low_masks[kMaxTogether];
+    std::uint64_t* high_slots[kMaxTogether];
+    std::uint64_t high_masks[kMaxTogether];
+    std::uint64_t high_refs[kMaxTogether] = {};
+    std::uint64_t high_misses[kMaxTogether] = {};
+    std::uint64_t low_misses[kMaxTogether] = {};
+    for (std::size_t m = 0; m < members; ++m) {
+      Simulator& member = *together_[m];
+      split_levels[m] = member.router_.split_level;
+      low_slots[m] = member.low_.slots();
+      low_masks[m] = member.low_.mask();
+      if constexpr (kRetain) {
+        high_slots[m] = member.high_.filter().slots();
+        high_masks[m] = member.high_.filter().mask();
+      } else {
+        high_slots[m] = member.high_.slots();
+        high_masks[m] = member.high_.mask();
+      }
     }
-    const unsigned shift = block_shift_;
-    std::uint64_t* const filter = table_.data() + high_offset_;
-    const std::uint64_t filter_mask = high_mask_;
-    const std::uint64_t split_level = split_level_;
-    std::uint64_t high_refs = 0;
+    const unsigned shift = shift_;
     for (std::size_t i = 0; i < count; ++i) {
       const std::uint64_t block = records[i].address >> shift;
-      std::uint64_t high = 0;
-      if constexpr (kSplit) high = records[i].tag < split_level;
-      const std::uint64_t select = std::uint64_t{0} - high;  // all ones when high
-      for (std::size_t g = 0; g < group_size; ++g) {
-        const std::uint64_t index = (block & masks[g] & ~select) | (dummies[g] & select);
-        const std::uint64_t differ = tables[g][index] != block;
-        tables[g][index] = block;
-        low_misses[g] += differ & (high ^ 1);
-      }
-      if constexpr (kRetain) {
-        high_refs += high;
-        std::uint64_t& slot = filter[block & filter_mask];
-        std::uint64_t first_touch = static_cast<std::uint64_t>(slot != block) & high;
-        asm("" : "+r"(first_touch));  // see feed_flat
-        if (first_touch != 0) [[unlikely]] {
-          for (std::size_t g = 0; g < group_size; ++g) group_[g]->group_first_touch(block, first_record + i + 1);
+      const Tag tag = records[i].tag;
+      for (std::size_t m = 0; m < members; ++m) {
+        const std::uint64_t high = tag < split_levels[m];
+        // Branches here measured faster than pick_slot's arithmetic.
+        std::uint64_t* const slots = high ? high_slots[m] : low_slots[m];
+        std::uint64_t& slot = slots[block & (high ? high_masks[m] : low_masks[m])];
+        const std::uint64_t differ = slot != block;
+        slot = block;
+        high_refs[m] += high;
+        low_misses[m] += differ & (high ^ 1);
+        if constexpr (kRetain) {
+          std::uint64_t first_touch = differ & high;
+          asm("" : "+r"(first_touch));  // see feed_flat
+          if (first_touch != 0) [[unlikely]] {
+            Simulator& member = *together_[m];
+            if (member.high_.insert_after_filter(block)) {
+              high_misses[m] += member.count_load(first_record + i + 1);
+            }
+          }
+        } else {
+          high_misses[m] += differ & high;
         }
       }
     }
-    for (std::size_t g = 0; g < group_size; ++g) {
-      group_[g]->count_fast(count, high_refs, group_[g]->pending_high_misses_, low_misses[g]);
-      group_[g]->pending_high_misses_ = 0;
+    for (std::size_t m = 0; m < members; ++m) {
+      together_[m]->count_fast(count, high_refs[m], high_misses[m], low_misses[m]);
     }
-  }
-
-  // A retained block first seen by the group's leader this frame.
-  [[gnu::noinline]] void group_first_touch(std::uint64_t block, std::uint64_t record_number) {
-    table_[high_offset_ + (block & high_mask_)] = block;
-    if (retain_insert(block, record_number)) pending_high_misses_ += config_.count_loads;
   }
 
   // Fast path with a set-associative cache: one block per record.
   // Din addresses need no rounding here: blocks are at least 4 bytes.
   void feed_blocks(const Record* records, std::size_t count, std::uint64_t first_record) {
-    const unsigned shift = block_shift_;
+    const unsigned shift = shift_;
     std::uint64_t high_refs = 0;
     std::uint64_t high_misses = 0;
     std::uint64_t low_misses = 0;
     for (std::size_t i = 0; i < count; ++i) {
       const std::uint64_t block = records[i].address >> shift;
-      bool high = false;
-      if constexpr (kSplit) high = records[i].tag < split_level_;
-      if (high) {
+      if (router_.high(records[i].tag)) {
         ++high_refs;
         high_misses += high_access(block, first_record + i + 1);
       } else {
-        low_misses += low_access(block);
+        low_misses += low_.access(block);
       }
     }
     count_fast(count, high_refs, high_misses, low_misses);
@@ -284,85 +315,42 @@ class Simulator final : public ConfigSimulator {
     counters_.low_misses += low_misses;
   }
 
-  bool low_access(std::uint64_t block) {
-    if (!low_direct_) return low_cache_->access(block);
-    std::uint64_t& slot = table_[block & low_mask_];
-    const bool miss = slot != block;
-    slot = block;
-    return miss;
-  }
-
   // A high-level fetch; returns whether it counts as a miss.
   bool high_access(std::uint64_t block, std::uint64_t record_number) {
     if constexpr (kRetain) {
-      std::uint64_t& filter = table_[high_offset_ + (block & high_mask_)];
-      if (filter == block) return false;
-      filter = block;
-      return retain_insert(block, record_number) && config_.count_loads;
+      return high_.access(block) && count_load(record_number);
     } else {
-      if (!high_direct_) return high_cache_->access(block);
-      std::uint64_t& slot = table_[high_offset_ + (block & high_mask_)];
-      const bool miss = slot != block;
-      slot = block;
-      return miss;
+      return high_.access(block);
     }
   }
 
-  // A block missing from the retain filter: true when it is a new load.
-  [[gnu::noinline]] bool retain_insert(std::uint64_t block, std::uint64_t record_number) {
-    if (!retained_.insert(block)) return false;
+  // A new load of the retained high cache: whether it counts as a miss.
+  bool count_load(std::uint64_t record_number) {
     ++counters_.high_loads;
-    if (retained_.count() > retained_.capacity()) throw_does_not_fit(record_number);
-    return true;
-  }
-
-  void invalidate(bool high, std::uint64_t block) {
-    if (!high) {
-      if (!low_direct_) {
-        low_cache_->invalidate(block);
-      } else if (std::uint64_t& slot = table_[block & low_mask_]; slot == block) {
-        slot = NodeCache::kInvalid;
-      }
-    } else if constexpr (!kRetain) {
-      if (!high_direct_) {
-        high_cache_->invalidate(block);
-      } else if (std::uint64_t& slot = table_[high_offset_ + (block & high_mask_)];
-                 slot == block) {
-        slot = NodeCache::kInvalid;
-      }
+    if (high_.count() > high_.capacity()) {
+      throw_high_levels_do_not_fit(context_, config_, record_number, router_.split_level,
+                                   animation_frame_, high_.capacity());
     }
+    return config_.count_loads;
   }
 
   // Any record: types, spans, other streams, per-level counts.
   void feed_generic(const Record* records, std::size_t count, std::uint64_t first_record) {
-    const unsigned shift = block_shift_;
     for (std::size_t i = 0; i < count; ++i) {
       const Record& record = records[i];
       const Tag tag = record.tag;
       if (is_other_stream(tag)) continue;
-      std::uint64_t first_block;
-      std::uint64_t last_block;
-      if constexpr (kAlignedDin) {
-        first_block = record.address >> shift;
-        last_block = first_block;
-      } else {
-        const Record view = formats::dinero_view(record, context_.form);
-        first_block = view.address >> shift;
-        const std::uint64_t span = view.size == 0 ? 0 : view.size - 1;
-        last_block = (view.address + span) >> shift;
-        if (last_block < first_block) last_block = first_block;  // wraps past 2^64
-      }
+      const BlockRange blocks = blocks_of(record, context_.form, shift_, aligned_din_);
       ++counters_.refs;
-      bool high = false;
-      if constexpr (kSplit) high = tag < split_level_;
+      const bool high = router_.high(tag);
       if (high) {
         ++counters_.high_refs;
       } else {
         ++counters_.low_refs;
       }
-      if constexpr (kPerLevel) count_level_ref(tag);
+      levels_.count_ref(tag);
       const AccessType type = record.type;
-      for (std::uint64_t block = first_block;; ++block) {
+      for (std::uint64_t block = blocks.first;; ++block) {
         if (type <= AccessType::Misc) {
           ++counters_.fetches;
           bool miss;
@@ -370,97 +358,124 @@ class Simulator final : public ConfigSimulator {
             miss = high_access(block, first_record + i + 1);
             counters_.high_misses += miss;
           } else {
-            miss = low_access(block);
+            miss = low_.access(block);
             counters_.low_misses += miss;
           }
-          if constexpr (kPerLevel) {
-            if (miss) count_level_miss(tag);
-          }
+          if (miss) levels_.count_miss(tag);
         } else if (type == AccessType::Invalidate) {
-          invalidate(high, block);
+          // A retained high cache keeps its blocks for the frame.
+          if (!high) {
+            low_.invalidate(block);
+          } else if constexpr (!kRetain) {
+            high_.invalidate(block);
+          }
         }
-        if (block == last_block) break;
+        if (block == blocks.last) break;
       }
     }
   }
 
-  void count_level_ref(Tag tag) {
-    if (tag >= level_refs_.size()) {
-      level_refs_.resize(tag + 1u, 0);
-      level_misses_.resize(tag + 1u, 0);
-    }
-    ++level_refs_[tag];
-  }
-  void count_level_miss(Tag tag) { ++level_misses_[tag]; }
-
-  [[noreturn]] void throw_does_not_fit(std::uint64_t record_number) const {
-    throw UsageError(fmt::format(
-        "{}: record {}: the high-level nodes (levels < {}) touched in animation frame {} do not "
-        "fit the high-level cache: more than {} distinct {}-byte blocks, but the {}-byte high "
-        "cache (of a {}-byte total, low cache {} bytes) holds {}; give a smaller --split-level "
-        "or a larger --high-size",
-        context_.source_name, record_number, split_level_, animation_frame_,
-        retained_.capacity(), config_.block, config_.high_size, config_.size, config_.low_size,
-        retained_.capacity()));
-  }
-
   NodeCacheConfig config_;
   const TraceContext& context_;
-  std::uint32_t split_level_;
-  unsigned block_shift_ = 0;
-  // Direct-mapped low cache, then the direct-mapped high cache or the retain
-  // filter (blocks already loaded this frame, found with one compare).
-  std::vector<std::uint64_t> table_;
-  bool low_direct_ = false;
-  bool high_direct_ = false;
-  std::uint64_t low_mask_ = 0;
-  std::uint64_t high_mask_ = 0;
-  std::uint64_t high_offset_ = 0;
-  std::uint64_t dummy_slot_ = 0;
-  std::optional<NodeCache> low_cache_;   // set-associative low (or single) cache
-  std::optional<NodeCache> high_cache_;  // set-associative high cache under `cache`
-  RetainedBlocks retained_;
-  std::vector<Simulator*> group_;  // feed_group's members (this one first)
-  std::uint64_t pending_high_misses_ = 0;  // counted loads of a group's chunk
+  unsigned shift_;
+  bool aligned_din_;
+  Router router_;
+  Low low_;
+  High high_;
+  Levels levels_;
   std::uint64_t animation_frame_ = 0;
   Counters counters_;
-  std::vector<std::uint64_t> level_refs_;
-  std::vector<std::uint64_t> level_misses_;
+  std::vector<Simulator*> together_;  // feed_together's members, this one first
+  bool fed_by_leader_ = false;
 };
 
-template <bool kSplit, bool kRetain, bool kPerLevel>
-std::unique_ptr<ConfigSimulator> make_simulator_3(const NodeCacheConfig& config,
-                                                  std::uint32_t split_level,
-                                                  const TraceContext& context) {
-  const bool aligned_din = context.form == formats::RecordForm::Din && config.block >= 4;
-  if (aligned_din) {
-    return std::make_unique<Simulator<kSplit, kRetain, kPerLevel, true>>(config, split_level,
-                                                                          context);
+template <typename Router, typename Low, typename High>
+std::unique_ptr<ConfigSimulator> compose(const NodeCacheConfig& config, std::uint32_t split_level,
+                                         const TraceContext& context, bool per_level, Low low,
+                                         High high) {
+  if (per_level) {
+    return std::make_unique<Simulator<Router, Low, High, LevelCounts>>(
+        config, split_level, context, std::move(low), std::move(high));
   }
-  return std::make_unique<Simulator<kSplit, kRetain, kPerLevel, false>>(config, split_level,
-                                                                         context);
+  return std::make_unique<Simulator<Router, Low, High, NoLevelCounts>>(
+      config, split_level, context, std::move(low), std::move(high));
 }
 
-template <bool kSplit, bool kRetain>
-std::unique_ptr<ConfigSimulator> make_simulator_2(const NodeCacheConfig& config,
-                                                  std::uint32_t split_level,
-                                                  const TraceContext& context, bool per_level) {
-  if (per_level) return make_simulator_3<kSplit, kRetain, true>(config, split_level, context);
-  return make_simulator_3<kSplit, kRetain, false>(config, split_level, context);
+// The low side chosen, the high side next.
+template <typename Low>
+std::unique_ptr<ConfigSimulator> with_high(const NodeCacheConfig& config, std::uint32_t split_level,
+                                           const TraceContext& context, bool per_level, Low low) {
+  if (config.scheme == Scheme::Single) {
+    return compose<SingleRouter>(config, split_level, context, per_level, std::move(low),
+                                 NoCache{});
+  }
+  if (config.high_policy == HighPolicy::Retain) {
+    return compose<SplitRouter>(config, split_level, context, per_level, std::move(low),
+                                RetainSet(config.high_size / config.block));
+  }
+  if (config.high_assoc == 1) {
+    return compose<SplitRouter>(config, split_level, context, per_level, std::move(low),
+                                DirectMappedTable(config.high_size / config.block));
+  }
+  return compose<SplitRouter>(
+      config, split_level, context, per_level, std::move(low),
+      SetAssociativeCache({config.high_size, config.block, config.high_assoc, config.policy},
+                          0x5eed + 1));
+}
+
+template <typename High>
+std::vector<std::unique_ptr<ConfigSimulator>> together(const std::vector<NodeCacheConfig>& configs,
+                                                       const std::vector<std::uint32_t>& split_levels,
+                                                       const TraceContext& context) {
+  using Member = Simulator<SplitRouter, DirectMappedTable, High, NoLevelCounts>;
+  std::vector<std::unique_ptr<ConfigSimulator>> simulators;
+  std::vector<Member*> members;
+  for (std::size_t m = 0; m < configs.size(); ++m) {
+    const NodeCacheConfig& config = configs[m];
+    auto high = [&] {
+      if constexpr (std::is_same_v<High, RetainSet>) {
+        return RetainSet(config.high_size / config.block);
+      } else {
+        return DirectMappedTable(config.high_size / config.block);
+      }
+    };
+    auto member = std::make_unique<Member>(config, split_levels[m], context,
+                                           DirectMappedTable(config.low_size / config.block), high());
+    members.push_back(member.get());
+    simulators.push_back(std::move(member));
+  }
+  members.front()->feed_together(members);
+  return simulators;
 }
 
 }  // namespace
 
+std::string together_key(const NodeCacheConfig& config, bool per_level) {
+  if (per_level || config.scheme != Scheme::Split || config.assoc != 1) return {};
+  if (config.high_policy == HighPolicy::Cache && config.high_assoc != 1) return {};
+  return fmt::format("{}/{}", config.block, high_policy_name(config.high_policy));
+}
+
+std::vector<std::unique_ptr<ConfigSimulator>> make_together(
+    const std::vector<NodeCacheConfig>& configs, const std::vector<std::uint32_t>& split_levels,
+    const TraceContext& context) {
+  if (configs.size() > kMaxTogether) throw std::logic_error("make_together: too many members");
+  if (configs.front().high_policy == HighPolicy::Retain) {
+    return together<RetainSet>(configs, split_levels, context);
+  }
+  return together<DirectMappedTable>(configs, split_levels, context);
+}
+
 std::unique_ptr<ConfigSimulator> make_simulator(const NodeCacheConfig& config,
                                                 std::uint32_t split_level,
                                                 const TraceContext& context, bool per_level) {
-  if (config.scheme == Scheme::Single) {
-    return make_simulator_2<false, false>(config, split_level, context, per_level);
+  const CacheGeometry low{config.scheme == Scheme::Split ? config.low_size : config.size,
+                          config.block, config.assoc, config.policy};
+  if (low.assoc == 1) {
+    return with_high(config, split_level, context, per_level,
+                     DirectMappedTable(low.size / low.block));
   }
-  if (config.high_policy == HighPolicy::Retain) {
-    return make_simulator_2<true, true>(config, split_level, context, per_level);
-  }
-  return make_simulator_2<true, false>(config, split_level, context, per_level);
+  return with_high(config, split_level, context, per_level, SetAssociativeCache(low, 0x5eed));
 }
 
 }  // namespace nodetrace::cachesim

@@ -24,19 +24,18 @@ class ConfigSimulator {
   virtual ResultRow result() const = 0;
   virtual void append_level_rows(std::vector<LevelRow>& rows) const = 0;
 
-  // Configurations with equal group keys (same kind, block, rule for K, all
-  // direct mapped) can be simulated together by one loop over the records:
-  // the leader's feed_group(members) is then feed() of each member, on chunks
-  // of demand fetches of one block each (returns false for other chunks,
-  // which the members take one by one). Empty key: no grouping.
-  virtual std::string group_key() const { return {}; }
-  virtual bool feed_group(const std::vector<ConfigSimulator*>& members, const formats::Record* records,
-                          std::size_t count, std::uint64_t first_record,
-                          const PreparedBatch& prepared) {
-    (void)members, (void)records, (void)count, (void)first_record, (void)prepared;
-    return false;
-  }
 };
+
+// Split configurations whose caches are all direct mapped (the retain set
+// or a direct-mapped high cache), of one block size, can be fed by one loop
+// whatever their K: those of equal non-empty keys, at most kMaxTogether.
+inline constexpr std::size_t kMaxTogether = 8;
+std::string together_key(const NodeCacheConfig& config, bool per_level);
+// Their simulators (`split_levels`: each one's K of the first animation
+// frame); the first one's feed() feeds all, the others' do nothing.
+std::vector<std::unique_ptr<ConfigSimulator>> make_together(
+    const std::vector<NodeCacheConfig>& configs, const std::vector<std::uint32_t>& split_levels,
+    const TraceContext& context);
 
 // The simulator of one configuration with K `split_level` for the first
 // animation frame (begin_frame gives each later frame's).

@@ -9,6 +9,7 @@
 #include "nodetrace/cachesim/report.hpp"
 #include "nodetrace/cachesim/sweep.hpp"
 #include "nodetrace/formats/error.hpp"
+#include "record_blocks.hpp"
 
 namespace nodetrace::cachesim {
 
@@ -44,15 +45,12 @@ void feed_stack(Stream& stream, const Record& record, formats::RecordForm form,
         context.source_name, record_number));
   }
   if (record.type > AccessType::Misc) return;  // copy-back: not a demand fetch
-  const Record view = formats::dinero_view(record, form);
-  const unsigned shift = static_cast<unsigned>(std::countr_zero(stream.block));
-  const std::uint64_t first = view.address >> shift;
-  std::uint64_t last = (view.address + (view.size == 0 ? 0 : view.size - 1)) >> shift;
-  if (last < first) last = first;
-  for (std::uint64_t block = first;; ++block) {
+  const BlockRange blocks =
+      blocks_of(record, form, static_cast<unsigned>(std::countr_zero(stream.block)), false);
+  for (std::uint64_t block = blocks.first;; ++block) {
     ++stream.full_fetches;
     stream.full.count(stream.stack->access(block));
-    if (block == last) break;
+    if (block == blocks.last) break;
   }
 }
 

@@ -54,6 +54,10 @@ bool NodeCache::access_associative(std::uint64_t block) {
   return true;
 }
 
+void NodeCache::assign_set(std::uint64_t set, const std::vector<std::uint64_t>& ways) {
+  std::copy(ways.begin(), ways.begin() + assoc_, tags_.begin() + static_cast<std::ptrdiff_t>(set * assoc_));
+}
+
 void NodeCache::invalidate(std::uint64_t block) {
   std::uint64_t* const ways = tags_.data() + (block & set_mask_) * assoc_;
   for (std::uint32_t way = 0; way < assoc_; ++way) {

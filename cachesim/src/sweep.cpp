@@ -5,8 +5,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <map>
+#include <set>
 
 #include "config_simulator.hpp"
+#include "stack_group.hpp"
 #include "nodetrace/formats/error.hpp"
 
 namespace nodetrace::cachesim {
@@ -34,46 +37,104 @@ void Sweep::start(const formats::RecordBatch& first_batch) {
   started_ = true;
   plan_ = std::make_unique<SplitLevelPlan>(configs_, context_);
   plan_->begin_frame(first_batch.marker ? &*first_batch.marker : nullptr);
+  // Units fed by one loop: a stack group (configurations that set stacks
+  // answer together, two or more of one key), split configurations of
+  // tables only fed together, or one configuration.
+  simulators_.resize(configs_.size());
+  std::vector<std::vector<std::size_t>> units;
+  std::vector<unsigned> unit_cost;
+  std::map<std::string, std::vector<std::size_t>> by_key;
+  std::vector<std::size_t> alone;
   for (std::size_t i = 0; i < configs_.size(); ++i) {
-    simulators_.push_back(make_simulator(configs_[i], plan_->current(i), context_, per_level_));
+    const std::string key = stack_group_key(configs_[i]);
+    if (key.empty()) {
+      alone.push_back(i);
+    } else {
+      by_key[key].push_back(i);
+    }
+  }
+  for (auto& [key, members] : by_key) {
+    if (members.size() == 1) {
+      alone.push_back(members.front());
+      continue;
+    }
+    std::vector<NodeCacheConfig> member_configs;
+    std::set<std::pair<std::uint64_t, std::uint32_t>> shapes;  // the stacks' set counts, about
+    for (const std::size_t i : members) {
+      member_configs.push_back(configs_[i]);
+      const NodeCacheConfig& config = configs_[i];
+      shapes.emplace(config.scheme == Scheme::Split ? config.low_size : config.size, config.assoc);
+    }
+    auto group = make_stack_group(member_configs, plan_->current(members.front()), context_,
+                                  per_level_);
+    for (std::size_t m = 0; m < members.size(); ++m) simulators_[members[m]] = std::move(group[m]);
+    unit_cost.push_back(static_cast<unsigned>(2 + shapes.size()));
+    units.push_back(std::move(members));
+  }
+  // Split configurations of tables only, of other K: up to kMaxTogether fed
+  // by one loop (each record read once).
+  std::sort(alone.begin(), alone.end());
+  std::map<std::string, std::vector<std::vector<std::size_t>>> together;
+  std::vector<std::size_t> by_itself;
+  for (const std::size_t i : alone) {
+    const std::string key = together_key(configs_[i], per_level_);
+    if (key.empty()) {
+      by_itself.push_back(i);
+      continue;
+    }
+    auto& groups = together[key];
+    if (groups.empty() || groups.back().size() == kMaxTogether) groups.emplace_back();
+    groups.back().push_back(i);
+  }
+  for (auto& [key, groups] : together) {
+    for (auto& members : groups) {
+      if (members.size() == 1) {
+        by_itself.push_back(members.front());
+        continue;
+      }
+      std::vector<NodeCacheConfig> member_configs;
+      std::vector<std::uint32_t> split_levels;
+      for (const std::size_t i : members) {
+        member_configs.push_back(configs_[i]);
+        split_levels.push_back(plan_->current(i));
+      }
+      auto group = make_together(member_configs, split_levels, context_);
+      for (std::size_t m = 0; m < members.size(); ++m) simulators_[members[m]] = std::move(group[m]);
+      unit_cost.push_back(static_cast<unsigned>(2 * members.size()));
+      units.push_back(std::move(members));
+    }
+  }
+  for (const std::size_t i : by_itself) {
+    simulators_[i] = make_simulator(configs_[i], plan_->current(i), context_, per_level_);
+    const NodeCacheConfig& config = configs_[i];
+    // A split configuration does about twice the work of a single one.
+    unit_cost.push_back((config.scheme == Scheme::Split ? 2u : 1u) * (config.assoc == 1 ? 1u : 4u));
+    units.push_back({i});
   }
   open_frames_.assign(simulators_.size(), OpenFrame{});
   frame_rows_.assign(simulators_.size(), {});
-  // Parts of about equal cost (a split configuration does about twice the
-  // work of a single one), filled greedily, the costliest first.
+  // Parts of about equal cost, filled greedily, the costliest unit first;
+  // each unit is fed by its first member.
   const std::size_t part_count =
-      std::max<std::size_t>(1, std::min(requested_parts_, simulators_.size()));
+      std::max<std::size_t>(1, std::min(requested_parts_, units.size()));
   parts_.assign(part_count, Part{});
-  std::vector<std::size_t> order(simulators_.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  auto cost = [&](std::size_t i) {
-    const NodeCacheConfig& config = configs_[i];
-    return (config.scheme == Scheme::Split ? 2u : 1u) * (config.assoc == 1 ? 1u : 4u);
-  };
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return cost(a) > cost(b); });
+  std::vector<std::size_t> order(units.size());
+  for (std::size_t u = 0; u < order.size(); ++u) order[u] = u;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return unit_cost[a] != unit_cost[b] ? unit_cost[a] > unit_cost[b] : units[a] < units[b];
+  });
   std::vector<unsigned> load(part_count, 0);
-  for (const std::size_t i : order) {
+  for (const std::size_t u : order) {
     const std::size_t lightest =
         static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
-    parts_[lightest].simulators.push_back(i);
-    load[lightest] += cost(i);
+    Part& part = parts_[lightest];
+    part.simulators.insert(part.simulators.end(), units[u].begin(), units[u].end());
+    part.feeders.push_back(units[u].front());
+    load[lightest] += unit_cost[u];
   }
   for (Part& part : parts_) {
     std::sort(part.simulators.begin(), part.simulators.end());
-    constexpr std::size_t kMaxGroup = 8;  // as Simulator::feed_group_flat
-    for (const std::size_t i : part.simulators) {
-      const std::string key = simulators_[i]->group_key();
-      auto group = std::find_if(part.groups.begin(), part.groups.end(), [&](const auto& members) {
-        return !key.empty() && members.size() < kMaxGroup &&
-               simulators_[members.front()]->group_key() == key;
-      });
-      if (group == part.groups.end()) {
-        part.groups.push_back({i});
-      } else {
-        group->push_back(i);
-      }
-    }
+    std::sort(part.feeders.begin(), part.feeders.end());
   }
 }
 
@@ -151,18 +212,8 @@ void Sweep::feed_part(const formats::RecordBatch& batch, std::size_t part_index)
     const std::size_t chunk = std::min(kChunk, count - begin);
     const std::uint64_t first_record = batch.first_record + begin;
     prepare(records + begin, chunk, first_record, part);
-    for (const auto& group : part.groups) {
-      if (group.size() > 1) {
-        part.group_members.clear();
-        for (const std::size_t s : group) part.group_members.push_back(simulators_[s].get());
-        if (simulators_[group.front()]->feed_group(part.group_members, records + begin, chunk,
-                                                   first_record, part.prepared)) {
-          continue;
-        }
-      }
-      for (const std::size_t s : group) {
-        simulators_[s]->feed(records + begin, chunk, first_record, part.prepared);
-      }
+    for (const std::size_t s : part.feeders) {
+      simulators_[s]->feed(records + begin, chunk, first_record, part.prepared);
     }
   }
 }

@@ -92,6 +92,16 @@ bool has_split(const std::vector<NodeCacheConfig>& configs);
 [[noreturn]] void throw_untagged_record(const TraceContext& context, std::uint64_t record_number,
                                         std::string_view what);
 
+// The error for a `retain` high cache that the high levels of an animation
+// frame do not fit: more than `capacity` distinct blocks at record
+// `record_number` (1-based) with K `split_level`.
+[[noreturn]] void throw_high_levels_do_not_fit(const TraceContext& context,
+                                               const NodeCacheConfig& config,
+                                               std::uint64_t record_number,
+                                               std::uint32_t split_level,
+                                               std::uint64_t animation_frame,
+                                               std::uint64_t capacity);
+
 // The note for records of other streams (p, t), counted apart.
 std::string other_streams_note(const std::string& trace, std::uint64_t records);
 

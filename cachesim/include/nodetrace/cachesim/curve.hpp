@@ -2,7 +2,9 @@
 // size from one set to max_size, for the given block sizes and
 // associativities, of single caches and of the low cache of the split
 // scheme, in one pass over the trace. Fully associative LRU sizes come from
-// one Mattson stack (lru_stack.hpp); set-associative sizes are simulated each.
+// one Mattson stack (lru_stack.hpp); set-associative sizes from the sweep
+// (set stacks for LRU and direct-mapped caches, one simulation each for FIFO
+// and random).
 #pragma once
 
 #include <cstdint>

@@ -34,6 +34,11 @@ class NodeCache {
   // Removes `block` if resident (Dinero IV's invalidate records).
   void invalidate(std::uint64_t block);
 
+  std::uint64_t sets() const { return set_mask_ + 1; }
+  // Sets the contents of set `set`: `ways` blocks, most recently used first,
+  // kInvalid for free ways (an LRU cache's state as SetStacks::ways_of gives it).
+  void assign_set(std::uint64_t set, const std::vector<std::uint64_t>& ways);
+
  private:
   bool access_associative(std::uint64_t block);
 

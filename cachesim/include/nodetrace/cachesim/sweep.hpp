@@ -102,10 +102,9 @@ class Sweep {
  private:
   struct Part {
     std::vector<std::size_t> simulators;
-    // The part's simulators in groups fed by one loop (see ConfigSimulator::
-    // group_key); a group of one is fed alone.
-    std::vector<std::vector<std::size_t>> groups;
-    std::vector<ConfigSimulator*> group_members;  // scratch for feed_group
+    // The simulators whose feed() is called: one per unit (a stack group
+    // is fed through its first member, for all of them).
+    std::vector<std::size_t> feeders;
     PreparedBatch prepared;
     std::uint64_t other_stream_records = 0;
   };

@@ -1,0 +1,96 @@
+// Hill and Smith's all-associativity simulation: one structure answers every
+// LRU cache of one block size whose set count is one of the given powers of
+// two and whose ways are at most that set count's depth. Each set count
+// keeps per-set LRU stacks (most recent first) as deep as its largest
+// associativity; a fetch misses in a cache of W ways exactly when its block
+// is not among the W most recent blocks of its set.
+//
+// Set counts are walked from the fewest sets up and the walk stops at the
+// first set count where the block is already on top of its set: with bit
+// selection every set of a larger set count is part of a set of a smaller
+// one, so the block is on top there too and nothing changes (the "forest"
+// of direct-mapped caches is the case of depth 1 everywhere).
+//
+// No invalidation: removing a block breaks the inclusion between
+// associativities (a W-way cache then holds a free way that a W+1-way cache
+// fills); a caller with invalidates hands over to per-cache simulation, the
+// stacks giving each cache's contents (ways_of).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace nodetrace::cachesim {
+
+class SetStacks {
+ public:
+  static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+
+  struct Level {
+    unsigned log2_sets = 0;
+    std::uint32_t depth = 1;  // the largest associativity asked of this set count
+  };
+
+  // `levels`: distinct set counts, any order; `by_tag`: misses are also
+  // counted by the fetch's tag (--per-level).
+  explicit SetStacks(std::vector<Level> levels, bool by_tag = false);
+
+  // One demand fetch of `block`; `tag` is counted only with by_tag.
+  void access(std::uint64_t block, unsigned tag = 0) {
+    ++fetches_;
+    for (LevelState& level : levels_) {
+      std::uint64_t* const set = level.stacks + (block & level.mask) * level.depth;
+      if (set[0] == block) return;  // on top here, so on top of every larger set count
+      // position: 0-based place found, or depth when not among the kept
+      // ones (then the oldest kept block falls off). Measured: this plain
+      // loop is faster than a branchless move-to-front.
+      std::uint32_t position = 1;
+      while (position < level.depth && set[position] != block) ++position;
+      const std::uint32_t moved = position < level.depth ? position : level.depth - 1;
+      for (std::uint32_t i = moved; i > 0; --i) set[i] = set[i - 1];
+      set[0] = block;
+      ++level.deeper[position];
+      if (by_tag_) count_tag(level, tag, position);
+    }
+  }
+
+  // Every level one block deep (direct-mapped caches only)?
+  bool direct_mapped() const { return direct_mapped_; }
+  // access() of each block in turn when direct_mapped(), without the walk's
+  // branches: a hit in one set count changes nothing in the larger ones, so
+  // every level is simply updated (no counts by tag).
+  void access_direct_mapped(const std::uint64_t* blocks, std::size_t count);
+
+  std::uint64_t fetches() const { return fetches_; }
+  // Misses of the cache with 2^log2_sets sets and `ways` ways (ways <= its
+  // level's depth); with `tag`, of that tag's fetches only.
+  std::uint64_t misses(unsigned log2_sets, std::uint32_t ways) const;
+  std::uint64_t misses(unsigned log2_sets, std::uint32_t ways, unsigned tag) const;
+  // The `ways` most recent blocks of set `set` (kEmpty where the set holds
+  // fewer), most recent first: the contents of that LRU cache.
+  std::vector<std::uint64_t> ways_of(unsigned log2_sets, std::uint64_t set,
+                                     std::uint32_t ways) const;
+
+ private:
+  struct LevelState {
+    std::uint64_t* stacks = nullptr;
+    std::uint64_t mask = 0;
+    std::uint32_t depth = 1;
+    // deeper[p]: fetches found at 0-based place p >= 1 (p = depth: not
+    // kept); those at place 0 stopped the walk at or before this level.
+    std::uint64_t* deeper = nullptr;
+    std::vector<std::uint64_t> deeper_by_tag;  // [tag * (depth + 1) + p], by_tag only
+    unsigned log2_sets = 0;
+  };
+  const LevelState& level(unsigned log2_sets) const;
+  static void count_tag(LevelState& level, unsigned tag, std::uint32_t position);
+
+  std::vector<LevelState> levels_;
+  std::vector<std::uint64_t> storage_;
+  std::vector<std::uint64_t> counts_;
+  std::uint64_t fetches_ = 0;
+  bool by_tag_ = false;
+  bool direct_mapped_ = true;
+};
+
+}  // namespace nodetrace::cachesim

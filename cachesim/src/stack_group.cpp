@@ -1,0 +1,413 @@
+// The stack group: a router (single, or split by this frame's K) in front
+// of set stacks for the low (or single) caches, set stacks or one retain set
+// for the high caches, and every member's counts read from them.
+#include "stack_group.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <optional>
+
+#include "nodetrace/cachesim/set_stacks.hpp"
+#include "record_blocks.hpp"
+#include "cache_models.hpp"
+
+namespace nodetrace::cachesim {
+
+using formats::AccessType;
+using formats::Record;
+using formats::Tag;
+
+namespace {
+
+// Deeper stacks would cost more than simulating the caches one by one.
+constexpr std::uint32_t kMaxStackWays = 32;
+
+bool stackable(std::uint32_t assoc, ReplacementPolicy policy) {
+  // A direct-mapped cache has no choice to make: every policy is LRU.
+  return assoc <= kMaxStackWays && (assoc == 1 || policy == ReplacementPolicy::Lru);
+}
+
+unsigned log2_sets(std::uint64_t size, std::uint32_t block, std::uint32_t assoc) {
+  return static_cast<unsigned>(std::countr_zero(size / block / assoc));
+}
+
+// One set count per distinct number of sets, as deep as its most ways.
+std::vector<SetStacks::Level> levels_of(const std::vector<std::pair<unsigned, std::uint32_t>>& caches) {
+  std::vector<SetStacks::Level> levels;
+  for (const auto& [log2, ways] : caches) {
+    auto at = std::find_if(levels.begin(), levels.end(),
+                           [&](const SetStacks::Level& level) { return level.log2_sets == log2; });
+    if (at == levels.end()) {
+      levels.push_back({log2, ways});
+    } else {
+      at->depth = std::max(at->depth, ways);
+    }
+  }
+  return levels;
+}
+
+class StackGroup {
+ public:
+  StackGroup(const std::vector<NodeCacheConfig>& configs, std::uint32_t split_level,
+             const TraceContext& context, bool per_level)
+      : context_(context),
+        split_(configs.front().scheme == Scheme::Split),
+        retain_(split_ && configs.front().high_policy == HighPolicy::Retain),
+        per_level_(per_level),
+        aligned_din_(context.form == formats::RecordForm::Din && configs.front().block >= 4),
+        shift_(static_cast<unsigned>(std::countr_zero(configs.front().block))),
+        split_level_(split_level),
+        low_(levels_of(cache_shapes(configs, false)), per_level),
+        retained_(retain_ ? tightest_capacity(configs) : 0) {
+    for (const NodeCacheConfig& config : configs) {
+      Member member;
+      member.config = config;
+      const std::uint64_t low_size = split_ ? config.low_size : config.size;
+      member.low_log2_sets = log2_sets(low_size, config.block, config.assoc);
+      if (split_ && !retain_) {
+        member.high_log2_sets = log2_sets(config.high_size, config.block, config.high_assoc);
+      }
+      members_.push_back(std::move(member));
+    }
+    if (split_ && !retain_) high_.emplace(levels_of(cache_shapes(configs, true)), per_level);
+    if (retain_) {
+      const std::uint64_t capacity = retained_.capacity();
+      for (std::size_t m = 0; m < configs.size(); ++m) {
+        if (configs[m].high_size / configs[m].block == capacity) {
+          tightest_ = m;
+          break;
+        }
+      }
+    }
+  }
+
+  void begin_frame(std::uint64_t animation_frame, std::uint32_t split_level) {
+    animation_frame_ = animation_frame;
+    split_level_ = split_level;
+    if (retain_) retained_.begin_frame();
+  }
+
+  void feed(const Record* records, std::size_t count, std::uint64_t first_record,
+            const PreparedBatch& prepared) {
+    if (!handed_over_ && prepared.demand_only &&
+        prepared.span_bits < members_.front().config.block) {
+      if (!split_) {
+        per_level_ ? feed_blocks<false, false, true>(records, count, first_record)
+                   : feed_blocks<false, false, false>(records, count, first_record);
+      } else if (retain_) {
+        per_level_ ? feed_blocks<true, true, true>(records, count, first_record)
+                   : feed_blocks<true, true, false>(records, count, first_record);
+      } else {
+        per_level_ ? feed_blocks<true, false, true>(records, count, first_record)
+                   : feed_blocks<true, false, false>(records, count, first_record);
+      }
+      return;
+    }
+    if (!handed_over_) {
+      const bool invalidates = std::any_of(records, records + count, [](const Record& record) {
+        return record.type == AccessType::Invalidate;
+      });
+      if (invalidates) hand_over();
+    }
+    feed_generic(records, count, first_record);
+  }
+
+  ResultRow result(std::size_t m) const {
+    const Member& member = members_[m];
+    ResultRow row;
+    row.trace = context_.trace;
+    row.config = member.config;
+    row.refs = refs_;
+    row.fetches = fetches_;
+    const std::uint64_t low_misses =
+        low_.misses(member.low_log2_sets, member.config.assoc) + member.low_misses_after;
+    if (!split_) {
+      row.misses = low_misses;
+      return row;
+    }
+    row.split_level = split_level_;
+    row.high_refs = high_refs_;
+    row.low_refs = refs_ - high_refs_;
+    row.low_misses = low_misses;
+    if (retain_) {
+      row.high_loads = loads_;
+      row.high_misses = member.config.count_loads ? loads_ : 0;
+    } else {
+      row.high_misses = high_->misses(member.high_log2_sets, member.config.high_assoc) +
+                        member.high_misses_after;
+    }
+    row.misses = row.high_misses + row.low_misses;
+    return row;
+  }
+
+  void append_level_rows(std::size_t m, std::vector<LevelRow>& rows) const {
+    const Member& member = members_[m];
+    for (std::size_t tag = 0; tag < refs_by_tag_.size(); ++tag) {
+      if (refs_by_tag_[tag] == 0) continue;
+      const auto level = static_cast<unsigned>(tag);
+      std::uint64_t misses = low_.misses(member.low_log2_sets, member.config.assoc, level);
+      if (tag < member.misses_by_tag_after.size()) misses += member.misses_by_tag_after[tag];
+      if (retain_) {
+        if (member.config.count_loads && tag < loads_by_tag_.size()) misses += loads_by_tag_[tag];
+      } else if (split_) {
+        misses += high_->misses(member.high_log2_sets, member.config.high_assoc, level);
+      }
+      rows.push_back(LevelRow{context_.trace, member.config.scheme, member.config.size, level,
+                              refs_by_tag_[tag], misses});
+    }
+  }
+
+ private:
+  struct Member {
+    NodeCacheConfig config;
+    unsigned low_log2_sets = 0;
+    unsigned high_log2_sets = 0;
+    // After a hand-over (an invalidate): the member's own caches, filled
+    // from the stacks, and the misses they count from then on.
+    std::optional<NodeCache> low_cache;
+    std::optional<NodeCache> high_cache;
+    std::uint64_t low_misses_after = 0;
+    std::uint64_t high_misses_after = 0;
+    std::vector<std::uint64_t> misses_by_tag_after;
+  };
+
+  static std::vector<std::pair<unsigned, std::uint32_t>> cache_shapes(
+      const std::vector<NodeCacheConfig>& configs, bool high) {
+    std::vector<std::pair<unsigned, std::uint32_t>> shapes;
+    for (const NodeCacheConfig& config : configs) {
+      if (high) {
+        shapes.emplace_back(log2_sets(config.high_size, config.block, config.high_assoc),
+                            config.high_assoc);
+      } else {
+        const std::uint64_t size = config.scheme == Scheme::Split ? config.low_size : config.size;
+        shapes.emplace_back(log2_sets(size, config.block, config.assoc), config.assoc);
+      }
+    }
+    return shapes;
+  }
+
+  static std::uint64_t tightest_capacity(const std::vector<NodeCacheConfig>& configs) {
+    std::uint64_t capacity = ~std::uint64_t{0};
+    for (const NodeCacheConfig& config : configs) {
+      capacity = std::min<std::uint64_t>(capacity, config.high_size / config.block);
+    }
+    return capacity;
+  }
+
+  // Every record one demand fetch of one block (din addresses need no
+  // rounding: blocks are at least 4 bytes).
+  template <bool kSplit, bool kRetain, bool kByTag>
+  void feed_blocks(const Record* records, std::size_t count, std::uint64_t first_record) {
+    const unsigned shift = shift_;
+    const Tag split_level = static_cast<Tag>(std::min<std::uint32_t>(split_level_, 0xFFFF));
+    std::uint64_t high_refs = 0;
+    if (!kByTag && low_.direct_mapped()) {
+      // The low blocks in order, then one branchless pass over them.
+      low_blocks_.clear();
+      for (std::size_t i = 0; i < count; ++i) {
+        const std::uint64_t block = records[i].address >> shift;
+        if (kSplit && records[i].tag < split_level) {
+          ++high_refs;
+          if constexpr (kRetain) {
+            retain_access(block, records[i].tag, first_record + i + 1);
+          } else {
+            high_->access(block, records[i].tag);
+          }
+        } else {
+          low_blocks_.push_back(block);
+        }
+      }
+      low_.access_direct_mapped(low_blocks_.data(), low_blocks_.size());
+      refs_ += count;
+      fetches_ += count;
+      high_refs_ += high_refs;
+      return;
+    }
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint64_t block = records[i].address >> shift;
+      const Tag tag = records[i].tag;
+      if constexpr (kByTag) count_ref(tag);
+      if (kSplit && tag < split_level) {
+        ++high_refs;
+        if constexpr (kRetain) {
+          retain_access(block, tag, first_record + i + 1);
+        } else {
+          high_->access(block, tag);
+        }
+      } else {
+        low_.access(block, tag);
+      }
+    }
+    refs_ += count;
+    fetches_ += count;
+    high_refs_ += high_refs;
+  }
+
+  void count_ref(Tag tag) {
+    if (tag >= refs_by_tag_.size()) refs_by_tag_.resize(tag + 1u, 0);
+    ++refs_by_tag_[tag];
+  }
+
+  void retain_access(std::uint64_t block, Tag tag, std::uint64_t record_number) {
+    if (!retained_.access(block)) return;
+    ++loads_;
+    if (per_level_) {
+      if (tag >= loads_by_tag_.size()) loads_by_tag_.resize(tag + 1u, 0);
+      ++loads_by_tag_[tag];
+    }
+    if (retained_.count() > retained_.capacity()) {
+      throw_high_levels_do_not_fit(context_, members_[tightest_].config, record_number,
+                                   split_level_, animation_frame_, retained_.capacity());
+    }
+  }
+
+  // From here on each member simulates its own caches, starting from what
+  // the stacks hold.
+  void hand_over() {
+    handed_over_ = true;
+    for (Member& member : members_) {
+      const NodeCacheConfig& config = member.config;
+      const std::uint64_t low_size = split_ ? config.low_size : config.size;
+      member.low_cache.emplace(CacheGeometry{low_size, config.block, config.assoc, config.policy});
+      for (std::uint64_t set = 0; set < member.low_cache->sets(); ++set) {
+        member.low_cache->assign_set(set, low_.ways_of(member.low_log2_sets, set, config.assoc));
+      }
+      if (split_ && !retain_) {
+        member.high_cache.emplace(
+            CacheGeometry{config.high_size, config.block, config.high_assoc, config.policy},
+            0x5eed + 1);
+        for (std::uint64_t set = 0; set < member.high_cache->sets(); ++set) {
+          member.high_cache->assign_set(
+              set, high_->ways_of(member.high_log2_sets, set, config.high_assoc));
+        }
+      }
+    }
+  }
+
+  // Any record: types, spans, other streams; the stacks until a hand-over,
+  // the members' own caches after it.
+  void feed_generic(const Record* records, std::size_t count, std::uint64_t first_record) {
+    for (std::size_t i = 0; i < count; ++i) {
+      const Record& record = records[i];
+      const Tag tag = record.tag;
+      if (is_other_stream(tag)) continue;
+      const BlockRange blocks = blocks_of(record, context_.form, shift_, aligned_din_);
+      ++refs_;
+      const bool high = split_ && tag < split_level_;
+      high_refs_ += high;
+      if (per_level_) count_ref(tag);
+      const AccessType type = record.type;
+      for (std::uint64_t block = blocks.first;; ++block) {
+        if (type <= AccessType::Misc) {
+          ++fetches_;
+          fetch(high, block, tag, first_record + i + 1);
+        } else if (type == AccessType::Invalidate) {
+          invalidate(high, block);
+        }
+        if (block == blocks.last) break;
+      }
+    }
+  }
+
+  void fetch(bool high, std::uint64_t block, Tag tag, std::uint64_t record_number) {
+    if (high && retain_) {
+      retain_access(block, tag, record_number);
+    } else if (!handed_over_) {
+      (high ? *high_ : low_).access(block, tag);
+    } else {
+      for (Member& member : members_) {
+        const bool miss = high ? member.high_cache->access(block) : member.low_cache->access(block);
+        (high ? member.high_misses_after : member.low_misses_after) += miss;
+        if (miss && per_level_) {
+          if (tag >= member.misses_by_tag_after.size()) {
+            member.misses_by_tag_after.resize(tag + 1u, 0);
+          }
+          ++member.misses_by_tag_after[tag];
+        }
+      }
+    }
+  }
+
+  // Only after a hand-over (feed hands over before a chunk with invalidates);
+  // a retained high cache keeps its blocks for the frame.
+  void invalidate(bool high, std::uint64_t block) {
+    if (high && retain_) return;
+    for (Member& member : members_) {
+      (high ? member.high_cache : member.low_cache)->invalidate(block);
+    }
+  }
+
+  const TraceContext& context_;
+  bool split_;
+  bool retain_;
+  bool per_level_;
+  bool aligned_din_;
+  unsigned shift_;
+  std::uint32_t split_level_;
+  std::uint64_t animation_frame_ = 0;
+  SetStacks low_;                // the single caches, or the split scheme's low caches
+  std::optional<SetStacks> high_;  // split under `cache`
+  RetainSet retained_;             // split under `retain`: the tightest member's capacity
+  std::size_t tightest_ = 0;
+  std::uint64_t loads_ = 0;
+  std::vector<std::uint64_t> loads_by_tag_;
+  std::uint64_t refs_ = 0;
+  std::uint64_t fetches_ = 0;
+  std::uint64_t high_refs_ = 0;
+  std::vector<std::uint64_t> refs_by_tag_;
+  bool handed_over_ = false;
+  std::vector<Member> members_;
+  std::vector<std::uint64_t> low_blocks_;  // feed_blocks' scratch
+};
+
+class StackMember final : public ConfigSimulator {
+ public:
+  StackMember(std::shared_ptr<StackGroup> group, std::size_t index)
+      : group_(std::move(group)), index_(index) {}
+
+  void begin_frame(std::uint64_t animation_frame, std::uint32_t split_level) override {
+    if (index_ == 0) group_->begin_frame(animation_frame, split_level);
+  }
+  void feed(const Record* records, std::size_t count, std::uint64_t first_record,
+            const PreparedBatch& prepared) override {
+    if (index_ == 0) group_->feed(records, count, first_record, prepared);
+  }
+  ResultRow result() const override { return group_->result(index_); }
+  void append_level_rows(std::vector<LevelRow>& rows) const override {
+    group_->append_level_rows(index_, rows);
+  }
+
+ private:
+  std::shared_ptr<StackGroup> group_;
+  std::size_t index_;
+};
+
+}  // namespace
+
+std::string stack_group_key(const NodeCacheConfig& config) {
+  if (!stackable(config.assoc, config.policy)) return {};
+  if (config.scheme == Scheme::Single) return fmt::format("single/{}", config.block);
+  if (config.high_policy == HighPolicy::Cache && !stackable(config.high_assoc, config.policy)) {
+    return {};
+  }
+  // Members share K in every animation frame: the same given K, or auto
+  // for the same high-cache size.
+  const std::string k_rule = config.split_level ? std::to_string(*config.split_level)
+                                                : fmt::format("auto{}", config.high_size);
+  return fmt::format("split/{}/{}/{}", config.block, high_policy_name(config.high_policy), k_rule);
+}
+
+std::vector<std::unique_ptr<ConfigSimulator>> make_stack_group(
+    const std::vector<NodeCacheConfig>& members, std::uint32_t split_level,
+    const TraceContext& context, bool per_level) {
+  auto group = std::make_shared<StackGroup>(members, split_level, context, per_level);
+  std::vector<std::unique_ptr<ConfigSimulator>> simulators;
+  for (std::size_t m = 0; m < members.size(); ++m) {
+    simulators.push_back(std::make_unique<StackMember>(group, m));
+  }
+  return simulators;
+}
+
+}  // namespace nodetrace::cachesim
