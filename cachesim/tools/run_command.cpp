@@ -135,6 +135,11 @@ int run_command(int argc, char** argv) {
   RunCommandLine line;
   add_run_options(app, line);
   SamplingCommandLine sampling_line;
+  // cachesim run only: dinero-wrap shares the other options, and a curve has no Dinero IV run to check it.
+  app.add_flag("--curve", line.curve,
+               "Instead: miss ratio of every power-of-two size up to 64 MB (CSV), per --block and "
+               "--assoc, single caches and the split scheme's low cache (K from --split-level, "
+               "or auto for --high-size)");
   add_sampling_options(app, sampling_line);
   try {
     app.parse(argc, argv);

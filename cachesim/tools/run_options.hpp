@@ -94,10 +94,6 @@ inline void add_run_options(CLI::App& app, RunCommandLine& line) {
                "Add a table of references and misses per node level");
   app.add_flag("--per-frame", line.per_frame,
                "Add a table of the counts of each animation frame (each with its own K)");
-  app.add_flag("--curve", line.curve,
-               "Instead: miss ratio of every power-of-two size up to 64 MB (CSV), per --block and "
-               "--assoc, single caches and the split scheme's low cache (K from --split-level, "
-               "or auto for --high-size)");
   app.add_option("--format", line.format, "Report format")
       ->check(CLI::IsMember({"table", "csv", "json"}))
       ->capture_default_str();

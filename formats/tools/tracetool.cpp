@@ -229,7 +229,7 @@ int run_convert(const std::string& in, const std::string& out, const ConvertOpti
 }
 
 int run(int argc, char** argv) {
-  CLI::App app{"tracetool: inspect, print, verify and convert nodetrace / Dinero IV traces"};
+  CLI::App app{"tracetool: inspect, print, verify and convert nodetrace / Dinero IV traces", "tracetool"};
   app.require_subcommand(1);
   // NODETRACE_VERSION is the project's version, the one trace headers record as "producer".
   app.set_version_flag("--version", std::string("tracetool ") + NODETRACE_VERSION);
