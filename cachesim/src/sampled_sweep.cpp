@@ -4,44 +4,17 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <charconv>
 #include <memory>
 
 #include "nodetrace/cachesim/sampling.hpp"
 #include "nodetrace/formats/error.hpp"
+#include "nodetrace/formats/sample_rate.hpp"
 
 namespace nodetrace::cachesim {
 
 using formats::UsageError;
 
-std::uint64_t parse_sample_rate(std::string_view text, std::string_view option) {
-  std::uint64_t numerator = 0;
-  std::uint64_t every = 0;
-  const char* const end = text.data() + text.size();
-  const auto slash = text.find('/');
-  bool ok = slash != std::string_view::npos;
-  if (ok) {
-    const auto [after_numerator, e1] = std::from_chars(text.data(), text.data() + slash, numerator);
-    const auto [after_every, e2] = std::from_chars(text.data() + slash + 1, end, every);
-    ok = e1 == std::errc{} && after_numerator == text.data() + slash && e2 == std::errc{} &&
-         after_every == end && numerator == 1 && every >= 1;
-  }
-  if (!ok) {
-    throw UsageError(fmt::format("{}: '{}' is not a sampling rate: expected 1/K with K a whole "
-                                 "number >= 1 (one unit in every K)",
-                                 option, text));
-  }
-  return every;
-}
-
 namespace {
-
-std::uint64_t splitmix64(std::uint64_t value) {
-  value += 0x9e3779b97f4a7c15ULL;
-  value = (value ^ (value >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  value = (value ^ (value >> 27)) * 0x94d049bb133111ebULL;
-  return value ^ (value >> 31);
-}
 
 // The residue of the sampled sets: drawn apart from the windows' hashes.
 constexpr std::uint64_t kSetStream = 0x5e75e75e75e75e75ULL;
@@ -136,7 +109,7 @@ class SampledRun {
     }
     if (options.set_every != 0) {
       groups_ = set_groups(configs, options.set_every);
-      residue_ = splitmix64(options.seed ^ kSetStream) % options.set_every;
+      residue_ = formats::mix64(options.seed ^ kSetStream) % options.set_every;
     }
     for (std::uint64_t g = 0; g < groups_; ++g) {
       sweeps_.push_back(std::make_unique<Sweep>(configs, context, false));
@@ -371,7 +344,7 @@ std::uint64_t trailer_records(const formats::TraceReader& reader) {
 }  // namespace
 
 std::uint64_t chosen_in_stratum(std::uint64_t seed, std::uint64_t stratum, std::uint64_t every) {
-  return splitmix64(splitmix64(seed) ^ stratum) % every;
+  return formats::mix64(formats::mix64(seed) ^ stratum) % every;
 }
 
 bool window_chosen(const SamplingOptions& options, std::uint64_t window) {

@@ -17,6 +17,7 @@
 #include "nodetrace/cachesim/sweep.hpp"
 #include "nodetrace/formats/error.hpp"
 #include "nodetrace/formats/reader.hpp"
+#include "nodetrace/formats/sample_rate.hpp"
 #include "run_options.hpp"
 
 namespace nodetrace::cachesim::cli {
@@ -70,8 +71,8 @@ void add_sampling_options(CLI::App& app, SamplingCommandLine& line) {
 
 SamplingOptions sampling_options(const SamplingCommandLine& line, const RunCommandLine& run) {
   SamplingOptions options;
-  if (!line.windows.empty()) options.window_every = parse_sample_rate(line.windows, "--sample-windows");
-  if (!line.sets.empty()) options.set_every = parse_sample_rate(line.sets, "--sample-sets");
+  if (!line.windows.empty()) options.window_every = formats::parse_sample_rate(line.windows, "--sample-windows");
+  if (!line.sets.empty()) options.set_every = formats::parse_sample_rate(line.sets, "--sample-sets");
   if (line.window_records == 0) {
     throw formats::UsageError("--window-records: 0 is not a window length: expected at least 1");
   }

@@ -15,6 +15,7 @@
 
 #include "nodetrace/formats/error.hpp"
 #include "nodetrace/formats/reader.hpp"
+#include "nodetrace/formats/sample_rate.hpp"
 #include "nodetrace/tracer/frame_range.hpp"
 #include "nodetrace/tracer/layout.hpp"
 #include "nodetrace/tracer/render.hpp"
@@ -36,11 +37,11 @@ const std::string kSize = " --width 40 --height 30 ";
 std::string render() { return program("tracer").string() + " render " + kScene + kSize + "-q "; }
 
 TEST(SampleRateTest, AcceptsOneOverKOnly) {
-  EXPECT_EQ(parse_sample_rate("1/1", "--sample-rows"), 1u);
-  EXPECT_EQ(parse_sample_rate("1/16", "--sample-rows"), 16u);
+  EXPECT_EQ(formats::parse_sample_rate("1/1", "--sample-rows"), 1u);
+  EXPECT_EQ(formats::parse_sample_rate("1/16", "--sample-rows"), 16u);
   for (const char* bad : {"1/0", "3/2", "abc", "0/4", "1/", "/4", "1/4x", "1/-4", "2/4", ""}) {
     try {
-      parse_sample_rate(bad, "--sample-rows");
+      formats::parse_sample_rate(bad, "--sample-rows");
       ADD_FAILURE() << "accepted '" << bad << "'";
     } catch (const formats::UsageError& e) {
       EXPECT_NE(std::string(e.what()).find("--sample-rows"), std::string::npos) << e.what();

@@ -14,6 +14,7 @@
 #include "nodetrace/formats/byte_size.hpp"
 #include "nodetrace/formats/error.hpp"
 #include "nodetrace/formats/option_limits.hpp"
+#include "nodetrace/formats/sample_rate.hpp"
 #include "nodetrace/tracer/camera_checks.hpp"
 #include "nodetrace/tracer/trace_emit.hpp"
 
@@ -268,7 +269,7 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
     render.camera = camera;
   }
   if (!r.sample_rows.empty()) {
-    options.sampling = RowSampling{parse_sample_rate(r.sample_rows, "--sample-rows"), r.band_height, r.sample_seed};
+    options.sampling = RowSampling{formats::parse_sample_rate(r.sample_rows, "--sample-rows"), r.band_height, r.sample_seed};
   }
   options.split_level = r.split_level;
   if (!r.high_size.empty()) options.high_size = parse_byte_size(r.high_size, "--high-size");

@@ -6,7 +6,6 @@
 #include <cstdint>
 #include <functional>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "nodetrace/cachesim/sampling_estimate.hpp"
@@ -29,8 +28,6 @@ struct SamplingOptions {
   bool sampling() const { return window_every != 0 || set_every != 0; }
 };
 
-// "1/K" with K >= 1 -> K; anything else is a formats::UsageError naming `option`.
-std::uint64_t parse_sample_rate(std::string_view text, std::string_view option);
 
 // Which window (0 .. every - 1) of a stratum of `every` consecutive windows
 // is simulated: a hash of (seed, stratum), so any offset is equally likely.

@@ -18,8 +18,10 @@
 //   stops and joins the threads; a thread that cannot be started is an error
 //   from the constructor, after the ones started are joined.
 //
-// Jobs run in any order on any worker, so a job must not depend on another
-// job still in flight: work that must stay sequential (one cache's state
+// Jobs start in submission order (one FIFO queue) and finish in any order on
+// any worker. A job may therefore wait for an earlier job (it has started;
+// the render loop's mid-chunk hand-over of deep ray trees relies on this),
+// never for a later one. Work that must stay sequential (one cache's state
 // across batches) waits for the previous results before the next submit.
 #pragma once
 
@@ -49,7 +51,7 @@ inline unsigned threads_or_cores(unsigned requested) {
 
 namespace detail {
 
-// A fixed set of threads running queued tasks in any order.
+// A fixed set of threads running queued tasks, oldest first.
 class WorkerThreads {
  public:
   explicit WorkerThreads(unsigned threads) {

@@ -15,7 +15,6 @@
 #pragma once
 
 #include <cstdint>
-#include <string_view>
 #include <vector>
 
 #include "nodetrace/tracer/pixel_order.hpp"
@@ -28,9 +27,6 @@ struct RowSampling {
   std::uint64_t seed = 0;
 };
 
-// "1/K" with K >= 1; throws formats::UsageError naming `option` otherwise
-// (e.g. 1/0, 3/2, abc, 0/4).
-std::uint64_t parse_sample_rate(std::string_view text, std::string_view option);
 
 struct SampledBand {
   std::uint64_t band = 0;  // 0-based number among all bands of the image
