@@ -1,7 +1,6 @@
 #include "nodetrace/formats/output_file.hpp"
 
 #include <fcntl.h>
-#include <pthread.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
@@ -86,24 +85,6 @@ void release_slot(int slot) {
   g_slots[slot].live.store(false, std::memory_order_release);
   g_slots[slot].claimed.store(false, std::memory_order_release);
 }
-
-// Blocks the cleanup signals in this thread for its lifetime, so a temporary
-// is never created without being in the table.
-class SignalsBlocked {
- public:
-  SignalsBlocked() {
-    sigset_t set;
-    sigemptyset(&set);
-    for (const int signal_number : kCleanupSignals) sigaddset(&set, signal_number);
-    ::pthread_sigmask(SIG_BLOCK, &set, &old_);
-  }
-  ~SignalsBlocked() { ::pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
-  SignalsBlocked(const SignalsBlocked&) = delete;
-  SignalsBlocked& operator=(const SignalsBlocked&) = delete;
-
- private:
-  sigset_t old_;
-};
 
 // /dev/fd/N, /proc/self/fd/N, /proc/PID/fd/N (this process): descriptor N.
 int named_descriptor(const std::string& path) {
@@ -236,18 +217,21 @@ OutputFile::OutputFile(const std::string& path) : name_(path == "-" ? "<stdout>"
   std::mt19937_64 random(std::random_device{}() ^ (counter.fetch_add(1) * 0x9E3779B97F4A7C15ull));
   constexpr char kLetters[] = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789";
   int open_error = EEXIST;
-  {
-    const SignalsBlocked blocked;
-    for (int attempt = 0; attempt < 100 && fd_ < 0; ++attempt) {
-      std::string candidate = prefix;
-      for (int i = 0; i < 6; ++i) candidate += kLetters[random() % (sizeof kLetters - 1)];
-      fd_ = ::open(candidate.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);  // the umask applies
-      if (fd_ >= 0) {
-        temporary_ = candidate;
-        slot_ = claim_slot(temporary_);
-      } else if ((open_error = errno) != EEXIST) {
-        break;
-      }
+  for (int attempt = 0; attempt < 100 && fd_ < 0; ++attempt) {
+    std::string candidate = prefix;
+    for (int i = 0; i < 6; ++i) candidate += kLetters[random() % (sizeof kLetters - 1)];
+    // In the handler's table before the file exists: a signal may run the
+    // handler on any thread, even between the open and the next line. A name
+    // that already exists carries this process id, so it is a leftover of
+    // this pid that remove_stale_temporaries would remove anyway.
+    const int slot = claim_slot(candidate);
+    fd_ = ::open(candidate.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);  // the umask applies
+    if (fd_ >= 0) {
+      temporary_ = candidate;
+      slot_ = slot;
+    } else {
+      release_slot(slot);
+      if ((open_error = errno) != EEXIST) break;
     }
   }
   if (fd_ < 0) {
