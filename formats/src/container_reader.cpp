@@ -262,7 +262,10 @@ class ContainerReader final : public PipelinedReader {
     const auto& index = trailer_->index;
     while (next_skip_ < skip_.size() && (!skip_[next_skip_] || next_skip_ < data_frames_)) ++next_skip_;
     input_->limit_reads_to(next_skip_ < skip_.size() ? index[next_skip_].offset : 0);
-    if (next_skip_ != data_frames_ || index[data_frames_].offset != input_->offset()) return false;
+    // Past the last skipped frame (at the trailer, data_frames_ is the index's size) nothing is skipped.
+    if (next_skip_ >= skip_.size() || next_skip_ != data_frames_ || index[data_frames_].offset != input_->offset()) {
+      return false;
+    }
     const FrameIndexEntry& entry = index[data_frames_];
     if (entry.compressed_size == 0 || entry.offset + entry.compressed_size > input_->size()) {
       fail(fmt::format("damaged index: data frame {} at byte {} of {} bytes runs past the end of the file",

@@ -281,6 +281,34 @@ TEST_F(SampleWindows, KeepDataFrameDeliversExactlyTheKeptFramesAndEveryMarker) {
   EXPECT_EQ(kept.skipped, 5u);
 }
 
+// Reading on to the trailer after the last data frame (kept or skipped)
+// must not look past the index (a sampled run at 1/1 keeps every frame).
+// 8 data frames: the index vector's capacity is then its size, so a sanitizer
+// build sees a read one past its end.
+TEST_F(SampleWindows, KeepDataFrameKeepingEveryFrameOrOnlyTheLastReadsOnToTheTrailer) {
+  const auto records = sample_records(8000);
+  WriterOptions options = options_for(RecordForm::ExtendedDin);
+  options.records_per_frame = 1000;
+  const std::vector<Event> events = {frame_event(0, 0), window_event(8000, 1, 0)};
+  write_with_events(path("t.xdin.zst"), records, events, options);
+
+  ReaderOptions every;
+  every.keep_data_frame = [](const FrameIndexEntry&) { return true; };
+  const Read all = read_events(path("t.xdin.zst"), every);
+  EXPECT_EQ(all.events, events);
+  EXPECT_EQ(all.records, records);
+  EXPECT_EQ(all.decompressed, 8u);
+  EXPECT_EQ(all.skipped, 0u);
+
+  ReaderOptions last;
+  last.keep_data_frame = [](const FrameIndexEntry& entry) { return entry.first_record == 7000; };
+  const Read only_last = read_events(path("t.xdin.zst"), last);
+  EXPECT_EQ(only_last.events, events);
+  EXPECT_EQ(only_last.records, std::vector<Record>(records.begin() + 7000, records.end()));
+  EXPECT_EQ(only_last.decompressed, 1u);
+  EXPECT_EQ(only_last.skipped, 7u);
+}
+
 TEST_F(SampleWindows, SkippedDataFramesAreNotReadButKeptOnesAreChecked) {
   const auto records = write_skipping_trace(path("t.xdin.zst"));
   auto reader = TraceReader::open(path("t.xdin.zst"));
