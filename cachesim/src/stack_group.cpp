@@ -38,7 +38,7 @@ std::vector<SetStacks::Level> levels_of(const std::vector<std::pair<unsigned, st
   std::vector<SetStacks::Level> levels;
   for (const auto& [log2, ways] : caches) {
     auto at = std::find_if(levels.begin(), levels.end(),
-                           [&](const SetStacks::Level& level) { return level.log2_sets == log2; });
+                           [log2 = log2](const SetStacks::Level& level) { return level.log2_sets == log2; });
     if (at == levels.end()) {
       levels.push_back({log2, ways});
     } else {

@@ -31,10 +31,11 @@ std::uint64_t unsigned_field(const nlohmann::json& value, const std::string& key
 template <std::size_t N>
 nlohmann::json other_keys(const nlohmann::json& json, const char* const (&known)[N]) {
   nlohmann::json extra = nlohmann::json::object();
-  for (const auto& [key, value] : json.items()) {
+  for (const auto& item : json.items()) {
+    const std::string& key = item.key();  // a named reference: clang's lambdas cannot capture bindings
     if (std::find_if(std::begin(known), std::end(known), [&](const char* name) { return key == name; }) ==
         std::end(known)) {
-      extra[key] = value;
+      extra[key] = item.value();
     }
   }
   return extra;

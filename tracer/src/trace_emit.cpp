@@ -249,7 +249,10 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
       for (const auto& band : bands) runs.push_back({band.first_pixel, band.end_pixel});
       Renderer::RunStart begin_window;
       if (writer) {
-        begin_window = [&](std::size_t run) { writer->begin_window(window_marker(options, bands[run], frame)); };
+        // An init-capture: clang's lambdas cannot capture the structured binding itself.
+        begin_window = [&, frame_number = frame](std::size_t run) {
+          writer->begin_window(window_marker(options, bands[run], frame_number));
+        };
       }
       report.render = renderer.render_runs(runs, begin_window, sink, want_image ? &image : nullptr, frame_progress);
     } else {
