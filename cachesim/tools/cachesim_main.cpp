@@ -6,6 +6,7 @@
 
 #include "nodetrace/formats/standard_output.hpp"
 #include "commands.hpp"
+#include "subcommand_dispatch.hpp"
 
 namespace {
 
@@ -22,23 +23,9 @@ constexpr const char* kUsage =
 }  // namespace
 
 static int run(int argc, char** argv) {
-  if (argc < 2) {
-    std::fputs(kUsage, stderr);
-    return 2;
-  }
-  const std::string_view subcommand = argv[1];
-  if (subcommand == "-h" || subcommand == "--help") {
-    std::fputs(kUsage, stdout);
-    return 0;
-  }
-  if (subcommand == "--version") {  // the project's version, the one trace headers record
-    std::printf("cachesim %s\n", NODETRACE_VERSION);
-    return 0;
-  }
-  if (subcommand == "dinero") return nodetrace::cachesim::cli::dinero_command(argc - 1, argv + 1);
-  if (subcommand == "run") return nodetrace::cachesim::cli::run_command(argc - 1, argv + 1);
-  std::fprintf(stderr, "cachesim: unknown subcommand '%s'\n\n%s", argv[1], kUsage);
-  return 2;
+  using namespace nodetrace::cachesim::cli;
+  return dispatch_subcommand("cachesim", kUsage, argc, argv,
+                             {{"dinero", dinero_command}, {"run", run_command}});
 }
 
 int main(int argc, char** argv) { return nodetrace::formats::finish_standard_output("cachesim", run(argc, argv)); }

@@ -15,6 +15,7 @@
 #include "nodetrace/formats/error.hpp"
 #include "exit_status.hpp"
 #include "run_options.hpp"
+#include "subcommand_dispatch.hpp"
 
 namespace {
 
@@ -114,23 +115,8 @@ int exec_subcommand(int argc, char** argv) {
 static int run(int argc, char** argv) {
   // A Dinero IV that quits early must give us EPIPE, not kill us.
   std::signal(SIGPIPE, SIG_IGN);
-  if (argc < 2) {
-    std::fputs(kUsage, stderr);
-    return 2;
-  }
-  const std::string_view subcommand = argv[1];
-  if (subcommand == "-h" || subcommand == "--help") {
-    std::fputs(kUsage, stdout);
-    return 0;
-  }
-  if (subcommand == "--version") {  // the project's version, the one trace headers record
-    std::printf("dinero-wrap %s\n", NODETRACE_VERSION);
-    return 0;
-  }
-  if (subcommand == "run") return run_subcommand(argc - 1, argv + 1);
-  if (subcommand == "exec") return exec_subcommand(argc - 1, argv + 1);
-  std::fprintf(stderr, "dinero-wrap: unknown subcommand '%s'\n\n%s", argv[1], kUsage);
-  return 2;
+  return cli::dispatch_subcommand("dinero-wrap", kUsage, argc, argv,
+                                  {{"run", run_subcommand}, {"exec", exec_subcommand}});
 }
 
 int main(int argc, char** argv) { return nodetrace::formats::finish_standard_output("dinero-wrap", run(argc, argv)); }
