@@ -1,6 +1,7 @@
 // The container reader (FORMAT.md sections 2 and 3): the header, then frame
-// by frame markers, data frames (decoded on the workers, each checked against
-// the index) and the trailer; from a file it reads the trailer from the end
+// by frame markers, data frames (decoded on the workers and handed over in
+// pieces, so memory stays small, each frame checked against the index) and
+// the trailer; from a file it reads the trailer from the end
 // first, which gives the index for keep_data_frame and seek_to_record.
 #define ZSTD_STATIC_LINKING_ONLY  // ZSTD_getFrameHeader, ZSTD_decompressBound
 #include <xxhash.h>
@@ -9,6 +10,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstring>
 
 #include "container.hpp"
 #include "nodetrace/formats/error.hpp"
@@ -17,49 +19,121 @@
 namespace nodetrace::formats::detail {
 namespace {
 
-// Decompresses and parses one data frame (on a worker); damage goes into
-// the chunk's frame_error for the reader to report with the frame's place.
-Chunk decode_data_frame(const std::string& frame, ParseSettings settings, Stock& stock) {
-  Chunk chunk;
+// Pieces of a data frame: records per piece handed over, decompressed text
+// per step (cache-sized, reused), and pieces waiting per frame.
+constexpr std::size_t kPieceRecords = 1u << 14;
+constexpr std::size_t kTextStep = 128u << 10;
+constexpr std::size_t kPiecesWaiting = 3;
+// Frames whose zstd window is larger than this (archives) are decoded one
+// at a time, so only one such window is held.
+constexpr std::uint64_t kSmallWindow = 8u << 20;
+
+// Where the records of `text` end: after the last newline, or the last whole
+// binary record.
+std::size_t whole_records(const char* text, std::size_t size, RecordForm form) {
+  if (form == RecordForm::Binary) return size - size % 8;
+  const void* newline = size == 0 ? nullptr : ::memrchr(text, '\n', size);
+  return newline == nullptr ? 0 : static_cast<std::size_t>(static_cast<const char*>(newline) - text) + 1;
+}
+
+// Decompresses and parses one data frame (on a worker) step by step into
+// pieces; damage goes into a piece's frame_error for the reader to report
+// with the frame's place. A bad record is reported only once the rest of
+// the frame has decompressed without damage (damage is the better answer).
+void decode_data_frame(const std::string& frame, ParseSettings settings, bool keep_text, Stock& stock,
+                       PieceStream& out) {
+  const auto fail_frame = [&](std::string message) {
+    Chunk chunk;
+    chunk.frame_error = std::move(message);
+    out.push(std::move(chunk));
+  };
   ZSTD_frameHeader header{};
   const std::size_t status = ZSTD_getFrameHeader(&header, frame.data(), frame.size());
-  if (ZSTD_isError(status) || status != 0) {
-    chunk.frame_error = "damaged zstd frame header";
-    return chunk;
-  }
+  if (ZSTD_isError(status) || status != 0) return fail_frame("damaged zstd frame header");
   if (header.frameContentSize == ZSTD_CONTENTSIZE_UNKNOWN || !header.checksumFlag) {
-    chunk.frame_error = "a data frame must record its content size and checksum";
-    return chunk;
+    return fail_frame("a data frame must record its content size and checksum");
   }
   const unsigned long long bound = ZSTD_decompressBound(frame.data(), frame.size());
   if (bound == ZSTD_CONTENTSIZE_ERROR || header.frameContentSize > bound) {
-    chunk.frame_error = "damaged zstd frame (content size does not match its blocks)";
-    return chunk;
+    return fail_frame("damaged zstd frame (content size does not match its blocks)");
   }
-  ByteBuffer bytes = stock.bytes.take();
-  bytes.resize(header.frameContentSize);
   thread_local std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> context(ZSTD_createDCtx(), &ZSTD_freeDCtx);
-  const std::size_t size = ZSTD_decompressDCtx(context.get(), bytes.data(), bytes.size(), frame.data(), frame.size());
-  if (ZSTD_isError(size)) {
-    chunk.frame_error = fmt::format("damaged zstd frame ({})", ZSTD_getErrorName(size));
-    return chunk;
-  }
-  if (size != bytes.size()) {
-    chunk.frame_error = "damaged zstd frame (wrong content size)";
-    return chunk;
-  }
-  if (!bytes.empty()) {
-    const bool whole = settings.form == RecordForm::Binary ? bytes.size() % 8 == 0 : bytes.data()[bytes.size() - 1] == '\n';
-    if (!whole) {
-      chunk.frame_error = "data frame does not end at a record boundary";
-      return chunk;
+  thread_local ByteBuffer text;
+  ZSTD_DCtx_reset(context.get(), ZSTD_reset_session_only);
+  if (text.size() < kTextStep) text.resize(kTextStep);
+  ZSTD_inBuffer in{frame.data(), frame.size(), 0};
+  std::size_t held = 0;  // bytes at the start of `text` after the last whole record
+  std::uint64_t total = 0;
+  char last_byte = '\n';
+  Chunk piece;
+  Chunk bad;  // the piece with the first bad record, held until the frame is known undamaged
+  bool have_bad = false;
+  for (;;) {
+    if (held == text.size()) {  // a record longer than the step: room for it
+      ByteBuffer grown;
+      grown.resize(text.size() * 2);
+      std::memcpy(grown.data(), text.data(), held);
+      text = std::move(grown);
+    }
+    ZSTD_outBuffer output{text.data(), text.size(), held};
+    const std::size_t left = ZSTD_decompressStream(context.get(), &output, &in);
+    if (ZSTD_isError(left)) return fail_frame(fmt::format("damaged zstd frame ({})", ZSTD_getErrorName(left)));
+    const bool end = left == 0;
+    if (!end && in.pos == in.size && output.pos < output.size) {
+      return fail_frame("damaged zstd frame (it ends inside a block)");
+    }
+    total += output.pos - held;
+    if (output.pos > held) last_byte = text.data()[output.pos - 1];
+    if (have_bad) {  // only looking for damage now
+      held = 0;
+      if (!end) continue;
+      break;
+    }
+    const std::size_t filled = output.pos;
+    const std::size_t cut = whole_records(text.data(), filled, settings.form);
+    if (piece.records.capacity() == 0) piece.records = stock.records.take();
+    const std::size_t before = piece.records.size();
+    piece.records.reserve(before + cut / 14 + 16);
+    if (!parse_records(std::string_view(text.data(), cut), settings, piece.records, piece.record_error,
+                       piece.ignored_fields)) {
+      piece.bad_record = true;
+      piece.record_error.record_in_chunk += before;
+      bad = std::move(piece);
+      have_bad = true;
+      held = 0;
+      if (!end) continue;
+      break;
+    }
+    piece.decoded_bytes += cut;
+    if (keep_text) piece.bytes.append(text.data(), cut);
+    held = filled - cut;
+    if (held > 0) std::memmove(text.data(), text.data() + cut, held);
+    if (end) break;
+    if (piece.records.size() >= kPieceRecords) {
+      if (!out.push(std::move(piece))) return;  // abandoned
+      piece = Chunk{};
+      if (keep_text) piece.bytes = stock.bytes.take();
     }
   }
-  chunk.records = stock.records.take();
-  chunk.bad_record =
-      !parse_records(bytes.view(), settings, chunk.records, chunk.record_error, chunk.ignored_fields);
-  chunk.bytes = std::move(bytes);
-  return chunk;
+  if (total != header.frameContentSize) return fail_frame("damaged zstd frame (wrong content size)");
+  const bool whole = settings.form == RecordForm::Binary ? total % 8 == 0 : total == 0 || last_byte == '\n';
+  if (!whole) return fail_frame("data frame does not end at a record boundary");
+  out.push(std::move(have_bad ? bad : piece));
+}
+
+// Decodes a data frame into `stream` once `earlier` (the previous frame with
+// a large window, if this one has one too) is done, then closes it.
+void decode_into(const std::string& frame, ParseSettings settings, bool keep_text, Stock& stock,
+                 PieceStream& stream, PieceStream* earlier) {
+  try {
+    if (earlier) earlier->wait_closed();
+    decode_data_frame(frame, settings, keep_text, stock, stream);
+  } catch (const std::exception& error) {
+    Chunk chunk;
+    chunk.frame_error = fmt::format("cannot decode: {}", error.what());
+    stream.push(std::move(chunk));
+  }
+  stream.close();
 }
 
 class ContainerReader final : public PipelinedReader {
@@ -88,6 +162,7 @@ class ContainerReader final : public PipelinedReader {
     data_frames_ = static_cast<std::uint64_t>(found - index.begin());
     next_skip_ = static_cast<std::size_t>(data_frames_);
     records_read_ = records_delivered_ = found->first_record;
+    frame_records_ = 0;
     pending_marker_.reset();
     pending_window_.reset();
     markers_ = found->animation_frame + 1;
@@ -214,10 +289,20 @@ class ContainerReader final : public PipelinedReader {
       unit.entry.checksum = size >= 4 ? load_le32(input_->data() + size - 4) : 0;
       std::string frame(input_->data(), size);
       consume_hashed(size);
-      pipeline_->submit([unit = std::move(unit), frame = std::move(frame), settings = settings_,
-                         stock = stock_]() mutable {
-        unit.chunk = decode_data_frame(frame, settings, *stock);
-        return std::move(unit);
+      auto stream = std::make_shared<PieceStream>(kPiecesWaiting);
+      // Large windows one at a time: each waits for the previous one.
+      std::shared_ptr<PieceStream> earlier;
+      ZSTD_frameHeader frame_header{};
+      if (ZSTD_getFrameHeader(&frame_header, frame.data(), frame.size()) == 0 &&
+          frame_header.windowSize > kSmallWindow) {
+        earlier = std::exchange(last_large_window_, stream);
+      }
+      unit.stream = stream;
+      pipeline_->push_ready(std::move(unit));
+      const bool keep_text = hashes_valid_ && options_.check_record_hash;  // for the record hash
+      post_stream_job(stream, [frame = std::move(frame), settings = settings_, keep_text, stock = stock_, stream,
+                               earlier = std::move(earlier)] {
+        decode_into(frame, settings, keep_text, *stock, *stream, earlier.get());
       });
       return;
     }
@@ -309,19 +394,29 @@ class ContainerReader final : public PipelinedReader {
   }
 
   void check_chunk(const Unit& unit, Chunk& chunk) override {
-    const std::string where = fmt::format("data frame {} at byte {}", unit.data_frame + 1, unit.entry.offset);
-    if (!chunk.frame_error.empty()) fail(fmt::format("{}: {}", where, chunk.frame_error));
+    if (!chunk.frame_error.empty()) fail(fmt::format("{}: {}", where(unit), chunk.frame_error));
+    frame_records_ += chunk.records.size();
+    record_bytes_ += chunk.decoded_bytes;
+    if (chunk.bad_record) return;
+    if (hashes_valid_ && options_.check_record_hash) {
+      XXH64_update(record_hash_.get(), chunk.bytes.data(), chunk.bytes.size());
+    }
+    if (!chunk.bytes.empty()) stock_->bytes.give(std::move(chunk.bytes));
+  }
+
+  void end_stream(const Unit& unit) override {
     FrameIndexEntry seen = unit.entry;
     seen.first_record = records_read_;
-    seen.record_count = chunk.records.size();
-    records_read_ += seen.record_count;
-    record_bytes_ += chunk.bytes.size();
+    seen.record_count = frame_records_;
+    records_read_ += frame_records_;
+    frame_records_ = 0;
     ++data_frames_decompressed_;
-    if (chunk.bad_record) return;
-    if (hashes_valid_) XXH64_update(record_hash_.get(), chunk.bytes.data(), chunk.bytes.size());
-    stock_->bytes.give(std::move(chunk.bytes));
-    if (trailer_) check_index_entry(seen, unit.data_frame, where);
+    if (trailer_) check_index_entry(seen, unit.data_frame, where(unit));
     seen_.push_back(seen);
+  }
+
+  static std::string where(const Unit& unit) {
+    return fmt::format("data frame {} at byte {}", unit.data_frame + 1, unit.entry.offset);
   }
 
   void check_index_entry(const FrameIndexEntry& seen, std::uint64_t number, const std::string& where) const {
@@ -365,7 +460,7 @@ class ContainerReader final : public PipelinedReader {
       fail(fmt::format("the trailer's totals say {} records but the data frames hold {}", totals->dump(), records_read_));
     }
     if (skipped_bytes_) return;  // the hashes cover the skipped data frames
-    if (XXH64_digest(record_hash_.get()) != trailer_->record_hash) {
+    if (options_.check_record_hash && XXH64_digest(record_hash_.get()) != trailer_->record_hash) {
       fail("record hash mismatch: the records are not the ones the trailer describes");
     }
     if (stream_content_hash_ != trailer_->content_hash) {
@@ -394,6 +489,8 @@ class ContainerReader final : public PipelinedReader {
   std::uint64_t data_frames_ = 0;
   std::uint64_t markers_ = 0;
   std::uint64_t records_read_ = 0;  // records in the data frames handed over so far
+  std::uint64_t frame_records_ = 0;  // records of the data frame being delivered, so far
+  std::shared_ptr<PieceStream> last_large_window_;  // the last frame posted with a large window
   std::vector<FrameIndexEntry> seen_;
   std::unique_ptr<XXH64_state_t, HashStateDeleter> content_hash_{XXH64_createState()};
   std::unique_ptr<XXH64_state_t, HashStateDeleter> record_hash_{XXH64_createState()};
