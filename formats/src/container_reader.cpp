@@ -21,7 +21,7 @@ namespace {
 
 // Pieces of a data frame: records per piece handed over, decompressed text
 // per step (cache-sized, reused), and pieces waiting per frame.
-constexpr std::size_t kPieceRecords = 1u << 15;
+constexpr std::size_t kPieceRecords = 1u << 14;
 constexpr std::size_t kTextStep = 128u << 10;
 constexpr std::size_t kPiecesWaiting = 2;
 // Frames whose zstd window is larger than this (archives) are decoded one

@@ -171,7 +171,7 @@ bool PipelinedReader::deliver_pending(RecordBatch& batch) {
 }
 
 void PipelinedReader::fill_pipeline() {
-  const std::size_t limit = static_cast<std::size_t>(threads_) + 2;
+  const std::size_t limit = static_cast<std::size_t>(threads_) + 1;
   while (!input_done_ && pipeline_->size() < limit) read_unit();
 }
 

@@ -36,7 +36,7 @@ struct Chunk {
 // spare buffers are memory held).
 struct Stock {
   Recycler<ByteBuffer> bytes{8};
-  Recycler<std::vector<Record>> records{8};
+  Recycler<std::vector<Record>> records{4};
 };
 
 // One data frame decoded on a worker and handed to the reader in pieces of
