@@ -3,7 +3,7 @@
 // pieces, so memory stays small, each frame checked against the index) and
 // the trailer; from a file it reads the trailer from the end
 // first, which gives the index for keep_data_frame and seek_to_record.
-#define ZSTD_STATIC_LINKING_ONLY  // ZSTD_getFrameHeader, ZSTD_decompressBound
+#define ZSTD_STATIC_LINKING_ONLY  // ZSTD_getFrameHeader, ZSTD_decompressBound, the buffer-less API
 #include <xxhash.h>
 #include <zstd.h>
 
@@ -19,14 +19,15 @@
 namespace nodetrace::formats::detail {
 namespace {
 
-// Pieces of a data frame: records per piece handed over, decompressed text
-// per step (cache-sized, reused), and pieces waiting per frame.
+// Pieces of a data frame: records per piece handed over, and pieces waiting
+// per frame.
 constexpr std::size_t kPieceRecords = 1u << 14;
-constexpr std::size_t kTextStep = 128u << 10;
 constexpr std::size_t kPiecesWaiting = 2;
 // Frames whose zstd window is larger than this (archives) are decoded one
 // at a time, so only one such window is held.
 constexpr std::uint64_t kSmallWindow = 8u << 20;
+// The largest zstd window a reader decodes (zstd's own default limit).
+constexpr std::uint64_t kMaxWindow = 1ull << 27;
 
 // Where the records of `text` end: after the last newline, or the last whole
 // binary record.
@@ -57,64 +58,97 @@ void decode_data_frame(const std::string& frame, ParseSettings settings, bool ke
   if (bound == ZSTD_CONTENTSIZE_ERROR || header.frameContentSize > bound) {
     return fail_frame("damaged zstd frame (content size does not match its blocks)");
   }
+  if (header.windowSize > kMaxWindow) {
+    return fail_frame(fmt::format("damaged zstd frame (a window of {} bytes, more than a reader allows)", header.windowSize));
+  }
+  // Block by block (zstd's buffer-less API) into a ring that holds the
+  // window: each block is parsed where zstd put it, with no copy out of a
+  // stream buffer. A record cut by the ring's wrap is joined in `seam`.
   thread_local std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> context(ZSTD_createDCtx(), &ZSTD_freeDCtx);
-  thread_local ByteBuffer text;
-  ZSTD_DCtx_reset(context.get(), ZSTD_reset_session_only);
-  if (text.size() < kTextStep) text.resize(kTextStep);
-  ZSTD_inBuffer in{frame.data(), frame.size(), 0};
-  std::size_t held = 0;  // bytes at the start of `text` after the last whole record
+  thread_local ByteBuffer ring;
+  const std::size_t ring_size = ZSTD_decodingBufferSize_min(header.windowSize, header.frameContentSize);
+  if (ZSTD_isError(ring_size)) return fail_frame("damaged zstd frame (its window does not fit in memory)");
+  if (ring.size() > 2 * ring_size + (1u << 20)) ring = ByteBuffer{};  // a large window's ring is not kept
+  if (ring.size() < std::max<std::size_t>(ring_size, 1)) ring.resize(std::max<std::size_t>(ring_size, 1));
+  // A frame no larger than the ring is decoded straight through.
+  const bool wraps = ring_size < header.frameContentSize;
+  const std::size_t status_begin = ZSTD_decompressBegin(context.get());
+  if (ZSTD_isError(status_begin)) return fail_frame(fmt::format("cannot decode ({})", ZSTD_getErrorName(status_begin)));
+  const char* src = frame.data();
+  std::size_t src_left = frame.size();
+  std::size_t pos = 0;    // where the next block goes in the ring
+  std::size_t parse = 0;  // the first byte in the ring not yet parsed
+  ByteBuffer seam;        // a record cut by the wrap
   std::uint64_t total = 0;
   char last_byte = '\n';
   Chunk piece;
   Chunk bad;  // the piece with the first bad record, held until the frame is known undamaged
   bool have_bad = false;
-  for (;;) {
-    if (held == text.size()) {  // a record longer than the step: room for it
-      ByteBuffer grown;
-      grown.resize(text.size() * 2);
-      std::memcpy(grown.data(), text.data(), held);
-      text = std::move(grown);
-    }
-    ZSTD_outBuffer output{text.data(), text.size(), held};
-    const std::size_t left = ZSTD_decompressStream(context.get(), &output, &in);
-    if (ZSTD_isError(left)) return fail_frame(fmt::format("damaged zstd frame ({})", ZSTD_getErrorName(left)));
-    const bool end = left == 0;
-    if (!end && in.pos == in.size && output.pos < output.size) {
-      return fail_frame("damaged zstd frame (it ends inside a block)");
-    }
-    total += output.pos - held;
-    if (output.pos > held) last_byte = text.data()[output.pos - 1];
-    if (have_bad) {  // only looking for damage now
-      held = 0;
-      if (!end) continue;
-      break;
-    }
-    const std::size_t filled = output.pos;
-    const std::size_t cut = whole_records(text.data(), filled, settings.form);
+  const auto parse_text = [&](const char* text, std::size_t size) {
     if (piece.records.capacity() == 0) piece.records = stock.records.take();
     const std::size_t before = piece.records.size();
-    piece.records.reserve(before + cut / 14 + 16);
-    if (!parse_records(std::string_view(text.data(), cut), settings, piece.records, piece.record_error,
+    piece.records.reserve(before + size / 14 + 16);
+    if (!parse_records(std::string_view(text, size), settings, piece.records, piece.record_error,
                        piece.ignored_fields)) {
       piece.bad_record = true;
       piece.record_error.record_in_chunk += before;
       bad = std::move(piece);
       have_bad = true;
-      held = 0;
-      if (!end) continue;
-      break;
+      return;
     }
-    piece.decoded_bytes += cut;
-    if (keep_text) piece.bytes.append(text.data(), cut);
-    held = filled - cut;
-    if (held > 0) std::memmove(text.data(), text.data() + cut, held);
-    if (end) break;
+    piece.decoded_bytes += size;
+    if (keep_text) piece.bytes.append(text, size);
+  };
+  for (;;) {
+    const std::size_t need = ZSTD_nextSrcSizeToDecompress(context.get());
+    if (need == 0) break;
+    if (need > src_left) return fail_frame("damaged zstd frame (it ends inside a block)");
+    if (wraps && ring_size - pos < header.blockSizeMax) {  // wrap, as zstd's own streaming does
+      seam.append(ring.data() + parse, pos - parse);
+      pos = parse = 0;
+    }
+    const std::size_t got = ZSTD_decompressContinue(context.get(), ring.data() + pos, ring_size - pos, src, need);
+    if (ZSTD_isError(got)) return fail_frame(fmt::format("damaged zstd frame ({})", ZSTD_getErrorName(got)));
+    src += need;
+    src_left -= need;
+    if (got == 0) continue;
+    total += got;
+    char* const block = ring.data() + pos;
+    last_byte = block[got - 1];
+    pos += got;
+    if (have_bad) {  // only looking for damage now
+      parse = pos;
+      seam.clear();
+      continue;
+    }
+    if (!seam.empty()) {
+      // Complete the cut record with the new block's first bytes.
+      std::size_t take = got;
+      if (settings.form == RecordForm::Binary) {
+        take = std::min(got, (8 - seam.size() % 8) % 8);
+      } else if (const void* newline = std::memchr(block, '\n', got)) {
+        take = static_cast<std::size_t>(static_cast<const char*>(newline) - block) + 1;
+      }
+      seam.append(block, take);
+      parse = pos - got + take;
+      const std::size_t cut = whole_records(seam.data(), seam.size(), settings.form);
+      if (cut == 0 && parse == pos) continue;  // the record goes on past this block
+      parse_text(seam.data(), cut);
+      if (have_bad) continue;
+      seam.clear();
+    }
+    const std::size_t cut = whole_records(ring.data() + parse, pos - parse, settings.form);
+    parse_text(ring.data() + parse, cut);
+    if (have_bad) continue;
+    parse += cut;
     if (piece.records.size() >= kPieceRecords) {
       if (!out.push(std::move(piece))) return;  // abandoned
       piece = Chunk{};
       if (keep_text) piece.bytes = stock.bytes.take();
     }
   }
+  if (src_left != 0) return fail_frame("damaged zstd frame (bytes after its end)");
+  // Anything left unparsed is a last record cut short: the boundary check below names it.
   if (total != header.frameContentSize) return fail_frame("damaged zstd frame (wrong content size)");
   const bool whole = settings.form == RecordForm::Binary ? total % 8 == 0 : total == 0 || last_byte == '\n';
   if (!whole) return fail_frame("data frame does not end at a record boundary");
