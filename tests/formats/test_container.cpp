@@ -58,6 +58,24 @@ class Container : public ::testing::Test {
   TempDir dir_;
 };
 
+TEST_F(Container, ADataFrameLargerThanItsZstdWindowReadsBackExactly) {
+  // 1.5 M records (21 MB of text) in one data frame: zstd's window is
+  // smaller than the frame, so the reader's ring wraps and records cut by
+  // the wrap are joined; the records and the record hash come out right.
+  const auto records = sample_records(1500000, 9);
+  const std::string file = path("one-frame.din.zst");
+  write_trace(file, records, options_for(RecordForm::Din, 1500000));
+  const std::string bytes = read_file(file);
+  const auto frame = bytes.find("\x28\xb5\x2f\xfd");
+  ASSERT_NE(frame, std::string::npos);
+  const auto descriptor = static_cast<unsigned char>(bytes[frame + 4]);
+  ASSERT_EQ(descriptor & 0x20, 0) << "a single-segment frame has its whole content as its window";
+  const auto window = static_cast<unsigned char>(bytes[frame + 5]);
+  // Window Descriptor: at most twice 2^(10 + exponent).
+  EXPECT_LT(1ull << (11 + (window >> 3)), 1500000ull * 14) << "the window must be smaller than the frame";
+  EXPECT_EQ(read_all(file).records, as_read_back(records, RecordForm::Din, true));
+}
+
 TEST_F(Container, DataFramesOfManyRecordsAreDeliveredInSmallerBatchesWithMarkersInPlace) {
   // Data frames of 200000 records (a reader hands a frame over in several
   // batches): the records, the markers' places and first_record are as
