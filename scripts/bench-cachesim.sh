@@ -1,6 +1,13 @@
 #!/usr/bin/env bash
 # Speed of `cachesim run` on a level-tagged din container of >= 50 M records,
 # against `zstd -dc` of the same file measured in the same run (medians):
+#   - first, one configuration (8k single) against zstd -dc on the default
+#     scene's trace and on the BART Kitchen trace (400x300, hybrid layout for a
+#     4 KB high cache; rendered from ../shared/scenes when it is there): wall,
+#     CPU (user + sys) and peak RSS of both, measured alternately in the same
+#     run, and their ratios (goals: CPU at most 1.3 x, wall at most 1.0 x on an
+#     idle machine, RSS at most 32 MiB); where dineroIV is on PATH, the ratio
+#     against `zstd -dcq | dineroIV` for the same configuration (goal 8 x)
 #   - zstd -dc FILE >/dev/null                      (the reference)
 #   - one configuration (8k, block 8, direct mapped, single)
 #   - the Table 1 grid (4k,8k,16k x single,split) in one pass; ratio grid / one
@@ -13,7 +20,9 @@
 #   - where dineroIV is on PATH, the same configuration by Dinero IV
 #
 #   scripts/bench-cachesim.sh [--build-dir DIR] [--repeat N] [--trace FILE]
-#                             [--split-level K|auto] [--no-500m]
+#                             [--split-level K|auto] [--no-500m] [--one-only]
+#
+# --one-only stops after the one-configuration comparison.
 #
 # Without --trace it renders (once) DIR/bench/render75m.din.zst: the default
 # built-in scene at 400x300, depth 10, hybrid layout for a 4 KB high cache
@@ -30,6 +39,7 @@ repeat=5
 trace=
 split_level=auto
 big=1
+one_only=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --build-dir) build_dir=$2; shift 2 ;;
@@ -37,7 +47,8 @@ while [ $# -gt 0 ]; do
     --trace) trace=$2; shift 2 ;;
     --split-level) split_level=$2; shift 2 ;;
     --no-500m) big=0; shift ;;
-    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+    --one-only) one_only=1; shift ;;
+    -h|--help) sed -n '2,31p' "$0"; exit 0 ;;
     *) echo "bench-cachesim.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -82,6 +93,73 @@ wall_and_cpu() {
 median() { sort -n | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f\n", a / b }'; }
 rate() { awk -v n="$records" -v t="$1" 'BEGIN { printf "%.1f\n", n / t / 1e6 }'; }
+
+# Wall, CPU (user + sys) seconds and peak RSS (KB) of a command, output discarded.
+wall_cpu_rss() {
+  local out
+  out=$(mktemp)
+  /usr/bin/time -f '%e %U %S %M' -o "$out" "$@" >/dev/null 2>/dev/null
+  awk '{ printf "%.3f %.3f %d\n", $1, $2 + $3, $4 }' "$out"
+  rm -f "$out"
+}
+
+# One configuration against zstd -dc (and Dinero IV where it is on PATH) on
+# one trace: medians of paired runs, taken alternately.
+compare_one_config() {
+  local file=$1 name=$2 n
+  n=$("$tracetool" info "$file" | awk '$1 == "records" && $2 ~ /^[0-9]+$/ { print $2; exit }')
+  local zw=() zc=() zr=() cw=() cc=() cr=() dw=() dc=()
+  local load0 load1 wall cpu rss
+  load0=$(cut -d' ' -f1 /proc/loadavg)
+  for _ in $(seq "$repeat"); do
+    read -r wall cpu rss < <(wall_cpu_rss zstd -q -dc "$file")
+    zw+=("$wall") zc+=("$cpu") zr+=("$rss")
+    read -r wall cpu rss < <(wall_cpu_rss "$cachesim" run "$file" --size 8k --block 8 --assoc 1 --scheme single --format csv)
+    cw+=("$wall") cc+=("$cpu") cr+=("$rss")
+    if command -v dineroIV >/dev/null; then
+      read -r wall cpu rss < <(wall_cpu_rss bash -c "zstd -q -dc '$file' | dineroIV -informat d -l1-usize 8k \
+        -l1-ubsize 8 -l1-uassoc 1")
+      dw+=("$wall") dc+=("$cpu")
+    fi
+  done
+  load1=$(cut -d' ' -f1 /proc/loadavg)
+  local zwm zcm zrm cwm ccm crm
+  zwm=$(printf '%s\n' "${zw[@]}" | median) zcm=$(printf '%s\n' "${zc[@]}" | median)
+  zrm=$(printf '%s\n' "${zr[@]}" | median) cwm=$(printf '%s\n' "${cw[@]}" | median)
+  ccm=$(printf '%s\n' "${cc[@]}" | median) crm=$(printf '%s\n' "${cr[@]}" | sort -n | tail -1)
+  echo "one configuration (8k, block 8, direct mapped, single) on $name: $file ($n records)"
+  echo "  cores: $(nproc); load average before $load0, after $load1; medians of $repeat paired runs"
+  if awk -v a="$load0" -v b="$load1" -v c="$(nproc)" 'BEGIN { exit !(a > c / 2 || b > c / 2) }'; then
+    echo "  NOTE: measured under load from other processes: figures are pessimistic and noisy"
+  fi
+  printf '  %-26s wall %6s s  cpu %6s s  peak RSS %7s KB\n' "zstd -dc FILE >/dev/null" "$zwm" "$zcm" "$zrm"
+  printf '  %-26s wall %6s s  cpu %6s s  peak RSS %7s KB (largest)\n' "cachesim run" "$cwm" "$ccm" "$crm"
+  printf '  %-26s wall %6s x  cpu %6s x  (goals: wall 1.0 on an idle machine, cpu 1.3; RSS 32768 KB)\n' \
+    "cachesim / zstd -dc" "$(ratio "$cwm" "$zwm")" "$(ratio "$ccm" "$zcm")"
+  if [ "${#dw[@]}" -gt 0 ]; then
+    local dwm dcm
+    dwm=$(printf '%s\n' "${dw[@]}" | median) dcm=$(printf '%s\n' "${dc[@]}" | median)
+    printf '  %-26s wall %6s s  cpu %6s s  (cachesim is %s x faster in wall, %s x in cpu; goal 8)\n' \
+      "zstd -dc | dineroIV" "$dwm" "$dcm" "$(ratio "$dwm" "$cwm")" "$(ratio "$dcm" "$ccm")"
+  else
+    echo "  dineroIV is not on PATH: no comparison with Dinero IV (goal: 8 x faster)"
+  fi
+}
+
+kitchen_scene=../shared/scenes/bart/kitchen/kitchen.aff
+compare_one_config "$trace" "the trace"
+if [ -r "$kitchen_scene" ]; then
+  kitchen=$build_dir/bench/kitchen400.din.zst
+  if [ ! -s "$kitchen" ]; then
+    mkdir -p "$build_dir/bench"
+    echo "making $kitchen (BART Kitchen, 400x300, high cache 4k) ..." >&2
+    "$tracer" render "$kitchen_scene" --width 400 --height 300 --high-size 4k -q -o "$kitchen"
+  fi
+  compare_one_config "$kitchen" "BART Kitchen"
+else
+  echo "no BART Kitchen scene at $kitchen_scene: the Kitchen comparison is skipped"
+fi
+[ "$one_only" = 1 ] && exit 0
 
 one_config=(run "$trace" --size 8k --block 8 --assoc 1 --scheme single --format csv)
 grid=(run "$trace" --size 4k,8k,16k --block 8 --assoc 1 --scheme single,split

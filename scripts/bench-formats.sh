@@ -11,6 +11,9 @@
 # 2. read: a full decode of that container into the record model (every
 #    record parsed, checksums and hashes checked) against `zstd -dc FILE
 #    >/dev/null`; target: no slower.
+# 3. verify: `tracetool verify` of that container (every checksum, the index,
+#    the record hash, every record parsed) against `zstd -t FILE`, wall and
+#    CPU; target: at most 1.0 x in both.
 # Wall-clock figures depend on what else runs on the machine: the script
 # prints the load average next to them, and CPU seconds (user+sys) too.
 set -euo pipefail
@@ -24,7 +27,7 @@ while [ $# -gt 0 ]; do
     --records) records="$2"; shift 2 ;;
     --runs) runs="$2"; shift 2 ;;
     --build-dir) build_dir="$2"; shift 2 ;;
-    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
     *) echo "bench-formats.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -72,7 +75,13 @@ for _ in $(seq "$runs"); do
   timed "$work/zstd" zstd -dc "$trace"
   timed "$work/read" "$bench" read "$trace"
 done
-"$build_dir/bin/tracetool" verify "$trace" >/dev/null
+: >"$work/verify"
+: >"$work/zstdt"
+for _ in $(seq "$runs"); do
+  timed "$work/zstdt" zstd -tq "$trace"
+  timed "$work/verify" "$build_dir/bin/tracetool" verify "$trace"
+done
+"$build_dir/bin/tracetool" verify "$trace" >/dev/null  # it must pass
 
 write_wall=$(column_median "$work/write" 1)
 read_wall=$(column_median "$work/read" 1)
@@ -88,5 +97,11 @@ awk -v n="$records" -v ww="$write_wall" -v wc="$(column_median "$work/write" 2)"
   printf "read   full decode: median %.3f s wall, %.3f s cpu = %.1f M records/s\n", rw, rc, n / rw / 1e6
   printf "zstd   zstd -dc >/dev/null: median %.3f s wall, %.3f s cpu = %.1f M records/s\n", zw, zc, n / zw / 1e6
   printf "ratio  read wall / zstd -dc wall = %.3f (target <= 1)\n", rw / zw
+}'
+awk -v vw="$(column_median "$work/verify" 1)" -v vc="$(column_median "$work/verify" 2)" \
+    -v tw="$(column_median "$work/zstdt" 1)" -v tc="$(column_median "$work/zstdt" 2)" 'BEGIN {
+  printf "verify tracetool verify: median %.3f s wall, %.3f s cpu\n", vw, vc
+  printf "zstd   zstd -t: median %.3f s wall, %.3f s cpu\n", tw, tc
+  printf "ratio  verify / zstd -t: wall %.3f, cpu %.3f (target <= 1 in both)\n", vw / tw, vc / tc
 }'
 echo "load average at the end: $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -26,6 +26,16 @@ TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheC
   std::vector<formats::RecordBatch> batches(2);
   std::size_t current = 0;
   if (!reader.next(batches[current])) return sweep.finish();
+  if (configs.size() == 1) {
+    // One configuration: the reader's own workers decode ahead, so the
+    // simulation runs here; a thread of its own would only add a hand-over
+    // per batch.
+    do {
+      sweep.feed(batches[current]);
+      if (progress) progress(batches[current].first_record + batches[current].records.size());
+    } while (reader.next(batches[current]));
+    return sweep.finish();
+  }
   // The first batch starts the sweep, before any worker runs.
   sweep.begin_batch(batches[current]);
   formats::OrderedPipeline<void> simulation(static_cast<unsigned>(sweep.part_count()));

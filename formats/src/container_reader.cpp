@@ -1,14 +1,16 @@
 // The container reader (FORMAT.md sections 2 and 3): the header, then frame
-// by frame markers, data frames (decoded on the workers, each checked against
-// the index) and the trailer; from a file it reads the trailer from the end
+// by frame markers, data frames (decoded on the workers and handed over in
+// pieces, so memory stays small, each frame checked against the index) and
+// the trailer; from a file it reads the trailer from the end
 // first, which gives the index for keep_data_frame and seek_to_record.
-#define ZSTD_STATIC_LINKING_ONLY  // ZSTD_getFrameHeader, ZSTD_decompressBound
+#define ZSTD_STATIC_LINKING_ONLY  // ZSTD_getFrameHeader, ZSTD_decompressBound, the buffer-less API
 #include <xxhash.h>
 #include <zstd.h>
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstring>
 
 #include "container.hpp"
 #include "nodetrace/formats/error.hpp"
@@ -17,49 +19,155 @@
 namespace nodetrace::formats::detail {
 namespace {
 
-// Decompresses and parses one data frame (on a worker); damage goes into
-// the chunk's frame_error for the reader to report with the frame's place.
-Chunk decode_data_frame(const std::string& frame, ParseSettings settings, Stock& stock) {
-  Chunk chunk;
+// Pieces of a data frame: records per piece handed over, and pieces waiting
+// per frame.
+constexpr std::size_t kPieceRecords = 1u << 14;
+constexpr std::size_t kPiecesWaiting = 2;
+// Frames whose zstd window is larger than this (archives) are decoded one
+// at a time, so only one such window is held.
+constexpr std::uint64_t kSmallWindow = 8u << 20;
+// The largest zstd window a reader decodes (zstd's own default limit).
+constexpr std::uint64_t kMaxWindow = 1ull << 27;
+
+// Where the records of `text` end: after the last newline, or the last whole
+// binary record.
+std::size_t whole_records(const char* text, std::size_t size, RecordForm form) {
+  if (form == RecordForm::Binary) return size - size % 8;
+  const void* newline = size == 0 ? nullptr : ::memrchr(text, '\n', size);
+  return newline == nullptr ? 0 : static_cast<std::size_t>(static_cast<const char*>(newline) - text) + 1;
+}
+
+// Decompresses and parses one data frame (on a worker) step by step into
+// pieces; damage goes into a piece's frame_error for the reader to report
+// with the frame's place. A bad record is reported only once the rest of
+// the frame has decompressed without damage (damage is the better answer).
+void decode_data_frame(const std::string& frame, ParseSettings settings, bool keep_text, Stock& stock,
+                       PieceStream& out) {
+  const auto fail_frame = [&](std::string message) {
+    Chunk chunk;
+    chunk.frame_error = std::move(message);
+    out.push(std::move(chunk));
+  };
   ZSTD_frameHeader header{};
   const std::size_t status = ZSTD_getFrameHeader(&header, frame.data(), frame.size());
-  if (ZSTD_isError(status) || status != 0) {
-    chunk.frame_error = "damaged zstd frame header";
-    return chunk;
-  }
+  if (ZSTD_isError(status) || status != 0) return fail_frame("damaged zstd frame header");
   if (header.frameContentSize == ZSTD_CONTENTSIZE_UNKNOWN || !header.checksumFlag) {
-    chunk.frame_error = "a data frame must record its content size and checksum";
-    return chunk;
+    return fail_frame("a data frame must record its content size and checksum");
   }
   const unsigned long long bound = ZSTD_decompressBound(frame.data(), frame.size());
   if (bound == ZSTD_CONTENTSIZE_ERROR || header.frameContentSize > bound) {
-    chunk.frame_error = "damaged zstd frame (content size does not match its blocks)";
-    return chunk;
+    return fail_frame("damaged zstd frame (content size does not match its blocks)");
   }
-  ByteBuffer bytes = stock.bytes.take();
-  bytes.resize(header.frameContentSize);
+  if (header.windowSize > kMaxWindow) {
+    return fail_frame(fmt::format("damaged zstd frame (a window of {} bytes, more than a reader allows)", header.windowSize));
+  }
+  // Block by block (zstd's buffer-less API) into a ring that holds the
+  // window: each block is parsed where zstd put it, with no copy out of a
+  // stream buffer. A record cut by the ring's wrap is joined in `seam`.
   thread_local std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> context(ZSTD_createDCtx(), &ZSTD_freeDCtx);
-  const std::size_t size = ZSTD_decompressDCtx(context.get(), bytes.data(), bytes.size(), frame.data(), frame.size());
-  if (ZSTD_isError(size)) {
-    chunk.frame_error = fmt::format("damaged zstd frame ({})", ZSTD_getErrorName(size));
-    return chunk;
-  }
-  if (size != bytes.size()) {
-    chunk.frame_error = "damaged zstd frame (wrong content size)";
-    return chunk;
-  }
-  if (!bytes.empty()) {
-    const bool whole = settings.form == RecordForm::Binary ? bytes.size() % 8 == 0 : bytes.data()[bytes.size() - 1] == '\n';
-    if (!whole) {
-      chunk.frame_error = "data frame does not end at a record boundary";
-      return chunk;
+  thread_local ByteBuffer ring;
+  const std::size_t ring_size = ZSTD_decodingBufferSize_min(header.windowSize, header.frameContentSize);
+  if (ZSTD_isError(ring_size)) return fail_frame("damaged zstd frame (its window does not fit in memory)");
+  if (ring.size() > 2 * ring_size + (1u << 20)) ring = ByteBuffer{};  // a large window's ring is not kept
+  if (ring.size() < std::max<std::size_t>(ring_size, 1)) ring.resize(std::max<std::size_t>(ring_size, 1));
+  // A frame no larger than the ring is decoded straight through.
+  const bool wraps = ring_size < header.frameContentSize;
+  const std::size_t status_begin = ZSTD_decompressBegin(context.get());
+  if (ZSTD_isError(status_begin)) return fail_frame(fmt::format("cannot decode ({})", ZSTD_getErrorName(status_begin)));
+  const char* src = frame.data();
+  std::size_t src_left = frame.size();
+  std::size_t pos = 0;    // where the next block goes in the ring
+  std::size_t parse = 0;  // the first byte in the ring not yet parsed
+  ByteBuffer seam;        // a record cut by the wrap
+  std::uint64_t total = 0;
+  char last_byte = '\n';
+  Chunk piece;
+  Chunk bad;  // the piece with the first bad record, held until the frame is known undamaged
+  bool have_bad = false;
+  const auto parse_text = [&](const char* text, std::size_t size) {
+    if (piece.records.capacity() == 0) piece.records = stock.records.take();
+    const std::size_t before = piece.records.size();
+    piece.records.reserve(before + size / 14 + 16);
+    if (!parse_records(std::string_view(text, size), settings, piece.records, piece.record_error,
+                       piece.ignored_fields)) {
+      piece.bad_record = true;
+      piece.record_error.record_in_chunk += before;
+      bad = std::move(piece);
+      have_bad = true;
+      return;
+    }
+    piece.decoded_bytes += size;
+    if (keep_text) piece.bytes.append(text, size);
+  };
+  for (;;) {
+    const std::size_t need = ZSTD_nextSrcSizeToDecompress(context.get());
+    if (need == 0) break;
+    if (need > src_left) return fail_frame("damaged zstd frame (it ends inside a block)");
+    if (wraps && ring_size - pos < header.blockSizeMax) {  // wrap, as zstd's own streaming does
+      seam.append(ring.data() + parse, pos - parse);
+      pos = parse = 0;
+    }
+    const std::size_t got = ZSTD_decompressContinue(context.get(), ring.data() + pos, ring_size - pos, src, need);
+    if (ZSTD_isError(got)) return fail_frame(fmt::format("damaged zstd frame ({})", ZSTD_getErrorName(got)));
+    src += need;
+    src_left -= need;
+    if (got == 0) continue;
+    total += got;
+    char* const block = ring.data() + pos;
+    last_byte = block[got - 1];
+    pos += got;
+    if (have_bad) {  // only looking for damage now
+      parse = pos;
+      seam.clear();
+      continue;
+    }
+    if (!seam.empty()) {
+      // Complete the cut record with the new block's first bytes.
+      std::size_t take = got;
+      if (settings.form == RecordForm::Binary) {
+        take = std::min(got, (8 - seam.size() % 8) % 8);
+      } else if (const void* newline = std::memchr(block, '\n', got)) {
+        take = static_cast<std::size_t>(static_cast<const char*>(newline) - block) + 1;
+      }
+      seam.append(block, take);
+      parse = pos - got + take;
+      const std::size_t cut = whole_records(seam.data(), seam.size(), settings.form);
+      if (cut == 0 && parse == pos) continue;  // the record goes on past this block
+      parse_text(seam.data(), cut);
+      if (have_bad) continue;
+      seam.clear();
+    }
+    const std::size_t cut = whole_records(ring.data() + parse, pos - parse, settings.form);
+    parse_text(ring.data() + parse, cut);
+    if (have_bad) continue;
+    parse += cut;
+    if (piece.records.size() >= kPieceRecords) {
+      if (!out.push(std::move(piece))) return;  // abandoned
+      piece = Chunk{};
+      if (keep_text) piece.bytes = stock.bytes.take();
     }
   }
-  chunk.records = stock.records.take();
-  chunk.bad_record =
-      !parse_records(bytes.view(), settings, chunk.records, chunk.record_error, chunk.ignored_fields);
-  chunk.bytes = std::move(bytes);
-  return chunk;
+  if (src_left != 0) return fail_frame("damaged zstd frame (bytes after its end)");
+  // Anything left unparsed is a last record cut short: the boundary check below names it.
+  if (total != header.frameContentSize) return fail_frame("damaged zstd frame (wrong content size)");
+  const bool whole = settings.form == RecordForm::Binary ? total % 8 == 0 : total == 0 || last_byte == '\n';
+  if (!whole) return fail_frame("data frame does not end at a record boundary");
+  out.push(std::move(have_bad ? bad : piece));
+}
+
+// Decodes a data frame into `stream` once `earlier` (the previous frame with
+// a large window, if this one has one too) is done, then closes it.
+void decode_into(const std::string& frame, ParseSettings settings, bool keep_text, Stock& stock,
+                 PieceStream& stream, PieceStream* earlier) {
+  try {
+    if (earlier) earlier->wait_closed();
+    decode_data_frame(frame, settings, keep_text, stock, stream);
+  } catch (const std::exception& error) {
+    Chunk chunk;
+    chunk.frame_error = fmt::format("cannot decode: {}", error.what());
+    stream.push(std::move(chunk));
+  }
+  stream.close();
 }
 
 class ContainerReader final : public PipelinedReader {
@@ -88,6 +196,7 @@ class ContainerReader final : public PipelinedReader {
     data_frames_ = static_cast<std::uint64_t>(found - index.begin());
     next_skip_ = static_cast<std::size_t>(data_frames_);
     records_read_ = records_delivered_ = found->first_record;
+    frame_records_ = 0;
     pending_marker_.reset();
     pending_window_.reset();
     markers_ = found->animation_frame + 1;
@@ -214,10 +323,20 @@ class ContainerReader final : public PipelinedReader {
       unit.entry.checksum = size >= 4 ? load_le32(input_->data() + size - 4) : 0;
       std::string frame(input_->data(), size);
       consume_hashed(size);
-      pipeline_->submit([unit = std::move(unit), frame = std::move(frame), settings = settings_,
-                         stock = stock_]() mutable {
-        unit.chunk = decode_data_frame(frame, settings, *stock);
-        return std::move(unit);
+      auto stream = std::make_shared<PieceStream>(kPiecesWaiting);
+      // Large windows one at a time: each waits for the previous one.
+      std::shared_ptr<PieceStream> earlier;
+      ZSTD_frameHeader frame_header{};
+      if (ZSTD_getFrameHeader(&frame_header, frame.data(), frame.size()) == 0 &&
+          frame_header.windowSize > kSmallWindow) {
+        earlier = std::exchange(last_large_window_, stream);
+      }
+      unit.stream = stream;
+      pipeline_->push_ready(std::move(unit));
+      const bool keep_text = hashes_valid_ && options_.check_record_hash;  // for the record hash
+      post_stream_job(stream, [frame = std::move(frame), settings = settings_, keep_text, stock = stock_, stream,
+                               earlier = std::move(earlier)] {
+        decode_into(frame, settings, keep_text, *stock, *stream, earlier.get());
       });
       return;
     }
@@ -309,19 +428,29 @@ class ContainerReader final : public PipelinedReader {
   }
 
   void check_chunk(const Unit& unit, Chunk& chunk) override {
-    const std::string where = fmt::format("data frame {} at byte {}", unit.data_frame + 1, unit.entry.offset);
-    if (!chunk.frame_error.empty()) fail(fmt::format("{}: {}", where, chunk.frame_error));
+    if (!chunk.frame_error.empty()) fail(fmt::format("{}: {}", where(unit), chunk.frame_error));
+    frame_records_ += chunk.records.size();
+    record_bytes_ += chunk.decoded_bytes;
+    if (chunk.bad_record) return;
+    if (hashes_valid_ && options_.check_record_hash) {
+      XXH64_update(record_hash_.get(), chunk.bytes.data(), chunk.bytes.size());
+    }
+    if (!chunk.bytes.empty()) stock_->bytes.give(std::move(chunk.bytes));
+  }
+
+  void end_stream(const Unit& unit) override {
     FrameIndexEntry seen = unit.entry;
     seen.first_record = records_read_;
-    seen.record_count = chunk.records.size();
-    records_read_ += seen.record_count;
-    record_bytes_ += chunk.bytes.size();
+    seen.record_count = frame_records_;
+    records_read_ += frame_records_;
+    frame_records_ = 0;
     ++data_frames_decompressed_;
-    if (chunk.bad_record) return;
-    if (hashes_valid_) XXH64_update(record_hash_.get(), chunk.bytes.data(), chunk.bytes.size());
-    stock_->bytes.give(std::move(chunk.bytes));
-    if (trailer_) check_index_entry(seen, unit.data_frame, where);
+    if (trailer_) check_index_entry(seen, unit.data_frame, where(unit));
     seen_.push_back(seen);
+  }
+
+  static std::string where(const Unit& unit) {
+    return fmt::format("data frame {} at byte {}", unit.data_frame + 1, unit.entry.offset);
   }
 
   void check_index_entry(const FrameIndexEntry& seen, std::uint64_t number, const std::string& where) const {
@@ -365,7 +494,7 @@ class ContainerReader final : public PipelinedReader {
       fail(fmt::format("the trailer's totals say {} records but the data frames hold {}", totals->dump(), records_read_));
     }
     if (skipped_bytes_) return;  // the hashes cover the skipped data frames
-    if (XXH64_digest(record_hash_.get()) != trailer_->record_hash) {
+    if (options_.check_record_hash && XXH64_digest(record_hash_.get()) != trailer_->record_hash) {
       fail("record hash mismatch: the records are not the ones the trailer describes");
     }
     if (stream_content_hash_ != trailer_->content_hash) {
@@ -394,6 +523,8 @@ class ContainerReader final : public PipelinedReader {
   std::uint64_t data_frames_ = 0;
   std::uint64_t markers_ = 0;
   std::uint64_t records_read_ = 0;  // records in the data frames handed over so far
+  std::uint64_t frame_records_ = 0;  // records of the data frame being delivered, so far
+  std::shared_ptr<PieceStream> last_large_window_;  // the last frame posted with a large window
   std::vector<FrameIndexEntry> seen_;
   std::unique_ptr<XXH64_state_t, HashStateDeleter> content_hash_{XXH64_createState()};
   std::unique_ptr<XXH64_state_t, HashStateDeleter> record_hash_{XXH64_createState()};

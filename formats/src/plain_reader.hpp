@@ -9,7 +9,9 @@
 
 namespace nodetrace::formats::detail {
 
-inline constexpr std::size_t kPlainChunkBytes = 4u << 20;  // bytes parsed per job
+// Bytes parsed per job: small enough that the few jobs in flight hold a few
+// megabytes of text and records, large enough that hand-overs are rare.
+inline constexpr std::size_t kPlainChunkBytes = 512u << 10;
 
 class PlainReader : public PipelinedReader {
  public:

@@ -13,6 +13,43 @@ Chunk parse_chunk(const std::string& bytes, ParseSettings settings, Stock& stock
   return chunk;
 }
 
+bool PieceStream::push(Chunk&& piece) {
+  std::unique_lock lock(mutex_);
+  changed_.wait(lock, [this] { return abandoned_ || pieces_.size() < capacity_; });
+  if (abandoned_) return false;
+  pieces_.push_back(std::move(piece));
+  changed_.notify_all();
+  return true;
+}
+
+void PieceStream::close() {
+  std::lock_guard lock(mutex_);
+  closed_ = true;
+  changed_.notify_all();
+}
+
+bool PieceStream::pop(Chunk& piece) {
+  std::unique_lock lock(mutex_);
+  changed_.wait(lock, [this] { return closed_ || !pieces_.empty(); });
+  if (pieces_.empty()) return false;
+  piece = std::move(pieces_.front());
+  pieces_.pop_front();
+  changed_.notify_all();
+  return true;
+}
+
+void PieceStream::abandon() {
+  std::lock_guard lock(mutex_);
+  abandoned_ = true;
+  pieces_.clear();
+  changed_.notify_all();
+}
+
+void PieceStream::wait_closed() {
+  std::unique_lock lock(mutex_);
+  changed_.wait(lock, [this] { return closed_; });
+}
+
 PipelinedReader::PipelinedReader(OpenedInput opened, const ReaderOptions& options)
     : name_(std::move(opened.name)), input_(std::move(opened.input)), options_(options) {
   threads_ = threads_or_cores(options_.threads);
@@ -45,6 +82,18 @@ bool PipelinedReader::next(RecordBatch& batch) {
   batch.window.reset();
   for (;;) {
     fill_pipeline();
+    if (streaming_) {
+      Chunk piece;
+      if (streaming_->stream->pop(piece)) {
+        if (deliver_chunk(*streaming_, piece, batch)) return true;
+        continue;
+      }
+      live_streams_.pop_front();  // the oldest live stream is this one
+      const Unit unit = std::move(*streaming_);
+      streaming_.reset();
+      end_stream(unit);
+      continue;
+    }
     if (!pipeline_ || pipeline_->empty()) {
       if (!finished_) {
         finished_ = true;
@@ -78,21 +127,37 @@ bool PipelinedReader::next(RecordBatch& batch) {
       }
       case Unit::Kind::Records: break;
     }
-    Chunk& chunk = unit.chunk;
-    check_chunk(unit, chunk);
-    if (chunk.bad_record) {
-      throw FormatError(fmt::format("{}: record {}: {}", name_,
-                                    records_delivered_ + chunk.record_error.record_in_chunk + 1,
-                                    chunk.record_error.message));
+    if (unit.stream) {
+      streaming_ = std::move(unit);
+      continue;
     }
-    ignored_fields_ += chunk.ignored_fields;
-    if (chunk.records.empty() && !pending_marker_ && !pending_window_) continue;
-    batch.first_record = records_delivered_;
-    records_delivered_ += chunk.records.size();
-    batch.records = std::move(chunk.records);
-    deliver_pending(batch);
-    return true;
+    if (deliver_chunk(unit, unit.chunk, batch)) return true;
   }
+}
+
+bool PipelinedReader::deliver_chunk(const Unit& unit, Chunk& chunk, RecordBatch& batch) {
+  check_chunk(unit, chunk);
+  if (chunk.bad_record) {
+    throw FormatError(fmt::format("{}: record {}: {}", name_,
+                                  records_delivered_ + chunk.record_error.record_in_chunk + 1,
+                                  chunk.record_error.message));
+  }
+  ignored_fields_ += chunk.ignored_fields;
+  if (chunk.records.empty() && !pending_marker_ && !pending_window_) {
+    if (chunk.records.capacity() > 0) stock_->records.give(std::move(chunk.records));
+    return false;
+  }
+  batch.first_record = records_delivered_;
+  records_delivered_ += chunk.records.size();
+  batch.records = std::move(chunk.records);
+  deliver_pending(batch);
+  return true;
+}
+
+void PipelinedReader::post_stream_job(std::shared_ptr<PieceStream> stream, std::function<void()> job) {
+  if (!decoders_) decoders_ = std::make_unique<WorkerThreads>(threads_);
+  live_streams_.push_back(std::move(stream));
+  decoders_->post(std::move(job));
 }
 
 bool PipelinedReader::deliver_pending(RecordBatch& batch) {
@@ -106,11 +171,15 @@ bool PipelinedReader::deliver_pending(RecordBatch& batch) {
 }
 
 void PipelinedReader::fill_pipeline() {
-  const std::size_t limit = static_cast<std::size_t>(threads_) + 2;
+  const std::size_t limit = static_cast<std::size_t>(threads_) + 1;
   while (!input_done_ && pipeline_->size() < limit) read_unit();
 }
 
 void PipelinedReader::drain() {
+  // Abandoned streams let their workers stop; they own what they use.
+  for (const auto& stream : live_streams_) stream->abandon();
+  live_streams_.clear();
+  streaming_.reset();
   if (pipeline_) pipeline_->clear();
 }
 

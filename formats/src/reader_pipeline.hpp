@@ -5,8 +5,11 @@
 // fill the pipeline from their kind of input; reader.cpp picks the kind.
 #pragma once
 
+#include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -21,17 +24,49 @@ namespace nodetrace::formats::detail {
 // What a worker hands back for one data frame or text chunk.
 struct Chunk {
   std::vector<Record> records;
-  ByteBuffer bytes;  // the decompressed record bytes (containers: hashed in order)
+  ByteBuffer bytes;  // the decompressed record bytes, when the record hash is checked (hashed in order)
+  std::uint64_t decoded_bytes = 0;   // record bytes these records came from
   bool bad_record = false;
   RecordError record_error;
   std::uint64_t ignored_fields = 0;  // records whose trailing fields were ignored
   std::string frame_error;           // damage found before parsing
 };
 
-// Buffers handed back by the consumer for the workers to reuse.
+// Buffers handed back by the consumer for the workers to reuse (a few:
+// spare buffers are memory held).
 struct Stock {
-  Recycler<ByteBuffer> bytes{16};
-  Recycler<std::vector<Record>> records{16};
+  Recycler<ByteBuffer> bytes{8};
+  Recycler<std::vector<Record>> records{4};
+};
+
+// One data frame decoded on a worker and handed to the reader in pieces of
+// a few thousand records, at most `capacity` of them waiting: the frame's
+// text and records are never held whole, so memory does not grow with the
+// frame (a frame is megabytes; a piece stays in the processor's cache).
+class PieceStream {
+ public:
+  explicit PieceStream(std::size_t capacity) : capacity_(capacity) {}
+
+  // Worker: hands over a piece, waiting for room; false once the reader has
+  // abandoned the stream (the worker should stop).
+  bool push(Chunk&& piece);
+  // Worker: the frame is done (always called, also after an error).
+  void close();
+  // Reader: the next piece, waiting for it; false once the stream is closed
+  // and every piece was taken.
+  bool pop(Chunk& piece);
+  // Reader: no more pieces wanted (drain, seek, destruction).
+  void abandon();
+  // Waits until the worker closed the stream.
+  void wait_closed();
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<Chunk> pieces_;
+  std::size_t capacity_;
+  bool closed_ = false;
+  bool abandoned_ = false;
 };
 
 Chunk parse_chunk(const std::string& bytes, ParseSettings settings, Stock& stock);
@@ -43,6 +78,8 @@ struct Unit {
   FrameMarker marker;
   WindowMarker window;
   Chunk chunk;  // Records: filled on a worker
+  // Records decoded in pieces (containers): the chunk is then unused.
+  std::shared_ptr<PieceStream> stream;
   // Containers: where the data frame is and what the index should say.
   FrameIndexEntry entry;
   std::uint64_t data_frame = 0;
@@ -72,8 +109,16 @@ class PipelinedReader : public TraceReader {
  protected:
   // Queues the input's next unit, or sets input_done_ at its end.
   virtual void read_unit() = 0;
-  // Checks a data frame's chunk before its records go out (containers).
+  // Checks a data frame's chunk (or a piece of it) before its records go
+  // out (containers).
   virtual void check_chunk(const Unit& unit, Chunk& chunk) { (void)unit, (void)chunk; }
+  // A data frame read in pieces has delivered its last piece (containers:
+  // the frame's index entry).
+  virtual void end_stream(const Unit& unit) { (void)unit; }
+  // Runs `job` on the stream decoders (threads_ of them, started on first
+  // use), jobs starting in the order they are posted; the stream is
+  // abandoned by drain().
+  void post_stream_job(std::shared_ptr<PieceStream> stream, std::function<void()> job);
   // A data frame skipped by keep_data_frame, in its turn (containers).
   virtual void pass_skipped(const Unit& unit) { (void)unit; }
   // The input has ended: final checks (containers: trailer, index, hashes).
@@ -106,11 +151,18 @@ class PipelinedReader : public TraceReader {
 
  private:
   void fill_pipeline();
+  // Hands out a chunk or piece of `unit`: false when it carries nothing to deliver.
+  bool deliver_chunk(const Unit& unit, Chunk& chunk, RecordBatch& batch);
   // Moves the pending markers into `batch` (at the current record); false
   // when none is pending.
   bool deliver_pending(RecordBatch& batch);
 
   unsigned threads_ = 1;
+  // The data frame being delivered piece by piece, if any.
+  std::optional<Unit> streaming_;
+  // Streams posted and not yet finished, to abandon on drain().
+  std::deque<std::shared_ptr<PieceStream>> live_streams_;
+  std::unique_ptr<WorkerThreads> decoders_;
 };
 
 }  // namespace nodetrace::formats::detail

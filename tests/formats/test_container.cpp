@@ -58,6 +58,69 @@ class Container : public ::testing::Test {
   TempDir dir_;
 };
 
+TEST_F(Container, ADataFrameLargerThanItsZstdWindowReadsBackExactly) {
+  // 1.5 M records (21 MB of text) in one data frame: zstd's window is
+  // smaller than the frame, so the reader's ring wraps and records cut by
+  // the wrap are joined; the records and the record hash come out right.
+  const auto records = sample_records(1500000, 9);
+  const std::string file = path("one-frame.din.zst");
+  write_trace(file, records, options_for(RecordForm::Din, 1500000));
+  const std::string bytes = read_file(file);
+  const auto frame = bytes.find("\x28\xb5\x2f\xfd");
+  ASSERT_NE(frame, std::string::npos);
+  const auto descriptor = static_cast<unsigned char>(bytes[frame + 4]);
+  ASSERT_EQ(descriptor & 0x20, 0) << "a single-segment frame has its whole content as its window";
+  const auto window = static_cast<unsigned char>(bytes[frame + 5]);
+  // Window Descriptor: at most twice 2^(10 + exponent).
+  EXPECT_LT(1ull << (11 + (window >> 3)), 1500000ull * 14) << "the window must be smaller than the frame";
+  EXPECT_EQ(read_all(file).records, as_read_back(records, RecordForm::Din, true));
+}
+
+TEST_F(Container, DataFramesOfManyRecordsAreDeliveredInSmallerBatchesWithMarkersInPlace) {
+  // Data frames of 200000 records (a reader hands a frame over in several
+  // batches): the records, the markers' places and first_record are as
+  // written, from a file, through a pipe, and after a seek into a frame.
+  const auto records = sample_records(700000, 5);
+  const std::vector<std::pair<std::uint64_t, FrameMarker>> markers = {{0, marker(0)}, {450000, marker(1)}};
+  const std::string file = path("big.din.zst");
+  write_trace(file, records, options_for(RecordForm::Din, 200000), {}, markers);
+  const auto expected = as_read_back(records, RecordForm::Din, true);
+  ReaderOptions skip_record_hash;
+  skip_record_hash.check_record_hash = false;
+  for (const ReaderOptions& options : {ReaderOptions{}, skip_record_hash}) {
+    auto reader = TraceReader::open(file, options);
+    RecordBatch batch;
+    std::vector<Record> read;
+    std::vector<std::uint64_t> marker_places;
+    std::size_t batches = 0;
+    while (reader->next(batch)) {
+      ASSERT_EQ(batch.first_record, read.size());
+      if (batch.marker) marker_places.push_back(batch.first_record);
+      read.insert(read.end(), batch.records.begin(), batch.records.end());
+      ++batches;
+    }
+    EXPECT_EQ(read, expected);
+    EXPECT_EQ(marker_places, (std::vector<std::uint64_t>{0, 450000}));
+    EXPECT_GT(batches, 5u);  // more batches than data frames
+  }
+  const std::string bytes = read_file(file);
+  const std::string error = testing_util::with_stdin_from(bytes, [&] {
+    const auto piped = read_all("-");
+    EXPECT_EQ(piped.records, expected);
+    ASSERT_EQ(piped.markers.size(), 2u);
+    EXPECT_EQ(piped.markers[1].first, 450000u);
+  });
+  EXPECT_EQ(error, "");
+  auto reader = TraceReader::open(file);
+  reader->seek_to_record(300001);  // in the second data frame, which starts at record 200000
+  RecordBatch batch;
+  ASSERT_TRUE(reader->next(batch));
+  EXPECT_EQ(batch.first_record, 200000u);
+  std::vector<Record> rest(batch.records.begin(), batch.records.end());
+  while (reader->next(batch)) rest.insert(rest.end(), batch.records.begin(), batch.records.end());
+  EXPECT_EQ(rest, std::vector<Record>(expected.begin() + 200000, expected.end()));
+}
+
 TEST_F(Container, RoundTripsEveryFormWithMarkers) {
   const auto records = sample_records(5500);
   const std::vector<std::pair<std::uint64_t, FrameMarker>> markers = {{0, marker(0)}, {2000, marker(1)},

@@ -4,6 +4,8 @@
 
 #include <cstdio>
 
+#include <fmt/format.h>
+
 #include "formats_test_util.hpp"
 #include "test_support.hpp"
 
@@ -138,6 +140,49 @@ TEST_F(TextParsing, FastPathAndGeneralParserAgree) {
   EXPECT_EQ(a.records, b.records);
   EXPECT_EQ(a.records[40].tag, 0);
   EXPECT_EQ(a.records[41].tag, 1);
+}
+
+TEST_F(TextParsing, EveryByteOfTheCommonLineIsCheckedAsTheGeneralParserChecksIt) {
+  // `0 00001a38 07` with one byte changed to each value near a boundary of
+  // what is accepted (digits, letters, blanks, controls, high bytes), after a line of
+  // the common layout (the fast path reads it) and after one of another
+  // layout (only the general parser reads it): the same records or the same
+  // error, with the same record number.
+  const std::string common = "0 00001a38 07\n";
+  const std::string tail = common + common;
+  ReaderOptions levels;
+  levels.tags_are_levels = true;
+  levels.threads = 1;
+  const auto outcome = [&](const std::string& text, const char* name) {
+    try {
+      auto result = read_all(write(text, name), levels);
+      result.records.erase(result.records.begin());
+      return fmt::format("{} records, second {:x} {} {}", result.records.size(),
+                         result.records.empty() ? 0 : result.records[0].address,
+                         result.records.empty() ? 0 : static_cast<int>(result.records[0].type),
+                         result.records.empty() ? 0 : result.records[0].tag);
+    } catch (const FormatError& error) {
+      const std::string message = error.what();
+      return message.substr(message.find(": ") + 2);  // without the file name
+    }
+  };
+  std::vector<int> values = {0, '\t', '\n', '\r', ' ', '/', ':', '@', 'G', '`', 'g', 'x', 'X', 0x7f, 0x80, 0xb0, 0xc1, 0xe6, 0xff};
+  for (int c = '0'; c <= '9'; ++c) values.push_back(c);
+  for (int c = 'a'; c <= 'f'; ++c) values.push_back(c), values.push_back(c - 'a' + 'A');
+  int differing = 0;
+  for (std::size_t position = 0; position + 1 < common.size(); ++position) {
+    for (const int value : values) {
+      std::string changed = common;
+      changed[position] = static_cast<char>(value);
+      const std::string fast = outcome(common + changed + tail, "fast.din");
+      const std::string general = outcome("0 0000001a38 07\n" + changed + tail, "general.din");
+      if (fast != general && ++differing <= 5) {
+        ADD_FAILURE() << "byte " << position << " = " << value << ": fast path gives \"" << fast
+                      << "\", the general parser \"" << general << "\"";
+      }
+    }
+  }
+  EXPECT_EQ(differing, 0);
 }
 
 TEST_F(TextParsing, ErrorsAfterTheFastPathCountRecordsExactly) {

@@ -32,6 +32,12 @@ struct ReaderOptions {
   // are). Ignored (every frame delivered) for input that cannot seek. Called
   // once per data frame, in file order, when the trace is opened.
   std::function<bool(const FrameIndexEntry&)> keep_data_frame;
+  // Containers: check the trailer's record_hash (XXH64 of all decompressed
+  // text). Damage is caught without it (FORMAT.md 3: zstd's checksum of each
+  // data frame and the content hash of every byte); it checks what the
+  // writer hashed, and costs a pass over all the text, so a simulator may
+  // leave it to `tracetool verify`.
+  bool check_record_hash = true;
 };
 
 // A run of consecutive records, delivered in trace order.
