@@ -117,17 +117,19 @@ class Writer final : public TraceWriter {
     check_open();
     while (!records.empty()) {
       // Whole runs up to the end of the pending data frame: one cheap pass
-      // checks and counts them, then they are formatted straight into the
-      // frame's text while they are still in the cache (formatting costs
-      // about what copying them for a worker would; compression, the bulk of
-      // the work, runs on the workers).
+      // checks them, then they are formatted (and counted) straight into the
+      // frame's text while they are still in the cache, and the new text is
+      // hashed while it is (formatting costs about what copying them for a
+      // worker would; compression, the bulk of the work, runs on the workers).
       const std::size_t room = options_.records_per_frame - pending_records_;
       const std::span<const Record> run = records.first(std::min<std::size_t>(room, records.size()));
       records = records.subspan(run.size());
-      if (!count_run(run)) {
+      if (!writable(run)) {
         write_one_by_one(run);  // throws, naming the first bad record
       }
-      detail::format_records(run, options_.form, options_.address_digits, records_total_, pending_text_);
+      const std::size_t text_before = pending_text_.size();
+      detail::format_records(run, options_.form, options_.address_digits, records_total_, pending_text_, summary_);
+      hash_text_from(text_before);
       pending_records_ += run.size();
       records_total_ += run.size();
       if (pending_records_ >= options_.records_per_frame) submit_pending();
@@ -174,9 +176,8 @@ class Writer final : public TraceWriter {
     std::uint64_t animation_frame = 0;
   };
 
-  // Counts the records by type and tag when every one of them can be written;
-  // false (counting nothing) when one cannot.
-  bool count_run(std::span<const Record> run) {
+  // True when every record of the run can be written.
+  bool writable(std::span<const Record> run) const {
     const bool din = options_.form == RecordForm::Din;
     const bool binary = options_.form == RecordForm::Binary;
     bool bad = false;
@@ -186,9 +187,14 @@ class Writer final : public TraceWriter {
       bad |= binary && (record.address > 0xFFFFFFFFu || record.size > 0xFFFFu);
       bad |= !din && record.size == 0;
     }
-    if (bad) return false;
-    summary_.add(run);
-    return true;
+    return !bad;
+  }
+
+  // record_hash covers the record text in trace order, which is the order
+  // write() formats it in; hashing it here, just written, reads it from the
+  // cache rather than from memory when its data frame is done.
+  void hash_text_from(std::size_t offset) {
+    XXH64_update(record_hash_.get(), pending_text_.data() + offset, pending_text_.size() - offset);
   }
 
   // The records of a run with a bad one, as they were written before bulk
@@ -209,9 +215,10 @@ class Writer final : public TraceWriter {
       if (record.size == 0 && options_.form != RecordForm::Din) {
         fail(fmt::format("record {}: size 0 (a reference is at least 1 byte)", records_total_ + 1));
       }
-      summary_.add(record);
+      const std::size_t text_before = pending_text_.size();
       detail::format_records(std::span<const Record>(&record, 1), options_.form, options_.address_digits,
-                             records_total_, pending_text_);
+                             records_total_, pending_text_, summary_);
+      hash_text_from(text_before);
       ++pending_records_;
       ++records_total_;
     }
@@ -275,7 +282,6 @@ class Writer final : public TraceWriter {
         continue;
       }
       Encoded& encoded = item.encoded;
-      XXH64_update(record_hash_.get(), encoded.text.data(), encoded.text.size());
       record_bytes_ += encoded.text.size();
       if (!container_) {
         emit(encoded.text.view(), false);
