@@ -12,7 +12,7 @@
 #    record parsed, checksums and hashes checked) against `zstd -dc FILE
 #    >/dev/null`; target: no slower.
 # 3. archive: the archive setting's size, write time and reading speed on
-#    M such records (default 2097152: level 19 is slow; section 3 below).
+#    M such records (default 2097152: level 17 is slow; section 3 below).
 # Wall-clock figures depend on what else runs on the machine: the script
 # prints the load average next to them, and CPU seconds (user+sys) too.
 set -euo pipefail
@@ -95,7 +95,7 @@ awk -v n="$records" -v ww="$write_wall" -v wc="$(column_median "$work/write" 2)"
 }'
 echo "load average at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
 
-# 3. archive: `tracetool convert --archive` (level 19, 64 MiB window,
+# 3. archive: `tracetool convert --archive` (level 17, 64 MiB window,
 #    long-distance matching, 4194304 records per data frame; target on the
 #    BART Kitchen trace: at most 0.16 bytes/record) of a container of M
 #    records made as in 1, timed once (it is slow), and `cachesim run`

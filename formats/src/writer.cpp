@@ -49,9 +49,9 @@ Encoded encode(detail::ByteBuffer text, bool compress, int level, unsigned windo
     // on formats_bench's, and no slower (fewer, longer matches). zstd still
     // shrinks the window of a frame smaller than that.
     if (window_log != 0) {
-      // Long-distance matching finds the repeats a large window offers
-      // cheaply: measured at level 19 it made the archive both smaller and
-      // faster to write than the window alone (FORMAT.md 2.3.1).
+      // The large window with long-distance matching, as `zstd --long` sets
+      // them: on 4M Kitchen records `zstd -19 --long=26` was 12% smaller and
+      // took 26% less CPU than `zstd -19` (FORMAT.md 2.3.1).
       ZSTD_CCtx_setParameter(context.get(), ZSTD_c_windowLog, static_cast<int>(window_log));
       ZSTD_CCtx_setParameter(context.get(), ZSTD_c_enableLongDistanceMatching, 1);
     } else if (level >= 1 && level <= 6) {

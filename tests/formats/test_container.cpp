@@ -258,7 +258,7 @@ TEST_F(Container, ArchiveSettingKeepsEveryRecordAndRecordsItsWindow) {
   write_trace(path("default.din.zst"), records, options_for(RecordForm::Din, 1u << 20), {}, markers);
   WriterOptions archive = options_for(RecordForm::Din);
   use_archive_setting(archive);
-  EXPECT_EQ(archive.zstd_level, 19);
+  EXPECT_EQ(archive.zstd_level, 17);
   EXPECT_EQ(archive.window_log, 26u);
   EXPECT_EQ(archive.records_per_frame, 4194304u);
   write_trace(path("archive.din.zst"), records, archive, {}, markers);
@@ -274,7 +274,7 @@ TEST_F(Container, ArchiveSettingKeepsEveryRecordAndRecordsItsWindow) {
   EXPECT_EQ(archive_reader->trailer()->totals, default_reader->trailer()->totals);
   EXPECT_EQ(archive_reader->trailer()->record_hash, default_reader->trailer()->record_hash);
   EXPECT_EQ(archive_reader->header().json.at("compression"),
-            nlohmann::json({{"level", 19}, {"window_log", 26}}));
+            nlohmann::json({{"level", 17}, {"window_log", 26}}));
   EXPECT_FALSE(default_reader->header().json.contains("compression"));
   // Every data frame's own header announces at most the recorded window.
   const std::string bytes = read_file(path("archive.din.zst"));

@@ -13,7 +13,7 @@ namespace nodetrace::formats {
 inline CLI::Option* add_archive_flag(CLI::App& app, bool& archive, CLI::Option* level_option,
                                      CLI::Option* frame_records_option = nullptr) {
   CLI::Option* flag = app.add_flag("--archive", archive,
-                                   "compress for size: zstd level 19 with a 64 MiB window and long-distance "
+                                   "compress for size: zstd level 17 with a 64 MiB window and long-distance "
                                    "matching, 4194304 records per data frame (a reader needs up to 64 MiB per "
                                    "data frame; much slower to write)");
   flag->excludes(level_option);

@@ -34,7 +34,7 @@ struct WriterOptions {
 
 // The archive setting (`--archive`): compressed for size rather than speed.
 // Measured on the BART Kitchen trace (75.8 M records): see FORMAT.md 2.3.1.
-inline constexpr int kArchiveZstdLevel = 19;
+inline constexpr int kArchiveZstdLevel = 17;
 inline constexpr unsigned kArchiveWindowLog = 26;  // 64 MiB: a whole data frame
 inline constexpr std::uint64_t kArchiveRecordsPerFrame = std::uint64_t{1} << 22;
 // The largest window_log a writer accepts: what zstd's decoders accept
