@@ -2,7 +2,10 @@
 # Tracer speed: rays per second rendering only, the cost of writing the trace
 # as the ratio (render + trace) / render only (target: at most 2.0), and
 # compressed bytes per record, for each built-in scene and the two BART
-# scenes. Medians of --runs runs; each run is one `tracer render`.
+# scenes. Medians of --runs runs; each run is one `tracer render`. Then, for
+# the BART scenes, the same ratio for the whole command (wall and CPU user +
+# sys of `tracer render ... --high-size 4k` with and without -o, runs
+# alternating), with peak RSS.
 #   scripts/bench-tracer.sh [--build-dir build] [--runs 3] [--width 400 --height 300]
 #                           [--max-depth 10] [--threads N] [--scenes "a b c"]
 set -euo pipefail
@@ -18,7 +21,7 @@ while [ $# -gt 0 ]; do
     --max-depth) max_depth="$2"; shift 2 ;;
     --threads) threads="$2"; shift 2 ;;
     --scenes) scenes="$2"; shift 2 ;;
-    -h|--help) sed -n '2,8p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,11p' "$0"; exit 0 ;;
     *) echo "bench-tracer.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -88,3 +91,47 @@ for ((run = 0; run < runs; run++)); do
 done
 triangles="$("$tracer" info forest:5 --format json | sed -n 's/^    "triangles": \([0-9]*\),*/\1/p')"
 echo "kd-tree build, forest:5 ($triangles triangles): median $(printf '%s\n' "${builds[@]}" | median) s wall over $runs run(s)"
+
+# The whole command on the BART scenes: what a user waits for and pays.
+# /usr/bin/time gives wall, user, sys and peak RSS of each run.
+timed_render() {  # OUT_FILE tracer-args...
+  local out="$1"; shift
+  /usr/bin/time -f '%e %U %S %M' -o "$out" "$tracer" render "$@" -q >/dev/null 2>/dev/null
+}
+column() { awk -v c="$1" '{print $c}'; }
+bart_found=0
+for bart in robots/Robot.aff kitchen/kitchen.aff; do
+  [ -f "$shared/$bart" ] && bart_found=1
+done
+if [ "$bart_found" = 0 ]; then
+  echo "bench-tracer: whole command: no BART scene under $shared: skipped"
+  exit 0
+fi
+echo "whole command, ${width}x${height} --high-size 4k, medians of $runs alternating run(s); load average $(cut -d' ' -f1 /proc/loadavg)"
+printf '%-12s %12s %11s %12s %11s %10s %9s %10s %11s\n' scene render_wall render_cpu traced_wall traced_cpu wall_ratio cpu_ratio render_MiB traced_MiB
+for bart in robots/Robot.aff kitchen/kitchen.aff; do
+  scene="$shared/$bart"
+  if [ ! -f "$scene" ]; then
+    echo "bench-tracer: $scene absent: skipped" >&2
+    continue
+  fi
+  : > "$work/plain.all"; : > "$work/traced.all"
+  for ((run = 0; run < runs; run++)); do
+    timed_render "$work/t" "$scene" --width "$width" --height "$height" --max-depth "$max_depth" --high-size 4k \
+      "${thread_args[@]}"
+    cat "$work/t" >> "$work/plain.all"
+    timed_render "$work/t" "$scene" --width "$width" --height "$height" --max-depth "$max_depth" --high-size 4k \
+      "${thread_args[@]}" -o "$work/whole.din.zst"
+    cat "$work/t" >> "$work/traced.all"
+  done
+  pw="$(column 1 < "$work/plain.all" | median)"
+  pc="$(awk '{print $2 + $3}' "$work/plain.all" | median)"
+  pm="$(column 4 < "$work/plain.all" | median)"
+  tw="$(column 1 < "$work/traced.all" | median)"
+  tc="$(awk '{print $2 + $3}' "$work/traced.all" | median)"
+  tm="$(column 4 < "$work/traced.all" | median)"
+  awk -v n="$(basename "$scene")" -v pw="$pw" -v pc="$pc" -v tw="$tw" -v tc="$tc" -v pm="$pm" -v tm="$tm" 'BEGIN {
+    printf "%-12s %12.2f %11.2f %12.2f %11.2f %10.2f %9.2f %10.0f %11.0f\n", n, pw, pc, tw, tc, tw / pw, tc / pc, pm / 1024, tm / 1024 }'
+done
+echo "render: tracer render without -o (nothing recorded); traced: with -o T.din.zst; cpu = user + sys;"
+echo "ratios traced / render (target <= 2.0 in wall and CPU time)"

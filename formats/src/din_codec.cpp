@@ -46,8 +46,9 @@ bool parse_din_records(std::string_view bytes, const ParseSettings& settings, st
   return parse_text_lines(bytes, settings, fast, tagged, &parse_din_line, out, error, ignored_fields);
 }
 
-void format_din_records(std::span<const Record> records, unsigned address_digits, ByteBuffer& out) {
-  format_text_records<false>(records, address_digits, out);
+void format_din_records(std::span<const Record> records, unsigned address_digits, ByteBuffer& out,
+                        RecordSummary& summary) {
+  format_text_records<false>(records, address_digits, out, summary);
 }
 
 }  // namespace nodetrace::formats::detail

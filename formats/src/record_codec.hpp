@@ -15,6 +15,7 @@
 #include "buffers.hpp"
 #include "nodetrace/formats/record.hpp"
 #include "nodetrace/formats/record_format.hpp"
+#include "nodetrace/formats/record_summary.hpp"
 
 namespace nodetrace::formats::detail {
 
@@ -48,19 +49,21 @@ inline constexpr std::size_t kMaxTextLine = kMaxFormattedRecord;
 
 // Appends the records in `form`: text lines with fixed-width fields, or
 // 8-byte binary records (what format_record writes with address_digits and
-// tags, faster). Throws FormatError when a record cannot be written in that
-// form (e.g. an address above 32 bits in binary); `first_record` is its
-// 0-based number in the trace, for the message.
+// tags, faster), and counts them in `summary`. Throws FormatError when a
+// record cannot be written in that form (e.g. an address above 32 bits in
+// binary); `first_record` is its 0-based number in the trace, for the message.
 void format_records(std::span<const Record> records, RecordForm form, unsigned address_digits,
-                    std::uint64_t first_record, ByteBuffer& out);
+                    std::uint64_t first_record, ByteBuffer& out, RecordSummary& summary);
 
 // The codecs behind parse_records / format_records / format_record.
 bool parse_din_records(std::string_view bytes, const ParseSettings& settings, std::vector<Record>& out,
                        RecordError& error, std::uint64_t& ignored_fields);
-void format_din_records(std::span<const Record> records, unsigned address_digits, ByteBuffer& out);
+void format_din_records(std::span<const Record> records, unsigned address_digits, ByteBuffer& out,
+                        RecordSummary& summary);
 bool parse_xdin_records(std::string_view bytes, const ParseSettings& settings, std::vector<Record>& out,
                         RecordError& error, std::uint64_t& ignored_fields);
-void format_xdin_records(std::span<const Record> records, unsigned address_digits, ByteBuffer& out);
+void format_xdin_records(std::span<const Record> records, unsigned address_digits, ByteBuffer& out,
+                         RecordSummary& summary);
 bool parse_binary_records(std::string_view bytes, std::vector<Record>& out, RecordError& error);
 void format_binary_records(std::span<const Record> records, std::uint64_t first_record, ByteBuffer& out);
 // One binary record (8 bytes at `out`); throws FormatError, naming no record,

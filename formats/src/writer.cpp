@@ -33,7 +33,7 @@ struct Stock {
 };
 
 // A data frame's text, compressed (containers) on a worker thread.
-Encoded encode(detail::ByteBuffer text, bool compress, int level, Stock& stock) {
+Encoded encode(detail::ByteBuffer text, bool compress, int level, unsigned window_log, Stock& stock) {
   Encoded encoded;
   encoded.text = std::move(text);
   if (compress) {
@@ -48,7 +48,15 @@ Encoded encode(detail::ByteBuffer text, bool compress, int level, Stock& stock) 
     // Measured at level 3 on 14 MB frames: 3% smaller on a tracer trace, 0.6%
     // on formats_bench's, and no slower (fewer, longer matches). zstd still
     // shrinks the window of a frame smaller than that.
-    if (level >= 1 && level <= 6) ZSTD_CCtx_setParameter(context.get(), ZSTD_c_windowLog, 22);
+    if (window_log != 0) {
+      // The large window with long-distance matching, as `zstd --long` sets
+      // them: on 4M Kitchen records `zstd -19 --long=26` was 12% smaller and
+      // took 26% less CPU than `zstd -19` (FORMAT.md 2.3.1).
+      ZSTD_CCtx_setParameter(context.get(), ZSTD_c_windowLog, static_cast<int>(window_log));
+      ZSTD_CCtx_setParameter(context.get(), ZSTD_c_enableLongDistanceMatching, 1);
+    } else if (level >= 1 && level <= 6) {
+      ZSTD_CCtx_setParameter(context.get(), ZSTD_c_windowLog, 22);
+    }
     ZSTD_CCtx_setParameter(context.get(), ZSTD_c_checksumFlag, 1);
     ZSTD_CCtx_setParameter(context.get(), ZSTD_c_contentSizeFlag, 1);
     encoded.compressed = stock.compressed.take();
@@ -73,6 +81,12 @@ class Writer final : public TraceWriter {
       throw UsageError(fmt::format("zstd level {} is outside {}..{}", options_.zstd_level, ZSTD_minCLevel(),
                                    ZSTD_maxCLevel()));
     }
+    const int min_window_log = ZSTD_cParam_getBounds(ZSTD_c_windowLog).lowerBound;
+    if (options_.window_log != 0 &&
+        (options_.window_log < static_cast<unsigned>(min_window_log) || options_.window_log > kMaxWindowLog)) {
+      throw UsageError(fmt::format("window log {} is outside {}..{}", options_.window_log, min_window_log,
+                                   kMaxWindowLog));
+    }
     if (header.is_null()) header = nlohmann::json::object();
     if (!header.is_object()) throw UsageError("the trace header must be a JSON object");
     container_ = decide_trace_output(path, options_.kind, options_.form).container;
@@ -90,6 +104,12 @@ class Writer final : public TraceWriter {
         header.erase("tag");
       }
       header["trailer"] = true;
+      // The writer's, like "container": a converted archive's stale setting
+      // must not travel on.
+      header.erase("compression");
+      if (options_.window_log != 0) {
+        header["compression"] = {{"level", options_.zstd_level}, {"window_log", options_.window_log}};
+      }
       emit(detail::skippable_frame(detail::kHeaderMagic, header.dump()), true);
     }
     reserve_pending_text();
@@ -117,17 +137,19 @@ class Writer final : public TraceWriter {
     check_open();
     while (!records.empty()) {
       // Whole runs up to the end of the pending data frame: one cheap pass
-      // checks and counts them, then they are formatted straight into the
-      // frame's text while they are still in the cache (formatting costs
-      // about what copying them for a worker would; compression, the bulk of
-      // the work, runs on the workers).
+      // checks them, then they are formatted (and counted) straight into the
+      // frame's text while they are still in the cache, and the new text is
+      // hashed while it is (formatting costs about what copying them for a
+      // worker would; compression, the bulk of the work, runs on the workers).
       const std::size_t room = options_.records_per_frame - pending_records_;
       const std::span<const Record> run = records.first(std::min<std::size_t>(room, records.size()));
       records = records.subspan(run.size());
-      if (!count_run(run)) {
+      if (!writable(run)) {
         write_one_by_one(run);  // throws, naming the first bad record
       }
-      detail::format_records(run, options_.form, options_.address_digits, records_total_, pending_text_);
+      const std::size_t text_before = pending_text_.size();
+      detail::format_records(run, options_.form, options_.address_digits, records_total_, pending_text_, summary_);
+      hash_text_from(text_before);
       pending_records_ += run.size();
       records_total_ += run.size();
       if (pending_records_ >= options_.records_per_frame) submit_pending();
@@ -174,9 +196,8 @@ class Writer final : public TraceWriter {
     std::uint64_t animation_frame = 0;
   };
 
-  // Counts the records by type and tag when every one of them can be written;
-  // false (counting nothing) when one cannot.
-  bool count_run(std::span<const Record> run) {
+  // True when every record of the run can be written.
+  bool writable(std::span<const Record> run) const {
     const bool din = options_.form == RecordForm::Din;
     const bool binary = options_.form == RecordForm::Binary;
     bool bad = false;
@@ -186,9 +207,14 @@ class Writer final : public TraceWriter {
       bad |= binary && (record.address > 0xFFFFFFFFu || record.size > 0xFFFFu);
       bad |= !din && record.size == 0;
     }
-    if (bad) return false;
-    summary_.add(run);
-    return true;
+    return !bad;
+  }
+
+  // record_hash covers the record text in trace order, which is the order
+  // write() formats it in; hashing it here, just written, reads it from the
+  // cache rather than from memory when its data frame is done.
+  void hash_text_from(std::size_t offset) {
+    XXH64_update(record_hash_.get(), pending_text_.data() + offset, pending_text_.size() - offset);
   }
 
   // The records of a run with a bad one, as they were written before bulk
@@ -209,9 +235,10 @@ class Writer final : public TraceWriter {
       if (record.size == 0 && options_.form != RecordForm::Din) {
         fail(fmt::format("record {}: size 0 (a reference is at least 1 byte)", records_total_ + 1));
       }
-      summary_.add(record);
+      const std::size_t text_before = pending_text_.size();
       detail::format_records(std::span<const Record>(&record, 1), options_.form, options_.address_digits,
-                             records_total_, pending_text_);
+                             records_total_, pending_text_, summary_);
+      hash_text_from(text_before);
       ++pending_records_;
       ++records_total_;
     }
@@ -246,8 +273,8 @@ class Writer final : public TraceWriter {
     pending_records_ = 0;
     reserve_pending_text();
     pipeline_->submit([item = std::move(item), text = std::move(text), compress = container_,
-                       level = options_.zstd_level, stock = stock_]() mutable {
-      item.encoded = encode(std::move(text), compress, level, *stock);
+                       level = options_.zstd_level, window_log = options_.window_log, stock = stock_]() mutable {
+      item.encoded = encode(std::move(text), compress, level, window_log, *stock);
       return std::move(item);
     });
     drain(false);
@@ -275,7 +302,6 @@ class Writer final : public TraceWriter {
         continue;
       }
       Encoded& encoded = item.encoded;
-      XXH64_update(record_hash_.get(), encoded.text.data(), encoded.text.size());
       record_bytes_ += encoded.text.size();
       if (!container_) {
         emit(encoded.text.view(), false);

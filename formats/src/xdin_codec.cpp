@@ -67,8 +67,9 @@ bool parse_xdin_records(std::string_view bytes, const ParseSettings& settings, s
   return parse_text_lines(bytes, settings, fast, tagged, &parse_xdin_line, out, error, ignored_fields);
 }
 
-void format_xdin_records(std::span<const Record> records, unsigned address_digits, ByteBuffer& out) {
-  format_text_records<true>(records, address_digits, out);
+void format_xdin_records(std::span<const Record> records, unsigned address_digits, ByteBuffer& out,
+                         RecordSummary& summary) {
+  format_text_records<true>(records, address_digits, out, summary);
 }
 
 }  // namespace nodetrace::formats::detail

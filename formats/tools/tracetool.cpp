@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "nodetrace/formats/archive_option.hpp"
 #include "nodetrace/formats/error.hpp"
 #include "nodetrace/formats/option_limits.hpp"
 #include "nodetrace/formats/reader.hpp"
@@ -193,6 +194,7 @@ struct ConvertOptions {
   std::uint64_t frame_records = 1u << 20;
   bool tags_are_levels = false;
   bool address16 = false;
+  bool archive = false;
 };
 
 int run_convert(const std::string& in, const std::string& out, const ConvertOptions& convert) {
@@ -206,6 +208,7 @@ int run_convert(const std::string& in, const std::string& out, const ConvertOpti
   options.records_per_frame = convert.frame_records;
   options.tags_are_levels = reader->tags_are_levels();
   options.address_digits = convert.address16 ? 16 : 8;
+  if (convert.archive) formats::use_archive_setting(options);
   // The producer's part of the header travels along; the writer sets the rest.
   nlohmann::json header = reader->header().json;
   for (const char* key : {"container", "records", "tag", "trailer"}) header.erase(key);
@@ -263,14 +266,17 @@ int run(int argc, char** argv) {
   ConvertOptions convert_options;
   convert->add_option("IN", convert_in, "Input trace, or - for standard input")->required();
   convert->add_option("OUT", convert_out, "Output: *.zst or - for a container, any other name for plain records")->required();
-  convert->add_option("--zstd-level", convert_options.zstd_level, "zstd compression level")->check(CLI::Range(-7, 22));
+  auto* convert_level =
+      convert->add_option("--zstd-level", convert_options.zstd_level, "zstd compression level")->check(CLI::Range(-7, 22));
   convert->add_option("--to", convert_options.to, "Output record form (default: the input's)")->check(CLI::IsMember(forms));
   convert->add_flag("--tags-are-levels", convert_options.tags_are_levels, "The input's tag field holds node levels");
   convert->add_option("--threads", convert_options.threads, "Compression and decoding threads (0: one per core; at most 16 per core)");
   // At most 2^24 records per data frame: each compressing thread buffers a
   // frame's text, up to a few hundred MB at that size.
-  convert->add_option("--frame-records", convert_options.frame_records, "Records per data frame (1 to 16777216)")
-      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 24));
+  auto* convert_frame_records =
+      convert->add_option("--frame-records", convert_options.frame_records, "Records per data frame (1 to 16777216)")
+          ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 24));
+  formats::add_archive_flag(*convert, convert_options.archive, convert_level, convert_frame_records);
   convert->add_flag("--address16", convert_options.address16, "Write 16 hex address digits instead of 8");
   convert->add_option("--informat,--form", convert_options.form, "Record form of plain input (binary is never guessed); --form is an alias")->check(CLI::IsMember(forms));
 

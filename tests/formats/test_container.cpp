@@ -296,6 +296,94 @@ TEST_F(Container, WriterRejectsWhatItCannotWrite) {
   EXPECT_EQ(result.records.size(), 1u);
 }
 
+// The window a data frame's zstd frame header announces (RFC 8878 3.1.1.1):
+// the Window_Descriptor's size, or for a single-segment frame its content size.
+std::uint64_t announced_window(const std::string& file, std::uint64_t offset) {
+  const auto byte = [&](std::uint64_t at) { return static_cast<unsigned char>(file.at(offset + at)); };
+  const unsigned descriptor = byte(4);
+  if ((descriptor & 0x20) == 0) {
+    const unsigned window = byte(5);
+    const std::uint64_t base = std::uint64_t{1} << (10 + (window >> 3));
+    return base + base / 8 * (window & 7);
+  }
+  const unsigned dictionary_bytes[] = {0, 1, 2, 4};
+  const unsigned content_bytes[] = {1, 2, 4, 8};
+  const std::uint64_t at = 5 + dictionary_bytes[descriptor & 3];
+  const unsigned size_bytes = content_bytes[descriptor >> 6];
+  std::uint64_t size = 0;
+  for (unsigned i = 0; i < size_bytes; ++i) size |= std::uint64_t{byte(at + i)} << (8 * i);
+  return size_bytes == 2 ? size + 256 : size;
+}
+
+TEST_F(Container, ArchiveSettingKeepsEveryRecordAndRecordsItsWindow) {
+  const auto records = sample_records(60000);
+  const std::vector<std::pair<std::uint64_t, FrameMarker>> markers = {{0, marker(0)}, {25000, marker(1)}};
+  write_trace(path("default.din.zst"), records, options_for(RecordForm::Din, 1u << 20), {}, markers);
+  WriterOptions archive = options_for(RecordForm::Din);
+  use_archive_setting(archive);
+  EXPECT_EQ(archive.zstd_level, 17);
+  EXPECT_EQ(archive.window_log, 26u);
+  EXPECT_EQ(archive.records_per_frame, 4194304u);
+  write_trace(path("archive.din.zst"), records, archive, {}, markers);
+
+  const auto wrote = read_all(path("default.din.zst"));
+  const auto kept = read_all(path("archive.din.zst"));
+  EXPECT_EQ(kept.records, wrote.records);
+  ASSERT_EQ(kept.markers.size(), 2u);
+  EXPECT_EQ(kept.markers[1].first, 25000u);
+  EXPECT_EQ(kept.markers[1].second.to_json(), marker(1).to_json());
+  auto archive_reader = TraceReader::open(path("archive.din.zst"));
+  auto default_reader = TraceReader::open(path("default.din.zst"));
+  EXPECT_EQ(archive_reader->trailer()->totals, default_reader->trailer()->totals);
+  EXPECT_EQ(archive_reader->trailer()->record_hash, default_reader->trailer()->record_hash);
+  EXPECT_EQ(archive_reader->header().json.at("compression"),
+            nlohmann::json({{"level", 17}, {"window_log", 26}}));
+  EXPECT_FALSE(default_reader->header().json.contains("compression"));
+  // Every data frame's own header announces at most the recorded window.
+  const std::string bytes = read_file(path("archive.din.zst"));
+  for (const auto& entry : archive_reader->trailer()->index) {
+    EXPECT_LE(announced_window(bytes, entry.offset), std::uint64_t{1} << 26);
+  }
+  EXPECT_LT(bytes.size(), read_file(path("default.din.zst")).size());
+  // zstd reads it as it reads the default container: the same record text.
+  const auto unpacked = run_command("zstd -dc '" + path("archive.din.zst") + "'");
+  ASSERT_EQ(unpacked.exit_code, 0) << unpacked.err;
+  EXPECT_EQ(unpacked.out, run_command("zstd -dc '" + path("default.din.zst") + "'").out);
+  // The bytes do not depend on the thread count.
+  archive.threads = 1;
+  write_trace(path("archive1.din.zst"), records, archive, {}, markers);
+  EXPECT_EQ(read_file(path("archive1.din.zst")), bytes);
+}
+
+TEST_F(Container, WindowLogIsTheDataFramesWindow) {
+  WriterOptions small = options_for(RecordForm::Din, 1000);
+  small.window_log = 12;  // 4 KiB, less than a data frame's 14 KB of text
+  write_trace(path("w.din.zst"), sample_records(3000), small);
+  auto reader = TraceReader::open(path("w.din.zst"));
+  EXPECT_EQ(reader->header().json.at("compression").at("window_log"), 12);
+  const std::string bytes = read_file(path("w.din.zst"));
+  ASSERT_EQ(reader->trailer()->index.size(), 3u);
+  for (const auto& entry : reader->trailer()->index) EXPECT_EQ(announced_window(bytes, entry.offset), 4096u);
+  EXPECT_EQ(read_all(path("w.din.zst")).records, as_read_back(sample_records(3000), RecordForm::Din, true));
+  // Windows zstd's decoders would refuse by default, or too small to exist.
+  for (const unsigned bad : {9u, 28u}) {
+    small.window_log = bad;
+    EXPECT_THROW(TraceWriter::create(path("bad.din.zst"), {}, small), UsageError) << bad;
+  }
+}
+
+TEST_F(Container, ConvertingAnArchiveDropsItsCompressionKey) {
+  WriterOptions archive = options_for(RecordForm::Din, 1000);
+  archive.window_log = 20;
+  write_trace(path("a.din.zst"), sample_records(10), archive, {{"compression", "stale"}, {"producer", "unit"}});
+  EXPECT_EQ(TraceReader::open(path("a.din.zst"))->header().json.at("compression").at("window_log"), 20);
+  write_trace(path("b.din.zst"), sample_records(10), options_for(RecordForm::Din),
+              TraceReader::open(path("a.din.zst"))->header().json);
+  const auto header = TraceReader::open(path("b.din.zst"))->header().json;
+  EXPECT_FALSE(header.contains("compression"));
+  EXPECT_EQ(header.at("producer"), "unit");
+}
+
 TEST_F(Container, AddedTotalsReachTheTrailer) {
   auto writer = TraceWriter::create(path("t.din.zst"), {}, options_for(RecordForm::Din));
   writer->write(sample_records(5));

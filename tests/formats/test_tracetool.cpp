@@ -149,6 +149,29 @@ TEST_F(Tracetool, ConvertCarriesHeaderMarkersAndTags) {
   EXPECT_FALSE(std::filesystem::exists(dir_ / "x.din.zst"));
 }
 
+TEST_F(Tracetool, ConvertArchiveKeepsTheRecordsAndRejectsConflictingOptions) {
+  auto result = run("convert --archive " + path("t.din.zst") + " " + path("a.din.zst"));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  auto archive = TraceReader::open((dir_ / "a.din.zst").string());
+  auto original = TraceReader::open((dir_ / "t.din.zst").string());
+  EXPECT_EQ(archive->header().json.at("compression"), nlohmann::json({{"level", 17}, {"window_log", 26}}));
+  EXPECT_EQ(archive->header().json.at("producer").at("tool"), "unit");
+  // The same totals; only the data frames are fewer (4194304 records each).
+  nlohmann::json totals = original->trailer()->totals;
+  totals["data_frames"] = 2;  // one per animation frame
+  EXPECT_EQ(archive->trailer()->totals, totals);
+  EXPECT_EQ(archive->trailer()->record_hash, original->trailer()->record_hash);
+  EXPECT_EQ(testing_util::read_all((dir_ / "a.din.zst").string()).records,
+            testing_util::read_all((dir_ / "t.din.zst").string()).records);
+  EXPECT_EQ(run("verify " + path("a.din.zst")).exit_code, 0);
+  for (const std::string bad : {"--archive --zstd-level 5", "--archive --frame-records 7", "--archive=bogus"}) {
+    result = run("convert " + bad + " " + path("t.din.zst") + " " + path("b.din.zst"));
+    EXPECT_EQ(result.exit_code, 2) << bad;
+    EXPECT_NE(result.err.find("--archive"), std::string::npos) << result.err;
+    EXPECT_FALSE(std::filesystem::exists(dir_ / "b.din.zst"));
+  }
+}
+
 TEST_F(Tracetool, InfoOnPlainTracesReads) {
   write_file(dir_ / "p.xdin", "r 100 8\nw 200 4\n");
   const auto result = run("info --format json " + path("p.xdin"));

@@ -31,6 +31,25 @@ TEST(RenderCliTest, TraceIsByteIdenticalForOneAndTwoThreads) {
   EXPECT_TRUE(one == nodetrace::testing::read_file(dir / "two.din.zst"));
 }
 
+TEST(RenderCliTest, ArchiveWritesTheSameRecordsAndExcludesALevel) {
+  TempDir dir;
+  const std::string common = tracer() + " render " + kScene + " --width 48 --height 36 -q --high-size 1k ";
+  ASSERT_EQ(run_command(common + "-o " + (dir / "default.din.zst").string()).exit_code, 0);
+  const auto archived = run_command(common + "--archive -o " + (dir / "archive.din.zst").string());
+  ASSERT_EQ(archived.exit_code, 0) << archived.err;
+  auto archive = formats::TraceReader::open((dir / "archive.din.zst").string());
+  auto original = formats::TraceReader::open((dir / "default.din.zst").string());
+  EXPECT_EQ(archive->header().json.at("compression"), nlohmann::json({{"level", 17}, {"window_log", 26}}));
+  EXPECT_EQ(archive->trailer()->record_hash, original->trailer()->record_hash);
+  EXPECT_EQ(archive->trailer()->totals.at("records"), original->trailer()->totals.at("records"));
+  EXPECT_EQ(run_command("zstd -dc " + (dir / "archive.din.zst").string()).out,
+            run_command("zstd -dc " + (dir / "default.din.zst").string()).out);
+  const auto both = run_command(common + "--archive --zstd-level 5 -o " + (dir / "x.din.zst").string());
+  EXPECT_EQ(both.exit_code, 2);
+  EXPECT_NE(both.err.find("--archive"), std::string::npos) << both.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.din.zst"));
+}
+
 TEST(RenderCliTest, HeaderMarkersAndRecordsFollowTheDesign) {
   TempDir dir;
   const auto path = dir / "t.xdin.zst";

@@ -210,6 +210,7 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
         writer_options.form = options.form;
         writer_options.threads = r.threads;
         writer_options.zstd_level = options.zstd_level;
+        if (options.archive) formats::use_archive_setting(writer_options);
         // Wider addresses only when some stream can reach past 32 bits.
         const std::uint64_t node_end =
             r.addresses.node_base + 4 * tree.stats().nodes * std::uint64_t{r.addresses.node_size};

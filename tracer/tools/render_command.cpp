@@ -11,6 +11,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "nodetrace/formats/archive_option.hpp"
 #include "nodetrace/formats/error.hpp"
 #include "nodetrace/formats/trace_output.hpp"
 #include "nodetrace/tracer/scene_loader.hpp"
@@ -76,6 +77,7 @@ struct RenderCommand {
   // larger than `zstd -3` makes of its text.
   int zstd_level = 3;
   bool discard = false;
+  bool archive = false;
   SceneCommandOptions scene_options;
   RenderCommandOptions render_options;
 
@@ -97,9 +99,11 @@ void RenderCommand::add_options(CLI::App& app) {
                  "records to write, comma-separated: nodes, lists (leaf primitive lists, tag p), "
                  "triangles (tag t)")
       ->capture_default_str();
-  app.add_option("--zstd-level", zstd_level, "zstd level of the trace's data frames (higher: smaller and slower)")
-      ->check(CLI::Range(1, 19))
-      ->capture_default_str();
+  CLI::Option* level =
+      app.add_option("--zstd-level", zstd_level, "zstd level of the trace's data frames (higher: smaller and slower)")
+          ->check(CLI::Range(1, 19))
+          ->capture_default_str();
+  formats::add_archive_flag(app, archive, level);
   app.add_flag("--discard-records", discard,
                "make every record but write none: the cost of recording alone (benchmarks)")
       ->excludes("--output");
@@ -114,6 +118,7 @@ int RenderCommand::run() const {
     options.output = output;
     options.image = image;
     options.zstd_level = zstd_level;
+    options.archive = archive;
     options.discard_records = discard;
     std::optional<formats::RecordForm> named_form;
     if (!records_name.empty()) named_form = formats::parse_form_name(records_name);

@@ -18,6 +18,11 @@ struct WriterOptions {
   RecordForm form = RecordForm::Din;
   OutputKind kind = OutputKind::Auto;  // decide_trace_output (trace_output.hpp) decides Auto
   int zstd_level = 3;
+  // 0: the writer's window (4 MiB at levels 1-6, zstd's own above). Else
+  // data frames are compressed with a window of 2^window_log bytes and
+  // zstd's long-distance matching, and the header says so ("compression",
+  // FORMAT.md 2.1): a reader needs up to that much memory per data frame.
+  unsigned window_log = 0;
   unsigned threads = 0;                        // compression threads; 0 = one per core
   std::uint64_t records_per_frame = 1u << 20;  // records per data frame
   unsigned address_digits = 8;                 // 8, or 16 for addresses above 32 bits
@@ -26,6 +31,23 @@ struct WriterOptions {
   // so a binary container never says so.
   bool tags_are_levels = true;
 };
+
+// The archive setting (`--archive`): compressed for size rather than speed.
+// Measured on the BART Kitchen trace (75.8 M records): see FORMAT.md 2.3.1.
+inline constexpr int kArchiveZstdLevel = 17;
+inline constexpr unsigned kArchiveWindowLog = 26;  // 64 MiB: a whole data frame
+inline constexpr std::uint64_t kArchiveRecordsPerFrame = std::uint64_t{1} << 22;
+// The largest window_log a writer accepts: what zstd's decoders accept
+// without being told to allow more (ZSTD_WINDOWLOG_LIMIT_DEFAULT), so
+// `zstdcat` reads every container we write.
+inline constexpr unsigned kMaxWindowLog = 27;
+
+// Sets the archive setting's level, window and records per data frame.
+inline void use_archive_setting(WriterOptions& options) {
+  options.zstd_level = kArchiveZstdLevel;
+  options.window_log = kArchiveWindowLog;
+  options.records_per_frame = kArchiveRecordsPerFrame;
+}
 
 class TraceWriter {
  public:

@@ -37,6 +37,7 @@ struct TraceJobOptions {
   bool discard_records = false;  // make the records but write none (benchmarks)
   formats::RecordForm form = formats::RecordForm::Din;
   int zstd_level = 3;  // compression level of the container's data frames
+  bool archive = false;  // formats::use_archive_setting instead of zstd_level
   std::string image;  // PNG of the first frame; empty: none
 };
 
