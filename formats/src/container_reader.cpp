@@ -65,10 +65,11 @@ void decode_data_frame(const std::string& frame, ParseSettings settings, bool ke
   // window: each block is parsed where zstd put it, with no copy out of a
   // stream buffer. A record cut by the ring's wrap is joined in `seam`.
   thread_local std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> context(ZSTD_createDCtx(), &ZSTD_freeDCtx);
-  thread_local ByteBuffer ring;
+  thread_local ByteBuffer small_window_ring;
+  ByteBuffer& ring = header.windowSize > kSmallWindow ? stock.large_window_ring : small_window_ring;
   const std::size_t ring_size = ZSTD_decodingBufferSize_min(header.windowSize, header.frameContentSize);
   if (ZSTD_isError(ring_size)) return fail_frame("damaged zstd frame (its window does not fit in memory)");
-  if (ring.size() > 2 * ring_size + (1u << 20)) ring = ByteBuffer{};  // a large window's ring is not kept
+  if (ring.size() > 2 * ring_size + (1u << 20)) ring = ByteBuffer{};  // a much larger ring is not kept
   if (ring.size() < std::max<std::size_t>(ring_size, 1)) ring.resize(std::max<std::size_t>(ring_size, 1));
   // A frame no larger than the ring is decoded straight through.
   const bool wraps = ring_size < header.frameContentSize;

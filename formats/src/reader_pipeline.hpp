@@ -37,6 +37,10 @@ struct Chunk {
 struct Stock {
   Recycler<ByteBuffer> bytes{8};
   Recycler<std::vector<Record>> records{4};
+  // The ring of data frames with a large zstd window (archives): they are
+  // decoded one at a time, so one ring serves them all and memory holds one
+  // window, not one per worker.
+  ByteBuffer large_window_ring;
 };
 
 // One data frame decoded on a worker and handed to the reader in pieces of
