@@ -372,6 +372,21 @@ TEST_F(Container, WindowLogIsTheDataFramesWindow) {
   }
 }
 
+TEST_F(Container, FramesWithLargeWindowsShareOneRingAndReadInOrder) {
+  // Single-segment frames of 700,000 records: windows of 9.8 MB, above the
+  // 8 MiB from which frames are decoded one at a time in one shared ring.
+  WriterOptions archive = options_for(RecordForm::Din, 700000);
+  archive.zstd_level = 1;
+  archive.window_log = 26;
+  const auto records = sample_records(2100000);
+  write_trace(path("large.din.zst"), records, archive);
+  const std::string bytes = read_file(path("large.din.zst"));
+  auto reader = TraceReader::open(path("large.din.zst"));
+  ASSERT_EQ(reader->trailer()->index.size(), 3u);
+  for (const auto& entry : reader->trailer()->index) EXPECT_GT(announced_window(bytes, entry.offset), 8u << 20);
+  EXPECT_EQ(read_all(path("large.din.zst")).records, as_read_back(records, RecordForm::Din, true));
+}
+
 TEST_F(Container, ConvertingAnArchiveDropsItsCompressionKey) {
   WriterOptions archive = options_for(RecordForm::Din, 1000);
   archive.window_log = 20;
