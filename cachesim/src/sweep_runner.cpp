@@ -18,7 +18,8 @@ TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheC
   // As many parts as cores (the reader's decoding threads share them): a
   // sweep with one unit of work (one configuration) stays one part, and
   // many configurations, whose simulation and not the decoding sets the
-  // time, use every core (measured: scripts/bench-cachesim.sh).
+  // time (36 LRU configurations on a 75 M-record trace: about 5 s of
+  // simulation CPU against about 1 s of decoding), use every core.
   sweep.set_parts(std::min<std::size_t>(cores, configs.size()));
 
   // Two batches: the workers simulate one (each its part of the
