@@ -96,4 +96,21 @@ std::vector<std::uint64_t> SetStacks::ways_of(unsigned log2_sets, std::uint64_t 
   return std::vector<std::uint64_t>(stack, stack + ways);
 }
 
+SetStacks::Walk SetStacks::walk(unsigned log2_sets) const {
+  Walk walk;
+  walk.visits = fetches_;
+  for (const LevelState& at : levels_) {
+    if (at.log2_sets == log2_sets) {
+      for (std::uint32_t place = 1; place <= at.depth; ++place) {
+        walk.places += at.deeper[place] * std::min(place, at.depth - 1);
+      }
+      return walk;
+    }
+    // A fetch goes on past a set count where it was not on top.
+    walk.visits = 0;
+    for (std::uint32_t place = 1; place <= at.depth; ++place) walk.visits += at.deeper[place];
+  }
+  throw std::logic_error("SetStacks: no such set count");
+}
+
 }  // namespace nodetrace::cachesim

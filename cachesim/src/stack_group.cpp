@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <optional>
 
 #include "nodetrace/cachesim/set_stacks.hpp"
@@ -50,8 +51,11 @@ std::vector<SetStacks::Level> levels_of(const std::vector<std::pair<unsigned, st
 
 class StackGroup {
  public:
+  // `retain_bound`: the member of the whole group (all pieces) whose high
+  // cache holds the fewest blocks: every piece's retain set has its
+  // capacity and its error names it, so pieces fail alike.
   StackGroup(const std::vector<NodeCacheConfig>& configs, std::uint32_t split_level,
-             const TraceContext& context, bool per_level)
+             const TraceContext& context, bool per_level, const NodeCacheConfig& retain_bound)
       : context_(context),
         split_(configs.front().scheme == Scheme::Split),
         retain_(split_ && configs.front().high_policy == HighPolicy::Retain),
@@ -60,7 +64,8 @@ class StackGroup {
         shift_(static_cast<unsigned>(std::countr_zero(configs.front().block))),
         split_level_(split_level),
         low_(levels_of(cache_shapes(configs, false)), per_level),
-        retained_(retain_ ? tightest_capacity(configs) : 0) {
+        retained_(retain_ ? retain_bound.high_size / retain_bound.block : 0),
+        retain_bound_(retain_bound) {
     for (const NodeCacheConfig& config : configs) {
       Member member;
       member.config = config;
@@ -72,16 +77,31 @@ class StackGroup {
       members_.push_back(std::move(member));
     }
     if (split_ && !retain_) high_.emplace(levels_of(cache_shapes(configs, true)), per_level);
-    if (retain_) {
-      const std::uint64_t capacity = retained_.capacity();
-      for (std::size_t m = 0; m < configs.size(); ++m) {
-        if (configs[m].high_size / configs[m].block == capacity) {
-          tightest_ = m;
-          break;
-        }
+  }
+
+  // Estimating only: the stacks walk the demand fetches of nodes among
+  // `records` (one block each; a retained high cache is not simulated).
+  void probe(const Record* records, std::size_t count) {
+    const Tag split_level = static_cast<Tag>(std::min<std::uint32_t>(split_level_, 0xFFFF));
+    for (std::size_t i = 0; i < count; ++i) {
+      const Record& record = records[i];
+      if (record.type > AccessType::Misc || !formats::is_level(record.tag)) continue;
+      const std::uint64_t block = record.address >> shift_;
+      if (split_ && record.tag < split_level) {
+        ++high_refs_;
+        if (!retain_) high_->access(block);
+      } else {
+        low_.access(block);
       }
     }
   }
+  const SetStacks& low_stacks() const { return low_; }
+  const SetStacks* high_stacks() const { return high_ ? &*high_ : nullptr; }
+  std::uint64_t high_refs() const { return high_refs_; }
+  unsigned low_log2_sets(std::size_t m) const { return members_[m].low_log2_sets; }
+  unsigned high_log2_sets(std::size_t m) const { return members_[m].high_log2_sets; }
+  bool split() const { return split_; }
+  bool retain() const { return retain_; }
 
   void begin_frame(std::uint64_t animation_frame, std::uint32_t split_level) {
     animation_frame_ = animation_frame;
@@ -188,14 +208,6 @@ class StackGroup {
     return shapes;
   }
 
-  static std::uint64_t tightest_capacity(const std::vector<NodeCacheConfig>& configs) {
-    std::uint64_t capacity = ~std::uint64_t{0};
-    for (const NodeCacheConfig& config : configs) {
-      capacity = std::min<std::uint64_t>(capacity, config.high_size / config.block);
-    }
-    return capacity;
-  }
-
   // Every record one demand fetch of one block (din addresses need no
   // rounding: blocks are at least 4 bytes).
   template <bool kSplit, bool kRetain, bool kByTag>
@@ -258,7 +270,7 @@ class StackGroup {
       ++loads_by_tag_[tag];
     }
     if (retained_.count() > retained_.capacity()) {
-      throw_high_levels_do_not_fit(context_, members_[tightest_].config, record_number,
+      throw_high_levels_do_not_fit(context_, retain_bound_, record_number,
                                    split_level_, animation_frame_, retained_.capacity());
     }
   }
@@ -349,8 +361,8 @@ class StackGroup {
   std::uint64_t animation_frame_ = 0;
   SetStacks low_;                // the single caches, or the split scheme's low caches
   std::optional<SetStacks> high_;  // split under `cache`
-  RetainSet retained_;             // split under `retain`: the tightest member's capacity
-  std::size_t tightest_ = 0;
+  RetainSet retained_;             // split under `retain`: the retain bound's capacity
+  NodeCacheConfig retain_bound_;
   std::uint64_t loads_ = 0;
   std::vector<std::uint64_t> loads_by_tag_;
   std::uint64_t refs_ = 0;
@@ -399,15 +411,182 @@ std::string stack_group_key(const NodeCacheConfig& config) {
   return fmt::format("split/{}/{}/{}", config.block, high_policy_name(config.high_policy), k_rule);
 }
 
+std::size_t tightest_member(const std::vector<NodeCacheConfig>& members) {
+  std::size_t tightest = 0;
+  for (std::size_t m = 1; m < members.size(); ++m) {
+    if (members[m].high_size / members[m].block <
+        members[tightest].high_size / members[tightest].block) {
+      tightest = m;
+    }
+  }
+  return tightest;
+}
+
 std::vector<std::unique_ptr<ConfigSimulator>> make_stack_group(
     const std::vector<NodeCacheConfig>& members, std::uint32_t split_level,
-    const TraceContext& context, bool per_level) {
-  auto group = std::make_shared<StackGroup>(members, split_level, context, per_level);
+    const TraceContext& context, bool per_level, const NodeCacheConfig* retain_bound) {
+  const NodeCacheConfig& bound = retain_bound ? *retain_bound : members[tightest_member(members)];
+  auto group = std::make_shared<StackGroup>(members, split_level, context, per_level, bound);
   std::vector<std::unique_ptr<ConfigSimulator>> simulators;
   for (std::size_t m = 0; m < members.size(); ++m) {
     simulators.push_back(std::make_unique<StackMember>(group, m));
   }
   return simulators;
+}
+
+namespace {
+
+// The cost units (work per record; one set count looked at is about 1):
+// rough weights of this machine's loops, enough to balance threads.
+constexpr double kRouterCost = 1.0;         // reading a record, its block, its side
+constexpr double kPlaceCost = 0.5;          // one place searched and moved down a stack
+constexpr double kDirectMappedCost = 0.5;   // one set count of the branchless pass
+constexpr double kRetainCost = 2.0;         // one high fetch of a retained high cache
+
+// One side's set counts (fewest sets first): the work found at each, and
+// the share of records that reached it.
+struct SideWork {
+  std::vector<unsigned> log2_sets;
+  std::vector<double> work;
+  std::vector<double> visits;
+  bool direct_mapped = true;
+
+  SideWork(const SetStacks& stacks, std::vector<unsigned> sets, double records) {
+    std::sort(sets.begin(), sets.end());
+    sets.erase(std::unique(sets.begin(), sets.end()), sets.end());
+    log2_sets = std::move(sets);
+    direct_mapped = stacks.direct_mapped();
+    for (const unsigned log2 : log2_sets) {
+      const SetStacks::Walk walk = stacks.walk(log2);
+      // Without a probe every fetch is taken to reach every set count. The
+      // first batch (the probe) tends to be more coherent than the trace
+      // (a scanline render's first rows): the share reaching a set count is
+      // flattened (its square root), the places per visit kept.
+      const double probed = records > 0 ? static_cast<double>(walk.visits) / records : 1.0;
+      const double reached = std::sqrt(probed);
+      const double places = walk.visits > 0 ? static_cast<double>(walk.places) /
+                                                  static_cast<double>(walk.visits) * reached
+                                            : 0.0;
+      visits.push_back(reached);
+      work.push_back(reached + kPlaceCost * places);
+    }
+  }
+
+  // The set counts `wanted` (sorted) walked by one stack of their own,
+  // records sent to this side a share `share` of all; the first of them
+  // is looked at by every fetch (the walk of fewer sets before it, which
+  // would have stopped some fetches, is another piece's).
+  double cost(const std::vector<unsigned>& wanted, double share, bool branchless) const {
+    if (wanted.empty()) return 0;
+    if (branchless && direct_mapped) return kDirectMappedCost * static_cast<double>(wanted.size()) * share;
+    double cost = 0;
+    for (std::size_t l = 0; l < log2_sets.size(); ++l) {
+      if (std::binary_search(wanted.begin(), wanted.end(), log2_sets[l])) cost += work[l];
+    }
+    const std::size_t first = static_cast<std::size_t>(
+        std::lower_bound(log2_sets.begin(), log2_sets.end(), wanted.front()) - log2_sets.begin());
+    return cost + std::max(0.0, share - visits[first]);
+  }
+};
+
+}  // namespace
+
+struct StackGroupCost::Profile {
+  bool split = false;
+  bool retain = false;
+  bool per_level = false;
+  double high_share = 0;
+  std::vector<unsigned> member_low;
+  std::vector<unsigned> member_high;
+  std::optional<SideWork> low;
+  std::optional<SideWork> high;
+};
+
+StackGroupCost::StackGroupCost(const std::vector<NodeCacheConfig>& members,
+                               std::uint32_t split_level, const TraceContext& context,
+                               bool per_level, const formats::Record* sample, std::size_t count) {
+  StackGroup probe(members, split_level, context, false, members[tightest_member(members)]);
+  probe.probe(sample, count);
+  std::uint64_t probed = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    probed += sample[i].type <= AccessType::Misc && formats::is_level(sample[i].tag);
+  }
+  auto made = std::make_shared<Profile>();
+  Profile& profile = *made;
+  profile.split = probe.split();
+  profile.retain = probe.retain();
+  profile.per_level = per_level;
+  const double records = static_cast<double>(probed);
+  profile.high_share = probed > 0 ? static_cast<double>(probe.high_refs()) / records
+                                  : (profile.split ? 0.5 : 0.0);
+  for (std::size_t m = 0; m < members.size(); ++m) {
+    profile.member_low.push_back(probe.low_log2_sets(m));
+    profile.member_high.push_back(probe.high_log2_sets(m));
+  }
+  profile.low.emplace(probe.low_stacks(), profile.member_low, records);
+  if (probe.high_stacks()) profile.high.emplace(*probe.high_stacks(), profile.member_high, records);
+  profile_ = std::move(made);
+}
+
+std::size_t StackGroupCost::max_pieces() const { return profile_->low->log2_sets.size(); }
+
+double StackGroupCost::piece_cost(unsigned first_low, unsigned last_low,
+                                  std::vector<std::size_t>* members) const {
+  const Profile& profile = *profile_;
+  std::vector<unsigned> low_sets;
+  std::vector<unsigned> high_sets;
+  for (std::size_t m = 0; m < profile.member_low.size(); ++m) {
+    const unsigned low = profile.member_low[m];
+    if (low < first_low || low > last_low) continue;
+    if (members) members->push_back(m);
+    low_sets.push_back(low);
+    if (profile.high) high_sets.push_back(profile.member_high[m]);
+  }
+  std::sort(low_sets.begin(), low_sets.end());
+  low_sets.erase(std::unique(low_sets.begin(), low_sets.end()), low_sets.end());
+  std::sort(high_sets.begin(), high_sets.end());
+  high_sets.erase(std::unique(high_sets.begin(), high_sets.end()), high_sets.end());
+  const double low_share = 1.0 - profile.high_share;
+  double cost = kRouterCost + profile.low->cost(low_sets, low_share, !profile.per_level);
+  if (profile.retain) {
+    cost += kRetainCost * profile.high_share;
+  } else if (profile.high) {
+    cost += profile.high->cost(high_sets, profile.high_share, false);
+  }
+  return cost;
+}
+
+std::vector<StackPiece> StackGroupCost::cut(std::size_t pieces) const {
+  const std::vector<unsigned>& sets = profile_->low->log2_sets;
+  const std::size_t levels = sets.size();
+  pieces = std::clamp<std::size_t>(pieces, 1, levels);
+  // best[p][j]: the least cost of the costliest piece when the first j
+  // set counts make p pieces; from[p][j] where the last of them begins.
+  constexpr double kNone = 1e300;
+  std::vector<std::vector<double>> best(pieces + 1, std::vector<double>(levels + 1, kNone));
+  std::vector<std::vector<std::size_t>> from(pieces + 1, std::vector<std::size_t>(levels + 1, 0));
+  best[0][0] = 0;
+  for (std::size_t p = 1; p <= pieces; ++p) {
+    for (std::size_t j = p; j <= levels; ++j) {
+      for (std::size_t i = p - 1; i < j; ++i) {
+        if (best[p - 1][i] >= kNone) continue;
+        const double worst = std::max(best[p - 1][i], piece_cost(sets[i], sets[j - 1], nullptr));
+        if (worst < best[p][j]) {
+          best[p][j] = worst;
+          from[p][j] = i;
+        }
+      }
+    }
+  }
+  std::vector<StackPiece> cut(pieces);
+  std::size_t end = levels;
+  for (std::size_t p = pieces; p > 0; --p) {
+    const std::size_t begin = from[p][end];
+    StackPiece& piece = cut[p - 1];
+    piece.cost = piece_cost(sets[begin], sets[end - 1], &piece.members);
+    end = begin;
+  }
+  return cut;
 }
 
 }  // namespace nodetrace::cachesim

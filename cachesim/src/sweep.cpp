@@ -1,12 +1,17 @@
-// The sweep: configurations split into parts of equal cost, batches routed
-// to every part in trace order, K per animation frame, the per-frame rows.
+// The sweep: configurations split into parts of about equal estimated cost
+// (a stack group cut into pieces where it alone is more than a part's
+// share), batches routed to every part in trace order, K per animation
+// frame, the per-frame rows.
 #include "nodetrace/cachesim/sweep.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
+#include <cmath>
+#include <ctime>
 #include <map>
-#include <set>
+#include <optional>
 
 #include "config_simulator.hpp"
 #include "stack_group.hpp"
@@ -33,16 +38,42 @@ Sweep::Sweep(std::vector<NodeCacheConfig> configs, TraceContext context, bool pe
 
 Sweep::~Sweep() = default;
 
+namespace {
+
+// Records of the first batch that probe a stack group's cost (parts > 1).
+constexpr std::size_t kProbeRecords = std::size_t{1} << 17;
+
+// Estimated work per record of one configuration simulated by itself, in
+// the units of StackGroupCost (a set count looked at is about 1): a rough
+// weight of its cache's access, the split scheme's two caches and router
+// costing about half as much again (measured on the Table 1 grid: three
+// direct-mapped split configurations fed together took 1.8 times the CPU
+// of the stack group of the three single ones).
+double cost_alone(const NodeCacheConfig& config) {
+  const double cache = config.assoc == 1 ? 1.0 : 1.0 + 0.5 * config.assoc;
+  return 1.0 + (config.scheme == Scheme::Split ? 1.5 : 1.0) * cache;
+}
+
+// The calling thread's CPU time: what a unit's feed costs, whatever else
+// runs on the machine.
+double thread_cpu_seconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + static_cast<double>(now.tv_nsec) * 1e-9;
+}
+
+}  // namespace
+
 void Sweep::start(const formats::RecordBatch& first_batch) {
   started_ = true;
   plan_ = std::make_unique<SplitLevelPlan>(configs_, context_);
   plan_->begin_frame(first_batch.marker ? &*first_batch.marker : nullptr);
   // Units fed by one loop: a stack group (configurations that set stacks
-  // answer together, two or more of one key), split configurations of
-  // tables only fed together, or one configuration.
+  // answer together, two or more of one key) or a piece of one, split
+  // configurations of tables only fed together, or one configuration.
   simulators_.resize(configs_.size());
   std::vector<std::vector<std::size_t>> units;
-  std::vector<unsigned> unit_cost;
+  std::vector<double> unit_cost;
   std::map<std::string, std::vector<std::size_t>> by_key;
   std::vector<std::size_t> alone;
   for (std::size_t i = 0; i < configs_.size(); ++i) {
@@ -53,23 +84,28 @@ void Sweep::start(const formats::RecordBatch& first_batch) {
       by_key[key].push_back(i);
     }
   }
+  // With one part nothing is balanced: no probe, every group whole.
+  const bool balance = requested_parts_ > 1;
+  struct Group {
+    std::vector<std::size_t> members;
+    std::vector<NodeCacheConfig> configs;
+    std::optional<StackGroupCost> cost;
+  };
+  std::vector<Group> groups;
   for (auto& [key, members] : by_key) {
     if (members.size() == 1) {
       alone.push_back(members.front());
       continue;
     }
-    std::vector<NodeCacheConfig> member_configs;
-    std::set<std::pair<std::uint64_t, std::uint32_t>> shapes;  // the stacks' set counts, about
-    for (const std::size_t i : members) {
-      member_configs.push_back(configs_[i]);
-      const NodeCacheConfig& config = configs_[i];
-      shapes.emplace(config.scheme == Scheme::Split ? config.low_size : config.size, config.assoc);
+    Group group;
+    for (const std::size_t i : members) group.configs.push_back(configs_[i]);
+    if (balance) {
+      group.cost.emplace(group.configs, plan_->current(members.front()), context_, per_level_,
+                         first_batch.records.data(),
+                         std::min(first_batch.records.size(), kProbeRecords));
     }
-    auto group = make_stack_group(member_configs, plan_->current(members.front()), context_,
-                                  per_level_);
-    for (std::size_t m = 0; m < members.size(); ++m) simulators_[members[m]] = std::move(group[m]);
-    unit_cost.push_back(static_cast<unsigned>(2 + shapes.size()));
-    units.push_back(std::move(members));
+    group.members = std::move(members);
+    groups.push_back(std::move(group));
   }
   // Split configurations of tables only, of other K: up to kMaxTogether fed
   // by one loop (each record read once).
@@ -82,59 +118,106 @@ void Sweep::start(const formats::RecordBatch& first_batch) {
       by_itself.push_back(i);
       continue;
     }
-    auto& groups = together[key];
-    if (groups.empty() || groups.back().size() == kMaxTogether) groups.emplace_back();
-    groups.back().push_back(i);
+    auto& sets = together[key];
+    if (sets.empty() || sets.back().size() == kMaxTogether) sets.emplace_back();
+    sets.back().push_back(i);
   }
-  for (auto& [key, groups] : together) {
-    for (auto& members : groups) {
+  for (auto& [key, sets] : together) {
+    for (auto& members : sets) {
       if (members.size() == 1) {
         by_itself.push_back(members.front());
         continue;
       }
       std::vector<NodeCacheConfig> member_configs;
       std::vector<std::uint32_t> split_levels;
+      double cost = 1.0;
       for (const std::size_t i : members) {
         member_configs.push_back(configs_[i]);
         split_levels.push_back(plan_->current(i));
+        cost += cost_alone(configs_[i]) - 1.0;  // one router for all
       }
-      auto group = make_together(member_configs, split_levels, context_);
-      for (std::size_t m = 0; m < members.size(); ++m) simulators_[members[m]] = std::move(group[m]);
-      unit_cost.push_back(static_cast<unsigned>(2 * members.size()));
+      auto made = make_together(member_configs, split_levels, context_);
+      for (std::size_t m = 0; m < members.size(); ++m) simulators_[members[m]] = std::move(made[m]);
+      unit_cost.push_back(cost);
       units.push_back(std::move(members));
     }
   }
   for (const std::size_t i : by_itself) {
     simulators_[i] = make_simulator(configs_[i], plan_->current(i), context_, per_level_);
-    const NodeCacheConfig& config = configs_[i];
-    // A split configuration does about twice the work of a single one.
-    unit_cost.push_back((config.scheme == Scheme::Split ? 2u : 1u) * (config.assoc == 1 ? 1u : 4u));
+    unit_cost.push_back(cost_alone(configs_[i]));
     units.push_back({i});
+  }
+  // A stack group that alone is more than a part's share is cut into
+  // pieces (as many as it needs, at most one per part).
+  double total = 0;
+  for (const double cost : unit_cost) total += cost;
+  for (const Group& group : groups) total += group.cost ? group.cost->cut(1).front().cost : 0;
+  const double share = total / static_cast<double>(requested_parts_);
+  for (Group& group : groups) {
+    std::vector<StackPiece> pieces;
+    if (group.cost) {
+      const double whole = group.cost->cut(1).front().cost;
+      // Twice the parts it needs, so that measured times can even out an
+      // estimate that was wrong (the first batch need not be typical).
+      const auto wanted = static_cast<std::size_t>(std::ceil(whole / share - 1e-9));
+      pieces = group.cost->cut(std::min(group.cost->max_pieces(),
+                                        wanted > 1 ? std::size_t{2} * wanted : std::size_t{1}));
+    } else {
+      StackPiece whole;
+      for (std::size_t m = 0; m < group.members.size(); ++m) whole.members.push_back(m);
+      pieces.push_back(std::move(whole));
+    }
+    // Every piece's retain set bounded by the whole group's tightest member.
+    const NodeCacheConfig bound = group.configs[tightest_member(group.configs)];
+    for (const StackPiece& piece : pieces) {
+      std::vector<NodeCacheConfig> piece_configs;
+      std::vector<std::size_t> members;
+      for (const std::size_t m : piece.members) {
+        piece_configs.push_back(group.configs[m]);
+        members.push_back(group.members[m]);
+      }
+      auto made = make_stack_group(piece_configs, plan_->current(members.front()), context_,
+                                   per_level_, &bound);
+      for (std::size_t m = 0; m < members.size(); ++m) simulators_[members[m]] = std::move(made[m]);
+      unit_cost.push_back(piece.cost);
+      units.push_back(std::move(members));
+    }
   }
   open_frames_.assign(simulators_.size(), OpenFrame{});
   frame_rows_.assign(simulators_.size(), {});
-  // Parts of about equal cost, filled greedily, the costliest unit first;
-  // each unit is fed by its first member.
-  const std::size_t part_count =
-      std::max<std::size_t>(1, std::min(requested_parts_, units.size()));
-  parts_.assign(part_count, Part{});
-  std::vector<std::size_t> order(units.size());
+  for (std::size_t u = 0; u < units.size(); ++u) {
+    units_.push_back(Unit{std::move(units[u]), unit_cost[u], 0.0});
+  }
+  parts_.assign(std::max<std::size_t>(1, std::min(requested_parts_, units_.size())), Part{});
+  assign_parts(unit_cost);
+}
+
+void Sweep::assign_parts(const std::vector<double>& cost) {
+  std::vector<std::size_t> order(units_.size());
   for (std::size_t u = 0; u < order.size(); ++u) order[u] = u;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return unit_cost[a] != unit_cost[b] ? unit_cost[a] > unit_cost[b] : units[a] < units[b];
+    return cost[a] > cost[b];
   });
-  std::vector<unsigned> load(part_count, 0);
+  for (Part& part : parts_) {
+    part.units.clear();
+    part.simulators.clear();
+  }
+  std::vector<double> load(parts_.size(), 0);
   for (const std::size_t u : order) {
     const std::size_t lightest =
         static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
     Part& part = parts_[lightest];
-    part.simulators.insert(part.simulators.end(), units[u].begin(), units[u].end());
-    part.feeders.push_back(units[u].front());
-    load[lightest] += unit_cost[u];
+    part.units.push_back(u);
+    part.simulators.insert(part.simulators.end(), units_[u].simulators.begin(),
+                           units_[u].simulators.end());
+    load[lightest] += cost[u];
   }
   for (Part& part : parts_) {
+    // Fed in report order (an error names the first configuration in it).
+    std::sort(part.units.begin(), part.units.end(), [&](std::size_t a, std::size_t b) {
+      return units_[a].simulators.front() < units_[b].simulators.front();
+    });
     std::sort(part.simulators.begin(), part.simulators.end());
-    std::sort(part.feeders.begin(), part.feeders.end());
   }
 }
 
@@ -152,6 +235,15 @@ void Sweep::begin_batch(const formats::RecordBatch& batch) {
     start(batch);
   } else if (batch.marker) {
     plan_->begin_frame(&*batch.marker);  // throws here, in trace order, for a bad marker
+  }
+  ++batches_;
+  // The estimates only start the work off: the CPU time each unit took
+  // shares it out from then on, seldom (a unit that moves leaves its
+  // stacks in the other core's cache).
+  if (parts_.size() > 1 && batches_ >= 4 && std::has_single_bit(batches_)) {
+    std::vector<double> seconds;
+    for (const Unit& unit : units_) seconds.push_back(unit.seconds);
+    assign_parts(seconds);
   }
 }
 
@@ -206,14 +298,24 @@ void Sweep::feed_part(const formats::RecordBatch& batch, std::size_t part_index)
   const Record* const records = batch.records.data();
   const std::size_t count = batch.records.size();
   // In chunks small enough to stay in the processor's cache while every
-  // configuration reads them.
+  // configuration reads them; with parts, every kTimedEvery-th chunk's
+  // feeds are timed (reading the clock is a system call).
   constexpr std::size_t kChunk = 4096;
+  constexpr std::size_t kTimedEvery = 8;
   for (std::size_t begin = 0; begin < count; begin += kChunk) {
     const std::size_t chunk = std::min(kChunk, count - begin);
     const std::uint64_t first_record = batch.first_record + begin;
     prepare(records + begin, chunk, first_record, part);
-    for (const std::size_t s : part.feeders) {
-      simulators_[s]->feed(records + begin, chunk, first_record, part.prepared);
+    const bool timed = parts_.size() > 1 && (first_record / kChunk) % kTimedEvery == 0;
+    double started = timed ? thread_cpu_seconds() : 0;
+    for (const std::size_t u : part.units) {
+      simulators_[units_[u].simulators.front()]->feed(records + begin, chunk, first_record,
+                                                       part.prepared);
+      if (timed) {
+        const double now = thread_cpu_seconds();
+        units_[u].seconds += now - started;
+        started = now;
+      }
     }
   }
 }

@@ -1,7 +1,9 @@
 // The stack path (set stacks answering many configurations in one pass)
 // against the per-configuration path (each configuration simulated alone)
 // and against the node cache: every count of ResultRow, the --per-level and
-// --per-frame rows, on random streams and on a rendered trace.
+// --per-frame rows, on random streams and on a rendered trace; and a sweep
+// split into parts for threads (stack groups cut into pieces) against one
+// part.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -12,6 +14,7 @@
 #include "nodetrace/cachesim/node_cache.hpp"
 #include "nodetrace/cachesim/set_stacks.hpp"
 #include "nodetrace/cachesim/sweep.hpp"
+#include "nodetrace/formats/error.hpp"
 #include "nodetrace/formats/reader.hpp"
 #include "test_support.hpp"
 
@@ -310,6 +313,137 @@ TEST(StackPath, EqualsEachConfigurationAloneOnARenderedTrace) {
     expect_together_equals_alone(configs, batches, reader->form(), per_level);
     expect_together_equals_alone(grid, batches, reader->form(), per_level);
   }
+}
+
+
+TEST(SetStacks, WalkCountsTheFetchesThatReachEachSetCountAndThePlacesSearched) {
+  // One set and two sets, both 2 deep. Blocks 0, 2, 0, 1:
+  //   one set:  0 not kept (place 2), 2 not kept, 0 at place 1, 1 not kept
+  //   two sets (reached by all four: none was on top of the one set):
+  //     set 0: 0 not kept, 2 not kept, 0 at place 1; set 1: 1 not kept
+  SetStacks stacks({{0, 2}, {1, 2}});
+  for (const std::uint64_t block : {0u, 2u, 0u, 1u}) stacks.access(block);
+  EXPECT_EQ(stacks.walk(0).visits, 4u);
+  EXPECT_EQ(stacks.walk(0).places, 4u);  // one each (not kept: depth - 1 = 1; place 1)
+  EXPECT_EQ(stacks.walk(1).visits, 4u);
+  EXPECT_EQ(stacks.walk(1).places, 4u);
+  // Block 1 again: on top of the one set, so the walk stops there.
+  stacks.access(1);
+  EXPECT_EQ(stacks.walk(0).visits, 5u);
+  EXPECT_EQ(stacks.walk(1).visits, 4u);
+}
+
+// The sweep fed as run_sweep feeds it, in `parts` parts (each batch's parts
+// in reverse order, so no part relies on another having run first).
+TraceResult parted_sweep(const std::vector<NodeCacheConfig>& configs,
+                         const std::vector<RecordBatch>& batches, formats::RecordForm form,
+                         bool per_level, std::size_t parts, std::size_t* part_count = nullptr) {
+  Sweep sweep(configs, context_of(form), per_level, true);
+  sweep.set_parts(parts);
+  for (const RecordBatch& batch : batches) {
+    sweep.begin_batch(batch);
+    for (std::size_t part = sweep.part_count(); part-- > 0;) sweep.feed_part(batch, part);
+  }
+  if (part_count) *part_count = sweep.part_count();
+  return sweep.finish();
+}
+
+void expect_results_equal(const TraceResult& parted, const TraceResult& one) {
+  ASSERT_EQ(parted.rows.size(), one.rows.size());
+  for (std::size_t i = 0; i < one.rows.size(); ++i) {
+    expect_rows_equal(parted.rows[i], one.rows[i], fmt::format("row {}", i));
+  }
+  ASSERT_EQ(parted.frame_rows.size(), one.frame_rows.size());
+  for (std::size_t i = 0; i < one.frame_rows.size(); ++i) {
+    EXPECT_EQ(parted.frame_rows[i].frame, one.frame_rows[i].frame) << i;
+    EXPECT_EQ(parted.frame_rows[i].row.config.size, one.frame_rows[i].row.config.size) << i;
+    expect_rows_equal(parted.frame_rows[i].row, one.frame_rows[i].row,
+                      fmt::format("frame row {}", i));
+  }
+  ASSERT_EQ(parted.level_rows.size(), one.level_rows.size());
+  for (std::size_t i = 0; i < one.level_rows.size(); ++i) {
+    EXPECT_EQ(parted.level_rows[i].size, one.level_rows[i].size) << i;
+    EXPECT_EQ(parted.level_rows[i].level, one.level_rows[i].level) << i;
+    EXPECT_EQ(parted.level_rows[i].refs, one.level_rows[i].refs) << i;
+    EXPECT_EQ(parted.level_rows[i].misses, one.level_rows[i].misses) << i;
+  }
+  EXPECT_EQ(parted.other_stream_records, one.other_stream_records);
+  EXPECT_EQ(parted.notes, one.notes);
+}
+
+// Single LRU caches of one block size, 1k..32k x 1..8 ways: one stack group
+// of 11 set counts.
+std::vector<NodeCacheConfig> one_stack_group(std::uint32_t block) {
+  SweepOptions options;
+  options.sizes = {1024, 2048, 4096, 8192, 16384, 32768};
+  options.blocks = {block};
+  options.assocs = {1, 2, 4, 8};
+  options.policies = {ReplacementPolicy::Lru};
+  return expand_configurations(options);
+}
+
+TEST(SweepParts, TwoThreeAndFourPartsGiveTheRowsOfOne) {
+  for (const bool mixed : {false, true}) {
+    for (const bool invalidates : {false, true}) {
+      // 36000 records: 12 batches, so the parts are shared out anew by
+      // measured time (at batches 4 and 8) while the counts go on.
+      const auto records = random_records(mixed ? 51 : 52, 36000, mixed, invalidates);
+      const auto batches = batches_of(records);
+      const auto form = mixed ? formats::RecordForm::ExtendedDin : formats::RecordForm::Din;
+      for (const bool per_level : {false, true}) {
+        for (const auto& configs : {one_stack_group(mixed ? 16 : 8), design_space(mixed ? 16 : 8),
+                                    table1_grid(mixed ? 16 : 8)}) {
+          const TraceResult one = parted_sweep(configs, batches, form, per_level, 1);
+          for (const std::size_t parts : {2u, 3u, 4u}) {
+            SCOPED_TRACE(::testing::Message()
+                         << "mixed " << mixed << " invalidates " << invalidates << " per_level "
+                         << per_level << " configs " << configs.size() << " parts " << parts);
+            std::size_t part_count = 0;
+            expect_results_equal(parted_sweep(configs, batches, form, per_level, parts, &part_count),
+                                 one);
+            EXPECT_GT(part_count, 1u);
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST(SweepParts, OneStackGroupIsCutIntoPiecesAcrossParts) {
+  // One key, so more than one part means the group was cut.
+  const auto records = random_records(53, 12000, false, false);
+  std::size_t part_count = 0;
+  parted_sweep(one_stack_group(8), batches_of(records), formats::RecordForm::Din, false, 2,
+               &part_count);
+  EXPECT_EQ(part_count, 2u);
+}
+
+TEST(SweepParts, HighLevelsThatDoNotFitAreTheSameErrorInEveryPart) {
+  // Split under retain, K = 12 (levels 0..11: up to 2048 blocks a frame),
+  // several low sizes: one stack group cut into pieces. The two high caches
+  // that do not fit (1024 bytes with the smallest low cache, 512 bytes with
+  // the largest) fall in different pieces, yet every piece stops at the
+  // same record naming the tightest, as one part does.
+  std::vector<NodeCacheConfig> configs;
+  for (const std::uint64_t low : {256u, 512u, 1024u, 2048u, 4096u, 8192u, 16384u}) {
+    const std::uint64_t high = low == 256 ? 1024 : low == 16384 ? 512 : 16384;
+    NodeCacheConfig config = split_config(8, high, low, 1, 12);
+    config.high_policy = HighPolicy::Retain;
+    configs.push_back(config);
+  }
+  const auto records = random_records(54, 12000, false, false);
+  const auto batches = batches_of(records);
+  const auto message_of = [&](std::size_t parts) {
+    try {
+      parted_sweep(configs, batches, formats::RecordForm::Din, false, parts);
+    } catch (const formats::UsageError& error) {
+      return std::string(error.what());
+    }
+    return std::string("no error");
+  };
+  const std::string one = message_of(1);
+  EXPECT_NE(one.find("512-byte high cache"), std::string::npos) << one;
+  for (const std::size_t parts : {2u, 3u, 4u}) EXPECT_EQ(message_of(parts), one) << parts;
 }
 
 }  // namespace

@@ -71,6 +71,17 @@ class SetStacks {
   std::vector<std::uint64_t> ways_of(unsigned log2_sets, std::uint64_t set,
                                      std::uint32_t ways) const;
 
+  // What access()'s walk did at one set count so far (access_direct_mapped
+  // visits every set count and is not described): the fetches that reached
+  // it, and the places they searched and moved down there (a block found at
+  // place p moves p blocks; one not kept, depth - 1). A sweep weighs the
+  // set counts' work by these to share them out among threads.
+  struct Walk {
+    std::uint64_t visits = 0;
+    std::uint64_t places = 0;
+  };
+  Walk walk(unsigned log2_sets) const;
+
  private:
   struct LevelState {
     std::uint64_t* stacks = nullptr;

@@ -90,25 +90,34 @@ class Sweep {
   std::vector<ResultRow> counts() const;
 
   // Work split over threads: before the first batch, set_parts(n) divides
-  // the configurations into n parts of about equal cost. Then for each batch,
-  // in trace order: begin_batch(batch) on one thread, then feed_part(batch, p)
+  // the configurations into at most n parts (a stack group cut into pieces
+  // where it alone is more than a part's share). Then for each batch, in
+  // trace order: begin_batch(batch) on one thread, then feed_part(batch, p)
   // for every part p, each part on one thread at a time (parts concurrently).
-  // Together they equal feed(batch).
+  // Together they equal feed(batch). Parts start of about equal estimated
+  // cost; begin_batch shares the units out anew now and then by the CPU
+  // time each took so far (which only moves work between threads: the
+  // counts are the same whatever the parts).
   void set_parts(std::size_t parts);
   std::size_t part_count() const;
   void begin_batch(const formats::RecordBatch& batch);
   void feed_part(const formats::RecordBatch& batch, std::size_t part);
 
  private:
-  struct Part {
+  // Simulators fed by one loop: a stack group or a piece of one (fed
+  // through its first member, for all of them), a set of split
+  // configurations fed together, or one configuration.
+  struct Unit {
     std::vector<std::size_t> simulators;
-    // The simulators whose feed() is called: one per unit (a stack group
-    // is fed through its first member, for all of them).
-    std::vector<std::size_t> feeders;
+    double estimate = 0;   // work per record, estimated (stack_group.hpp's units)
+    double seconds = 0;    // CPU time of its feeds so far (only its part's thread writes it)
+  };
+  struct Part {
+    std::vector<std::size_t> units;
+    std::vector<std::size_t> simulators;  // of its units, in order
     PreparedBatch prepared;
     std::uint64_t other_stream_records = 0;
   };
-
   // One configuration's animation frame in progress (per_frame).
   struct OpenFrame {
     bool open = false;
@@ -118,6 +127,8 @@ class Sweep {
   };
 
   void start(const formats::RecordBatch& first_batch);
+  // Units to parts, greedily, the costliest first (by `cost` of each unit).
+  void assign_parts(const std::vector<double>& cost);
   // The simulator's frame ends (per_frame: its row is kept) and, with a
   // marker, the next begins with that frame's K.
   void change_frame(std::size_t simulator, const formats::FrameMarker* marker);
@@ -132,7 +143,9 @@ class Sweep {
   bool needs_levels_ = false;
   bool started_ = false;
   std::size_t requested_parts_ = 1;
+  std::vector<Unit> units_;
   std::vector<Part> parts_;
+  std::uint64_t batches_ = 0;  // begun so far (the units are shared out anew at powers of two)
   std::vector<std::unique_ptr<ConfigSimulator>> simulators_;
   std::unique_ptr<SplitLevelPlan> plan_;  // advanced by begin_batch, in trace order
   std::vector<OpenFrame> open_frames_;                // per simulator, its part's thread
@@ -144,8 +157,8 @@ class Sweep {
 using SweepProgress = std::function<void(std::uint64_t records_read)>;
 
 // Reads the whole trace once and simulates every configuration, decoding on
-// the calling thread while worker threads (half the cores, at most one per
-// configuration) simulate. Results do not depend on the number of threads.
+// the calling thread while worker threads (one per core, at most one per
+// unit of work: sweep parts) simulate. Results do not depend on the number of threads.
 TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheConfig>& configs,
                       const std::string& trace_column, bool per_level,
                       const SweepProgress& progress = {}, bool per_frame = false);
