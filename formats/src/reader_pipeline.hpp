@@ -32,11 +32,12 @@ struct Chunk {
   std::string frame_error;           // damage found before parsing
 };
 
-// Buffers handed back by the consumer for the workers to reuse (a few:
-// spare buffers are memory held).
+// Buffers handed back by the consumer for the workers to reuse (as many
+// record buffers as pieces may wait, so waiting pieces reuse memory rather
+// than touching fresh pages; spare buffers are memory held).
 struct Stock {
   Recycler<ByteBuffer> bytes{8};
-  Recycler<std::vector<Record>> records{4};
+  Recycler<std::vector<Record>> records{40};
   // The ring of data frames with a large zstd window (archives): they are
   // decoded one at a time, so one ring serves them all and memory holds one
   // window, not one per worker.
