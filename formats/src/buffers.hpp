@@ -35,6 +35,7 @@ class ByteBuffer {
     size_ = size;
   }
   void append(const char* bytes, std::size_t count) {
+    if (count == 0) return;  // an empty buffer has no data pointer to copy to
     reserve(size_ + count);
     std::memcpy(data_.get() + size_, bytes, count);
     size_ += count;
