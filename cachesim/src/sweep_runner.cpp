@@ -22,39 +22,74 @@ TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheC
   // simulation CPU against about 1 s of decoding), use every core.
   sweep.set_parts(std::min<std::size_t>(cores, configs.size()));
 
-  // Two batches: the workers simulate one (each its part of the
-  // configurations) while the reader fills the other. A part's state runs
-  // from batch to batch, so a batch's parts are submitted only once the
-  // previous batch's are done.
-  std::vector<formats::RecordBatch> batches(2);
-  std::size_t current = 0;
-  if (!reader.next(batches[current])) return sweep.finish();
+  formats::RecordBatch first;
+  if (!reader.next(first)) return sweep.finish();
   if (configs.size() == 1) {
     // One configuration: the reader's own workers decode ahead, so the
     // simulation runs here; a thread of its own would only add a hand-over
     // per batch.
     do {
-      sweep.feed(batches[current]);
-      if (progress) progress(batches[current].first_record + batches[current].records.size());
-    } while (reader.next(batches[current]));
+      sweep.feed(first);
+      if (progress) progress(first.first_record + first.records.size());
+    } while (reader.next(first));
     return sweep.finish();
   }
-  // The first batch starts the sweep, before any worker runs.
-  sweep.begin_batch(batches[current]);
+  // Two groups of batches: the workers simulate one (each its part of the
+  // configurations) while the reader fills the other. A part's state runs
+  // from group to group, so a group's parts are submitted only once the
+  // previous group's are done. A group holds up to kGroupRecords records: a
+  // container hands over a data frame in pieces of 16K records, and one
+  // hand-over per piece cost the 36-configuration sweep a quarter more time.
+  constexpr std::size_t kGroupRecords = std::size_t{1} << 18;
+  struct Group {
+    std::vector<formats::RecordBatch> batches;
+    std::size_t size = 0;  // batches in use
+  };
+  std::vector<Group> groups(2);
+  bool ended = false;
+  // Reads batches into `group` from its batch `from` on; false when it has none.
+  const auto fill = [&](Group& group, std::size_t from) {
+    group.size = from;
+    std::size_t records = 0;
+    for (std::size_t i = 0; i < from; ++i) records += group.batches[i].records.size();
+    while (!ended && records < kGroupRecords) {
+      if (group.size == group.batches.size()) group.batches.emplace_back();
+      if (!reader.next(group.batches[group.size])) {
+        ended = true;
+        break;
+      }
+      records += group.batches[group.size++].records.size();
+    }
+    return group.size > 0;
+  };
+  // Every batch advances K per animation frame here, in trace order; the
+  // first starts the sweep, before any worker runs.
+  const auto begin = [&](Group& group) {
+    for (std::size_t i = 0; i < group.size; ++i) sweep.begin_batch(group.batches[i]);
+  };
+  groups[0].batches.push_back(std::move(first));
+  fill(groups[0], 1);
+  begin(groups[0]);
   formats::OrderedPipeline<void> simulation(static_cast<unsigned>(sweep.part_count()));
-  const auto simulate = [&](std::size_t index) {
+  const auto simulate = [&](Group& group) {
     for (std::size_t part = 0; part < sweep.part_count(); ++part) {
-      simulation.submit([&sweep, &batch = batches[index], part] { sweep.feed_part(batch, part); });
+      simulation.submit([&sweep, &group, part] {
+        for (std::size_t i = 0; i < group.size; ++i) sweep.feed_part(group.batches[i], part);
+      });
+    }
+    if (progress) {
+      const formats::RecordBatch& last = group.batches[group.size - 1];
+      progress(last.first_record + last.records.size());
     }
   };
-  simulate(current);
-  if (progress) progress(batches[current].first_record + batches[current].records.size());
+  simulate(groups[0]);
+  std::size_t current = 0;
   for (;;) {
     const std::size_t next = 1 - current;
     bool more = false;
     std::exception_ptr reader_error;
     try {
-      more = reader.next(batches[next]);
+      more = fill(groups[next], 0);
     } catch (...) {
       reader_error = std::current_exception();
     }
@@ -63,10 +98,8 @@ TraceResult run_sweep(formats::TraceReader& reader, const std::vector<NodeCacheC
     if (reader_error) std::rethrow_exception(reader_error);
     if (!more) break;
     current = next;
-    // Every batch advances K per animation frame here, in trace order.
-    sweep.begin_batch(batches[current]);
-    simulate(current);
-    if (progress) progress(batches[current].first_record + batches[current].records.size());
+    begin(groups[current]);
+    simulate(groups[current]);
   }
   return sweep.finish();
 }

@@ -94,7 +94,8 @@ class Sweep {
   // where it alone is more than a part's share). Then for each batch, in
   // trace order: begin_batch(batch) on one thread, then feed_part(batch, p)
   // for every part p, each part on one thread at a time (parts concurrently).
-  // Together they equal feed(batch). Parts start of about equal estimated
+  // Together they equal feed(batch). begin_batch may run for several batches
+  // before their feed_part calls, in trace order, while no feed_part runs. Parts start of about equal estimated
   // cost; begin_batch shares the units out anew now and then by the CPU
   // time each took so far (which only moves work between threads: the
   // counts are the same whatever the parts).
