@@ -81,20 +81,8 @@ seconds() {
   end=$(date +%s%N)
   awk -v a="$start" -v b="$end" 'BEGIN { printf "%.3f\n", (b - a) / 1e9 }'
 }
-# Wall clock and CPU (user + sys) seconds of a command, output discarded.
-wall_and_cpu() {
-  local out
-  out=$(mktemp)
-  # Notes on standard error are not timing output.
-  /usr/bin/time -f '%e %U %S' -o "$out" "$@" >/dev/null 2>/dev/null
-  awk '{ printf "%.3f %.3f\n", $1, $2 + $3 }' "$out"
-  rm -f "$out"
-}
-median() { sort -n | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
-ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f\n", a / b }'; }
-rate() { awk -v n="$records" -v t="$1" 'BEGIN { printf "%.1f\n", n / t / 1e6 }'; }
-
-# Wall, CPU (user + sys) seconds and peak RSS (KB) of a command, output discarded.
+# Wall, CPU (user + sys) seconds and peak RSS (KB) of a command, output
+# discarded (notes on standard error are not timing output).
 wall_cpu_rss() {
   local out
   out=$(mktemp)
@@ -102,6 +90,12 @@ wall_cpu_rss() {
   awk '{ printf "%.3f %.3f %d\n", $1, $2 + $3, $4 }' "$out"
   rm -f "$out"
 }
+# Wall clock and CPU seconds alone.
+wall_and_cpu() { wall_cpu_rss "$@" | cut -d' ' -f1,2; }
+median() { sort -n | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f\n", a / b }'; }
+rate() { awk -v n="$records" -v t="$1" 'BEGIN { printf "%.1f\n", n / t / 1e6 }'; }
+
 
 # One configuration against zstd -dc (and Dinero IV where it is on PATH) on
 # one trace: medians of paired runs, taken alternately.
