@@ -128,7 +128,7 @@ Printed printed_cache(const Hierarchy& h, int level, CacheKind kind) {
 
 std::string dinero_preamble(const DineroOptions& o) {
   std::string out;
-  out += "---Dinero IV cache simulator, version 8\n";
+  out += "---Dinero IV cache simulator, version 7\n";
   out += "---Written by Jan Edler and Mark D. Hill\n";
   out += "---Copyright (C) 1997 NEC Research Institute, Inc. and Mark D. Hill.\n";
   out += "---All rights reserved.\n";
