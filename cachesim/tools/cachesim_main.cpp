@@ -4,9 +4,9 @@
 #include <cstdio>
 #include <string_view>
 
-#include "nodetrace/formats/standard_output.hpp"
+#include "nodetrace/base/standard_output.hpp"
 #include "commands.hpp"
-#include "subcommand_dispatch.hpp"
+#include "nodetrace/cli/subcommand_dispatch.hpp"
 
 namespace {
 
@@ -23,9 +23,9 @@ constexpr const char* kUsage =
 }  // namespace
 
 static int run(int argc, char** argv) {
-  using namespace nodetrace::cachesim::cli;
-  return dispatch_subcommand("cachesim", kUsage, argc, argv,
+  using namespace nodetrace::cachesim::tools;
+  return nodetrace::cli::dispatch_subcommand("cachesim", kUsage, argc, argv,
                              {{"dinero", dinero_command}, {"run", run_command}});
 }
 
-int main(int argc, char** argv) { return nodetrace::formats::finish_standard_output("cachesim", run(argc, argv)); }
+int main(int argc, char** argv) { return nodetrace::base::finish_standard_output("cachesim", run(argc, argv)); }

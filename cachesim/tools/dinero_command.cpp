@@ -6,12 +6,12 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "exit_status.hpp"
-#include "nodetrace/cachesim/dinero.hpp"
-#include "nodetrace/formats/error.hpp"
-#include "nodetrace/formats/reader.hpp"
+#include "nodetrace/cli/exit_status.hpp"
+#include "nodetrace/cachesim/dinero/command_line.hpp"
+#include "nodetrace/base/error.hpp"
+#include "nodetrace/formats/read/trace_reader.hpp"
 
-namespace nodetrace::cachesim::cli {
+namespace nodetrace::cachesim::tools {
 
 namespace {
 
@@ -43,22 +43,21 @@ constexpr const char* kAbout =
 
 int dinero_command(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
-  DineroOptions options;
-  try {
-    options = parse_dinero_options(args);
-  } catch (const formats::UsageError& e) {
-    std::fprintf(stderr, "cachesim dinero: %s\nRun \"cachesim dinero --help\" for usage information.\n",
-                 e.what());
-    return 2;
-  }
-  switch (options.request) {
-    case DineroOptions::Request::Help: std::fputs(dinero_help().c_str(), stdout); return 0;
-    case DineroOptions::Request::DineroIII: std::fputs(kDineroIII, stdout); return 0;
-    case DineroOptions::Request::Copyright:
-    case DineroOptions::Request::Contact: std::fputs(kAbout, stdout); return 0;
-    case DineroOptions::Request::Simulate: break;
-  }
-  return exit_status_of("cachesim dinero", [&] {
+  return nodetrace::cli::exit_status_of("cachesim dinero", [&] {
+    DineroOptions options;
+    try {
+      options = parse_dinero_options(args);
+    } catch (const base::UsageError& e) {
+      throw base::UsageError(std::string(e.what()) +
+                             "\nRun \"cachesim dinero --help\" for usage information.");
+    }
+    switch (options.request) {
+      case DineroOptions::Request::Help: std::fputs(dinero_help().c_str(), stdout); return 0;
+      case DineroOptions::Request::DineroIII: std::fputs(kDineroIII, stdout); return 0;
+      case DineroOptions::Request::Copyright:
+      case DineroOptions::Request::Contact: std::fputs(kAbout, stdout); return 0;
+      case DineroOptions::Request::Simulate: break;
+    }
     formats::ReaderOptions reader_options;
     reader_options.form = options.form;
     auto reader = formats::TraceReader::open(options.trace_path, reader_options);
@@ -66,7 +65,7 @@ int dinero_command(int argc, char** argv) {
     run_dinero(options, *reader, std::cout, std::cerr);
     std::cout.flush();
     return 0;
-  });
+  }, kTooLarge);
 }
 
-}  // namespace nodetrace::cachesim::cli
+}  // namespace nodetrace::cachesim::tools

@@ -9,18 +9,21 @@
 #include <new>
 #include <string_view>
 
-#include "nodetrace/formats/standard_output.hpp"
-#include "nodetrace/cachesim/report.hpp"
-#include "nodetrace/cachesim/wrap.hpp"
-#include "nodetrace/formats/error.hpp"
-#include "exit_status.hpp"
+#include "nodetrace/base/standard_output.hpp"
+#include "nodetrace/cachesim/report/report.hpp"
+#include "nodetrace/cachesim/wrap/wrap.hpp"
+#include "nodetrace/base/error.hpp"
+#include "nodetrace/cli/command_line.hpp"
+#include "nodetrace/cli/exit_status.hpp"
+#include "commands.hpp"
 #include "run_options.hpp"
-#include "subcommand_dispatch.hpp"
+#include "nodetrace/cli/subcommand_dispatch.hpp"
 
 namespace {
 
 using namespace nodetrace;
 using namespace nodetrace::cachesim;
+namespace tools = nodetrace::cachesim::tools;
 
 constexpr const char* kUsage =
     "dinero-wrap: answer cachesim questions with Dinero IV itself\n"
@@ -39,37 +42,33 @@ int run_subcommand(int argc, char** argv) {
       "Answer `cachesim run` options with Dinero IV: one Dinero IV process per cache (at most "
       "one per core at a time), same report and columns as cachesim run.",
       "dinero-wrap run"};
-  cli::RunCommandLine line;
-  cli::add_run_options(app, line);
+  tools::RunCommandLine line;
+  tools::add_run_options(app, line);
   std::string dinero;
   unsigned jobs = 0;
   app.add_option("--dinero", dinero,
                  "Dinero IV command, may carry arguments (default: $DINEROIV, or dineroIV on "
                  "PATH)");
   app.add_option("--jobs", jobs, "Dinero IV processes at a time (default: one per core; at most 16 per core)");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& error) {
-    return app.exit(error) == 0 ? 0 : 2;  // CLI11 has its own codes; ours: 2
-  }
+  if (const std::optional<int> status = cli::parse_command_line(app, argc, argv)) return *status;
   return cli::exit_status_of("dinero-wrap run", [&] {
     wrap::WrapOptions options;
-    options.jobs = formats::check_thread_count(jobs, "--jobs", "processes");
-    options.reader = cli::reader_options(line);
-    const SweepOptions sweep = cli::sweep_options(line);
+    options.jobs = cli::check_thread_count(jobs, "--jobs", "processes");
+    options.reader = tools::reader_options(line);
+    const SweepOptions sweep = tools::sweep_options(line);
     options.dinero = wrap::find_dinero(dinero.empty() ? std::nullopt
                                                       : std::optional<std::string>(dinero));
-    const std::vector<NodeCacheConfig> configs = expand_configurations(sweep);
+    const std::vector<Configuration> configs = expand_configurations(sweep);
     std::vector<ResultRow> rows;
     std::vector<std::string> notes;
     for (const std::string& trace : line.traces) {
-      TraceResult result = wrap::wrap_run(trace, configs, trace, sweep.per_level, options, sweep.per_frame);
+      TraceResult result = wrap::wrap_run(trace, configs, trace, sweep.per_level, options, sweep.per_animation_frame);
       rows.insert(rows.end(), result.rows.begin(), result.rows.end());
       notes.insert(notes.end(), result.notes.begin(), result.notes.end());
     }
-    cli::print_report(rows, {}, notes, line);
+    tools::print_report(rows, {}, notes, line);
     return 0;
-  });
+  }, tools::kTooLarge);
 }
 
 int exec_subcommand(int argc, char** argv) {
@@ -95,11 +94,7 @@ int exec_subcommand(int argc, char** argv) {
   app.add_option("--informat", informat, "Record form of a plain trace: din, xdin or binary")
       ->check(CLI::IsMember({"din", "xdin", "binary"}));
   app.footer("Example: dinero-wrap exec t.din.zst -- -l1-dsize 8k -l1-dbsize 8 -l1-dassoc 1");
-  try {
-    app.parse(separator, argv);
-  } catch (const CLI::ParseError& error) {
-    return app.exit(error) == 0 ? 0 : 2;  // CLI11 has its own codes; ours: 2
-  }
+  if (const std::optional<int> status = cli::parse_command_line(app, separator, argv)) return *status;
   return cli::exit_status_of("dinero-wrap exec", [&] {
     wrap::WrapOptions options;
     options.dinero = wrap::find_dinero(dinero.empty() ? std::nullopt
@@ -107,7 +102,7 @@ int exec_subcommand(int argc, char** argv) {
     if (!informat.empty()) options.reader.form = formats::parse_form_name(informat);
     std::fflush(stdout);
     return wrap::wrap_exec(trace, dinero_arguments, options);
-  });
+  }, tools::kTooLarge);
 }
 
 }  // namespace
@@ -119,4 +114,4 @@ static int run(int argc, char** argv) {
                                   {{"run", run_subcommand}, {"exec", exec_subcommand}});
 }
 
-int main(int argc, char** argv) { return nodetrace::formats::finish_standard_output("dinero-wrap", run(argc, argv)); }
+int main(int argc, char** argv) { return nodetrace::base::finish_standard_output("dinero-wrap", run(argc, argv)); }

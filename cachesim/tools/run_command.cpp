@@ -10,23 +10,25 @@
 #include <new>
 
 #include "commands.hpp"
-#include "exit_status.hpp"
-#include "nodetrace/cachesim/curve.hpp"
-#include "nodetrace/cachesim/report.hpp"
-#include "nodetrace/cachesim/sampling.hpp"
-#include "nodetrace/cachesim/sweep.hpp"
-#include "nodetrace/formats/error.hpp"
-#include "nodetrace/formats/reader.hpp"
-#include "nodetrace/formats/sample_rate.hpp"
+#include "nodetrace/cli/command_line.hpp"
+#include "nodetrace/cli/exit_status.hpp"
+#include "nodetrace/cli/progress_line.hpp"
+#include "nodetrace/cachesim/sweep/curve.hpp"
+#include "nodetrace/cachesim/report/report.hpp"
+#include "nodetrace/cachesim/sampling/sampled_sweep.hpp"
+#include "nodetrace/cachesim/sweep/sweep.hpp"
+#include "nodetrace/base/error.hpp"
+#include "nodetrace/formats/read/trace_reader.hpp"
+#include "nodetrace/base/sample_rate.hpp"
 #include "run_options.hpp"
 
-namespace nodetrace::cachesim::cli {
+namespace nodetrace::cachesim::tools {
 
 namespace {
 
 int curve_command(const RunCommandLine& line, const SweepOptions& options) {
   if (options.policies.size() != 1 || options.split_levels.size() != 1) {
-    throw formats::UsageError("--curve takes one --policy and one --split-level");
+    throw base::UsageError("--curve takes one --policy and one --split-level");
   }
   CurveOptions curve;
   curve.blocks = options.blocks;
@@ -71,15 +73,15 @@ void add_sampling_options(CLI::App& app, SamplingCommandLine& line) {
 
 SamplingOptions sampling_options(const SamplingCommandLine& line, const RunCommandLine& run) {
   SamplingOptions options;
-  if (!line.windows.empty()) options.window_every = formats::parse_sample_rate(line.windows, "--sample-windows");
-  if (!line.sets.empty()) options.set_every = formats::parse_sample_rate(line.sets, "--sample-sets");
+  if (!line.windows.empty()) options.window_every = base::parse_sample_rate(line.windows, "--sample-windows");
+  if (!line.sets.empty()) options.set_every = base::parse_sample_rate(line.sets, "--sample-sets");
   if (line.window_records == 0) {
-    throw formats::UsageError("--window-records: 0 is not a window length: expected at least 1");
+    throw base::UsageError("--window-records: 0 is not a window length: expected at least 1");
   }
   options.window_records = line.window_records;
   options.seed = line.seed;
-  if (options.sampling() && (run.per_level || run.per_frame || run.curve)) {
-    throw formats::UsageError(
+  if (options.sampling() && (run.per_level || run.per_animation_frame || run.curve)) {
+    throw base::UsageError(
         "--sample-windows / --sample-sets: not with --per-level, --per-frame or --curve");
   }
   return options;
@@ -107,7 +109,7 @@ const formats::TraceReader* row_sampled(const Readers& readers) {
   return nullptr;
 }
 
-int sampled_command(const RunCommandLine& line, const std::vector<NodeCacheConfig>& configs,
+int sampled_command(const RunCommandLine& line, const std::vector<Configuration>& configs,
                     const SamplingOptions& sampling, const Readers& readers) {
   std::vector<SampledRow> rows;
   std::vector<GainRow> gains;
@@ -142,20 +144,16 @@ int run_command(int argc, char** argv) {
                "--assoc, single caches and the split scheme's low cache (K from --split-level, "
                "or auto for --high-size)");
   add_sampling_options(app, sampling_line);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& error) {
-    return app.exit(error) == 0 ? 0 : 2;  // CLI11 has its own codes; ours: 2
-  }
-  return exit_status_of("cachesim run", [&] {
+  if (const std::optional<int> status = nodetrace::cli::parse_command_line(app, argc, argv)) return *status;
+  return nodetrace::cli::exit_status_of("cachesim run", [&] {
     const SweepOptions options = sweep_options(line);
     const SamplingOptions sampling = sampling_options(sampling_line, line);
     if (line.curve) return curve_command(line, options);
-    const std::vector<NodeCacheConfig> configs = expand_configurations(options);
+    const std::vector<Configuration> configs = expand_configurations(options);
     const Readers readers = open_traces(line, sampling);
     if (const formats::TraceReader* sampled = row_sampled(readers)) {
-      if (line.per_level || line.per_frame) {
-        throw formats::UsageError(fmt::format(
+      if (line.per_level || line.per_animation_frame) {
+        throw base::UsageError(fmt::format(
             "{} is row-sampled (header \"sampling\"): not with --per-level or --per-frame",
             sampled->source_name()));
       }
@@ -165,36 +163,30 @@ int run_command(int argc, char** argv) {
     }
     std::vector<ResultRow> rows;
     std::vector<LevelRow> levels;
-    std::vector<FrameRow> frames;
+    std::vector<AnimationFrameRow> frames;
     std::vector<std::string> notes;
-    // Long runs show progress when standard error is a terminal.
-    const bool show_progress = ::isatty(STDERR_FILENO) != 0;
+    nodetrace::cli::ProgressLine progress_line;
     std::string current_trace;
-    auto last_shown = std::chrono::steady_clock::now();
     SweepProgress progress;
-    if (show_progress) {
+    if (progress_line.shown()) {
       progress = [&](std::uint64_t records_read) {
-        const auto now = std::chrono::steady_clock::now();
-        if (now - last_shown < std::chrono::milliseconds(250)) return;
-        last_shown = now;
-        std::fprintf(stderr, "\r%s: %llu M records", current_trace.c_str(),
-                     static_cast<unsigned long long>(records_read / 1000000));
+        progress_line.update(fmt::format("{}: {} M records", current_trace, records_read / 1000000));
       };
     }
     for (std::size_t t = 0; t < readers.size(); ++t) {
       const std::string& trace = line.traces[t];
       current_trace = trace;
       TraceResult result =
-          run_sweep(*readers[t], configs, trace, options.per_level, progress, options.per_frame);
-      if (show_progress) std::fputs("\r\033[K", stderr);
+          run_sweep(*readers[t], configs, trace, options.per_level, progress, options.per_animation_frame);
+      progress_line.clear();
       rows.insert(rows.end(), result.rows.begin(), result.rows.end());
       levels.insert(levels.end(), result.level_rows.begin(), result.level_rows.end());
-      frames.insert(frames.end(), result.frame_rows.begin(), result.frame_rows.end());
+      frames.insert(frames.end(), result.animation_frame_rows.begin(), result.animation_frame_rows.end());
       notes.insert(notes.end(), result.notes.begin(), result.notes.end());
     }
     print_report(rows, levels, notes, line, frames);
     return 0;
-  });
+  }, kTooLarge);
 }
 
-}  // namespace nodetrace::cachesim::cli
+}  // namespace nodetrace::cachesim::tools

@@ -10,14 +10,14 @@
 #include <string>
 #include <vector>
 
-#include "nodetrace/cachesim/report.hpp"
-#include "nodetrace/cachesim/sweep.hpp"
-#include "nodetrace/formats/byte_size.hpp"
-#include "nodetrace/formats/error.hpp"
-#include "nodetrace/formats/option_limits.hpp"
-#include "nodetrace/formats/reader.hpp"
+#include "nodetrace/cachesim/report/report.hpp"
+#include "nodetrace/cachesim/sweep/sweep.hpp"
+#include "nodetrace/base/byte_size.hpp"
+#include "nodetrace/base/error.hpp"
+#include "nodetrace/cli/option_limits.hpp"
+#include "nodetrace/formats/read/trace_reader.hpp"
 
-namespace nodetrace::cachesim::cli {
+namespace nodetrace::cachesim::tools {
 
 // The largest cache a run simulates (--size, --high-size, --low-size): the
 // simulator allocates its blocks' state up front, so the budget bounds the
@@ -29,7 +29,7 @@ inline constexpr std::uint64_t kMaxCacheBytes = std::uint64_t{256} << 20;
 inline constexpr std::uint64_t kMaxCacheBlocks = kMaxCacheBytes / 8;
 
 inline std::uint64_t cache_size(const std::string& text, const char* option) {
-  return formats::check_at_most(formats::parse_byte_size(text, option), kMaxCacheBytes, option, text, "256m",
+  return cli::check_at_most(base::parse_byte_size(text, option), kMaxCacheBytes, option, text, "256m",
                                 "the cache budget of a run; its state is allocated up front");
 }
 
@@ -48,7 +48,7 @@ struct RunCommandLine {
   bool count_loads = false;
   bool tags_are_levels = false;
   bool per_level = false;
-  bool per_frame = false;
+  bool per_animation_frame = false;
   bool curve = false;
   std::string format = "table";
   std::string informat;  // plain traces: din, xdin, binary
@@ -92,7 +92,7 @@ inline void add_run_options(CLI::App& app, RunCommandLine& line) {
                "Read the tag field of a plain trace as the node level");
   app.add_flag("--per-level", line.per_level,
                "Add a table of references and misses per node level");
-  app.add_flag("--per-frame", line.per_frame,
+  app.add_flag("--per-frame", line.per_animation_frame,
                "Add a table of the counts of each animation frame (each with its own K)");
   app.add_option("--format", line.format, "Report format")
       ->check(CLI::IsMember({"table", "csv", "json"}))
@@ -110,7 +110,7 @@ std::vector<T> parse_list(const std::vector<std::string>& texts, const char* opt
   for (const std::string& text : texts) {
     const auto value = parse(text);
     if (!value) {
-      throw formats::UsageError(fmt::format("{}: '{}' is not one of the accepted values", option, text));
+      throw base::UsageError(fmt::format("{}: '{}' is not one of the accepted values", option, text));
     }
     values.push_back(*value);
   }
@@ -123,15 +123,15 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
   for (const auto& text : line.sizes) options.sizes.push_back(cache_size(text, "--size"));
   options.blocks.clear();
   for (const auto& text : line.blocks) {
-    const std::uint64_t block = formats::parse_byte_size(text, "--block");
-    if (block > (1u << 30)) throw formats::UsageError(fmt::format("--block {} is too large", text));
+    const std::uint64_t block = base::parse_byte_size(text, "--block");
+    if (block > (1u << 30)) throw base::UsageError(fmt::format("--block {} is too large", text));
     options.blocks.push_back(static_cast<std::uint32_t>(block));
   }
   for (std::size_t i = 0; i < options.sizes.size(); ++i) {
     for (std::size_t b = 0; b < options.blocks.size(); ++b) {
       const std::uint64_t blocks = options.sizes[i] / options.blocks[b];
       if (blocks > kMaxCacheBlocks) {
-        throw formats::UsageError(fmt::format("--size {} with --block {}: {} blocks, at most {} in one cache "
+        throw base::UsageError(fmt::format("--size {} with --block {}: {} blocks, at most {} in one cache "
                                               "(the simulator keeps each block's state)",
                                               line.sizes[i], line.blocks[b], blocks, kMaxCacheBlocks));
       }
@@ -152,7 +152,7 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
     std::uint32_t level = 0;
     const auto [next, error] = std::from_chars(text.data(), text.data() + text.size(), level);
     if (error != std::errc{} || next != text.data() + text.size() || level > formats::kMaxLevel) {
-      throw formats::UsageError(
+      throw base::UsageError(
           fmt::format("--split-level: '{}' is not a level: expected a number or 'auto'", text));
     }
     options.split_levels.push_back(level);
@@ -162,14 +162,14 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
   if (!line.high_assoc.empty()) options.high_assoc = parse_assoc(line.high_assoc);
   options.count_loads = line.count_loads;
   options.per_level = line.per_level;
-  options.per_frame = line.per_frame;
+  options.per_animation_frame = line.per_animation_frame;
   return options;
 }
 
 inline formats::ReaderOptions reader_options(const RunCommandLine& line) {
   formats::ReaderOptions options;
   options.tags_are_levels = line.tags_are_levels;
-  options.threads = formats::check_thread_count(line.threads, "--threads");
+  options.threads = cli::check_thread_count(line.threads, "--threads");
   if (!line.informat.empty()) options.form = formats::parse_form_name(line.informat);
   // Damage is caught by zstd's frame checksums and the content hash; the
   // record hash (a pass over all the text) is left to `tracetool verify`.
@@ -190,12 +190,12 @@ inline void print_notes(const std::vector<std::string>& notes, ReportFormat form
 // that CSV and JSON stay machine-readable.
 inline void print_report(const std::vector<ResultRow>& rows, const std::vector<LevelRow>& levels,
                          const std::vector<std::string>& notes, const RunCommandLine& line,
-                         const std::vector<FrameRow>& frames = {}) {
+                         const std::vector<AnimationFrameRow>& frames = {}) {
   const ReportFormat format = parse_report_format(line.format).value_or(ReportFormat::Table);
   const std::string report =
-      format_report(rows, levels, line.per_level, format, frames, line.per_frame);
+      format_report(rows, levels, line.per_level, format, frames, line.per_animation_frame);
   std::fwrite(report.data(), 1, report.size(), stdout);
   print_notes(notes, format);
 }
 
-}  // namespace nodetrace::cachesim::cli
+}  // namespace nodetrace::cachesim::tools

@@ -9,9 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "nodetrace/formats/error.hpp"
-#include "nodetrace/formats/reader.hpp"
-#include "nodetrace/formats/writer.hpp"
+#include "nodetrace/base/error.hpp"
+#include "nodetrace/cli/exit_status.hpp"
+#include "nodetrace/formats/read/trace_reader.hpp"
+#include "nodetrace/formats/write/trace_writer.hpp"
 
 namespace formats = nodetrace::formats;
 
@@ -71,7 +72,7 @@ int read(const std::string& path, unsigned threads) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
+  return nodetrace::cli::exit_status_of("formats_bench", [&] {
     const std::vector<std::string> args(argv + 1, argv + argc);
     unsigned threads = 0;
     for (std::size_t i = 0; i + 1 < args.size(); ++i) {
@@ -79,10 +80,6 @@ int main(int argc, char** argv) {
     }
     if (args.size() >= 3 && args[0] == "generate") return generate(std::stoull(args[1]), args[2], threads);
     if (args.size() >= 2 && args[0] == "read") return read(args[1], threads);
-    std::fprintf(stderr, "usage: formats_bench generate N OUT [--threads T] | read FILE [--threads T]\n");
-    return 2;
-  } catch (const std::exception& error) {
-    std::fprintf(stderr, "formats_bench: %s\n", error.what());
-    return 1;
-  }
+    throw nodetrace::base::UsageError("usage: formats_bench generate N OUT [--threads T] | read FILE [--threads T]");
+  });
 }

@@ -11,15 +11,20 @@
 #include <string>
 #include <vector>
 
-#include "nodetrace/formats/archive_option.hpp"
-#include "nodetrace/formats/error.hpp"
-#include "nodetrace/formats/option_limits.hpp"
-#include "nodetrace/formats/reader.hpp"
-#include "nodetrace/formats/record_summary.hpp"
-#include "nodetrace/formats/standard_output.hpp"
-#include "nodetrace/formats/tag_filter.hpp"
-#include "nodetrace/formats/writer.hpp"
+#include "nodetrace/cli/archive_option.hpp"
+#include "nodetrace/cli/command_line.hpp"
+#include "nodetrace/cli/exit_status.hpp"
+#include "nodetrace/cli/subcommand_dispatch.hpp"
+#include "nodetrace/base/error.hpp"
+#include "nodetrace/cli/option_limits.hpp"
+#include "nodetrace/formats/read/trace_reader.hpp"
+#include "nodetrace/formats/record/record_summary.hpp"
+#include "nodetrace/base/standard_output.hpp"
+#include "nodetrace/formats/record/tag_filter.hpp"
+#include "nodetrace/formats/write/trace_writer.hpp"
 
+namespace base = nodetrace::base;
+namespace cli = nodetrace::cli;
 namespace formats = nodetrace::formats;
 using formats::Record;
 
@@ -40,7 +45,7 @@ std::optional<formats::RecordForm> form_option(const std::string& name) {
 }
 
 // A conversion keeps only the fields it read: say how many records lost
-// others (DESIGN.md: simulation ignores them, a conversion says so).
+// others (docs/ARCHITECTURE.md: simulation ignores them, a conversion says so).
 void warn_of_dropped_fields(const formats::TraceReader& reader) {
   const std::uint64_t dropped = reader.records_with_ignored_fields();
   if (dropped == 0) return;
@@ -132,7 +137,7 @@ int run_cat(const std::string& path, const std::string& tags, const std::string&
   if (!tags.empty()) {
     filter = formats::TagFilter::parse(tags);
     if (!reader->tags_are_levels()) {
-      throw formats::UsageError(fmt::format(
+      throw base::UsageError(fmt::format(
           "{}: --tags filters by node level, but this trace's tags are not marked as node levels "
           "(no \"tag\": \"node-level\" in a header); pass --tags-are-levels if its tag field holds levels",
           reader->source_name()));
@@ -169,7 +174,7 @@ int run_verify(const std::string& path, bool tags_are_levels, const std::string&
     records += batch.records.size();
     if (batch.marker) ++markers;
   }
-  // DESIGN.md: a trace without animation-frame markers is one animation frame.
+  // docs/ARCHITECTURE.md: a trace without animation-frame markers is one animation frame.
   const std::uint64_t animation_frames = std::max<std::uint64_t>(markers, 1);
   if (reader->input_kind() == "container") {
     const std::uint64_t data_frames = reader->trailer() ? reader->trailer()->index.size() : 0;
@@ -198,14 +203,14 @@ struct ConvertOptions {
 };
 
 int run_convert(const std::string& in, const std::string& out, const ConvertOptions& convert) {
-  formats::check_thread_count(convert.threads, "--threads");
+  cli::check_thread_count(convert.threads, "--threads");
   auto reader =
       formats::TraceReader::open(in, reader_options(convert.tags_are_levels, form_option(convert.form), convert.threads));
   formats::WriterOptions options;
   options.form = convert.to.empty() ? reader->form() : *formats::parse_form_name(convert.to);
   options.zstd_level = convert.zstd_level;
   options.threads = convert.threads;
-  options.records_per_frame = convert.frame_records;
+  options.records_per_data_frame = convert.frame_records;
   options.tags_are_levels = reader->tags_are_levels();
   options.address_digits = convert.address16 ? 16 : 8;
   if (convert.archive) formats::use_archive_setting(options);
@@ -215,7 +220,7 @@ int run_convert(const std::string& in, const std::string& out, const ConvertOpti
   auto writer = formats::TraceWriter::create(out, header, options);
   formats::RecordBatch batch;
   while (reader->next(batch)) {
-    if (batch.marker) writer->begin_frame(*batch.marker);
+    if (batch.marker) writer->begin_animation_frame(*batch.marker);
     if (batch.window) writer->begin_window(*batch.window);
     writer->write(batch.records);
   }
@@ -231,97 +236,107 @@ int run_convert(const std::string& in, const std::string& out, const ConvertOpti
   return 0;
 }
 
-int run(int argc, char** argv) {
-  CLI::App app{"tracetool: inspect, print, verify and convert nodetrace / Dinero IV traces", "tracetool"};
-  app.require_subcommand(1);
-  // NODETRACE_VERSION is the project's version, the one trace headers record as "producer".
-  app.set_version_flag("--version", std::string("tracetool ") + NODETRACE_VERSION);
-  const std::vector<std::string> forms = {"din", "xdin", "binary"};
+constexpr const char* kUsage =
+    "tracetool: inspect, print, verify and convert nodetrace / Dinero IV traces\n"
+    "\n"
+    "Usage:\n"
+    "  tracetool info FILE [options]     metadata and index summary of a trace\n"
+    "  tracetool cat FILE [options]      print records, optionally filtered by tag\n"
+    "  tracetool verify FILE [options]   check every checksum, the index, frame order and the record hash\n"
+    "  tracetool convert IN OUT [options]\n"
+    "                                    convert any readable trace to a container (OUT *.zst or -) or\n"
+    "                                    plain records\n"
+    "  tracetool --version               the version, as trace headers record it\n"
+    "\n"
+    "`tracetool SUBCOMMAND --help` describes each.\n";
+
+const std::vector<std::string> kForms = {"din", "xdin", "binary"};
+
+// The options every subcommand reads a trace with.
+struct InputOptions {
   std::string form;
   bool tags_are_levels = false;
 
-  auto* info = app.add_subcommand("info", "Metadata and index summary of a trace");
-  std::string info_path, info_format = "table";
-  info->add_option("FILE", info_path, "Trace file, or - for standard input")->required();
-  info->add_option("--format", info_format, "Output: table or json")->check(CLI::IsMember({"table", "json"}));
-  info->add_flag("--tags-are-levels", tags_are_levels, "Read a plain trace's tag field as node levels");
-  info->add_option("--informat,--form", form, "Record form of plain input (binary is never guessed); --form is an alias")->check(CLI::IsMember(forms));
-
-  auto* cat = app.add_subcommand("cat", "Print records, optionally filtered by tag");
-  std::string cat_path, cat_tags, cat_to;
-  cat->add_option("FILE", cat_path, "Trace file, or - for standard input")->required();
-  cat->add_option("--tags", cat_tags, "Keep these tags: levels, ranges and p / t, e.g. 0-3,9-,p");
-  cat->add_option("--to", cat_to, "Output record form (default: the input's)")->check(CLI::IsMember(forms));
-  cat->add_flag("--tags-are-levels", tags_are_levels, "Read a plain trace's tag field as node levels");
-  cat->add_option("--informat,--form", form, "Record form of plain input (binary is never guessed); --form is an alias")->check(CLI::IsMember(forms));
-
-  auto* verify = app.add_subcommand("verify", "Check every checksum, the index, frame order and the record hash");
-  std::string verify_path;
-  verify->add_option("FILE", verify_path, "Trace file, or - for standard input")->required();
-  verify->add_flag("--tags-are-levels", tags_are_levels, "Read a plain trace's tag field as node levels");
-  verify->add_option("--informat,--form", form, "Record form of plain input (binary is never guessed); --form is an alias")->check(CLI::IsMember(forms));
-
-  auto* convert = app.add_subcommand("convert", "Convert any readable trace to a container (OUT *.zst or -) or plain records");
-  std::string convert_in, convert_out;
-  ConvertOptions convert_options;
-  convert->add_option("IN", convert_in, "Input trace, or - for standard input")->required();
-  convert->add_option("OUT", convert_out, "Output: *.zst or - for a container, any other name for plain records")->required();
-  auto* convert_level =
-      convert->add_option("--zstd-level", convert_options.zstd_level, "zstd compression level")->check(CLI::Range(-7, 22));
-  convert->add_option("--to", convert_options.to, "Output record form (default: the input's)")->check(CLI::IsMember(forms));
-  convert->add_flag("--tags-are-levels", convert_options.tags_are_levels, "The input's tag field holds node levels");
-  convert->add_option("--threads", convert_options.threads, "Compression and decoding threads (0: one per core; at most 16 per core)");
-  // At most 2^24 records per data frame: each compressing thread buffers a
-  // frame's text, up to a few hundred MB at that size.
-  auto* convert_frame_records =
-      convert->add_option("--frame-records", convert_options.frame_records, "Records per data frame (1 to 16777216)")
-          ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 24));
-  formats::add_archive_flag(*convert, convert_options.archive, convert_level, convert_frame_records);
-  convert->add_flag("--address16", convert_options.address16, "Write 16 hex address digits instead of 8");
-  convert->add_option("--informat,--form", convert_options.form, "Record form of plain input (binary is never guessed); --form is an alias")->check(CLI::IsMember(forms));
-
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    app.exit(e);
-    return 2;
+  void add_to(CLI::App& app) {
+    app.add_flag("--tags-are-levels", tags_are_levels, "Read a plain trace's tag field as node levels");
+    app.add_option("--informat,--form", form, "Record form of plain input (binary is never guessed); --form is an alias")
+        ->check(CLI::IsMember(kForms));
   }
+};
 
-  try {
-    if (*info) return run_info(info_path, info_format, tags_are_levels, form);
-    if (*cat) return run_cat(cat_path, cat_tags, cat_to, tags_are_levels, form);
-    if (*verify) return run_verify(verify_path, tags_are_levels, form);
-    if (*convert) return run_convert(convert_in, convert_out, convert_options);
-  } catch (const formats::UsageError& error) {
-    std::fflush(stdout);
-    fmt::print(stderr, "tracetool: {}\n", error.what());
-    return 2;
-  } catch (const formats::FormatError& error) {
-    std::fflush(stdout);
-    fmt::print(stderr, "tracetool: {}\n", error.what());
-    return 1;
-  } catch (const formats::IoError& error) {
-    std::fflush(stdout);
-    fmt::print(stderr, "tracetool: {}\n", error.what());
-    return 1;
-  } catch (const std::bad_alloc&) {
-    std::fflush(stdout);
-    fmt::print(stderr, "tracetool: out of memory\n");
-    return 1;
-  } catch (const std::exception& error) {
-    std::fflush(stdout);
-    fmt::print(stderr, "tracetool: {}\n", error.what());
-    return 1;
+struct InfoCommand {
+  std::string path, format = "table";
+  InputOptions input;
+  void add_options(CLI::App& app) {
+    app.add_option("FILE", path, "Trace file, or - for standard input")->required();
+    app.add_option("--format", format, "Output: table or json")->check(CLI::IsMember({"table", "json"}));
+    input.add_to(app);
   }
-  return 2;
+  int run() const {
+    return cli::exit_status_of("tracetool", [&] { return run_info(path, format, input.tags_are_levels, input.form); });
+  }
+};
+
+struct CatCommand {
+  std::string path, tags, to;
+  InputOptions input;
+  void add_options(CLI::App& app) {
+    app.add_option("FILE", path, "Trace file, or - for standard input")->required();
+    app.add_option("--tags", tags, "Keep these tags: levels, ranges and p / t, e.g. 0-3,9-,p");
+    app.add_option("--to", to, "Output record form (default: the input's)")->check(CLI::IsMember(kForms));
+    input.add_to(app);
+  }
+  int run() const {
+    return cli::exit_status_of("tracetool", [&] { return run_cat(path, tags, to, input.tags_are_levels, input.form); });
+  }
+};
+
+struct VerifyCommand {
+  std::string path;
+  InputOptions input;
+  void add_options(CLI::App& app) {
+    app.add_option("FILE", path, "Trace file, or - for standard input")->required();
+    input.add_to(app);
+  }
+  int run() const {
+    return cli::exit_status_of("tracetool", [&] { return run_verify(path, input.tags_are_levels, input.form); });
+  }
+};
+
+struct ConvertCommand {
+  std::string in, out;
+  ConvertOptions options;
+  void add_options(CLI::App& app) {
+    app.add_option("IN", in, "Input trace, or - for standard input")->required();
+    app.add_option("OUT", out, "Output: *.zst or - for a container, any other name for plain records")->required();
+    auto* level = app.add_option("--zstd-level", options.zstd_level, "zstd compression level")->check(CLI::Range(-7, 22));
+    app.add_option("--to", options.to, "Output record form (default: the input's)")->check(CLI::IsMember(kForms));
+    app.add_flag("--tags-are-levels", options.tags_are_levels, "The input's tag field holds node levels");
+    app.add_option("--threads", options.threads, "Compression and decoding threads (0: one per core; at most 16 per core)");
+    // At most 2^24 records per data frame: each compressing thread buffers a
+    // data frame's text, up to a few hundred MB at that size.
+    auto* frame_records =
+        app.add_option("--frame-records", options.frame_records, "Records per data frame (1 to 16777216)")
+            ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 24));
+    cli::add_archive_flag(app, options.archive, level, frame_records);
+    app.add_flag("--address16", options.address16, "Write 16 hex address digits instead of 8");
+    app.add_option("--informat,--form", options.form, "Record form of plain input (binary is never guessed); --form is an alias")
+        ->check(CLI::IsMember(kForms));
+  }
+  int run() const {
+    return cli::exit_status_of("tracetool", [&] { return run_convert(in, out, options); });
+  }
+};
+
+int run(int argc, char** argv) {
+  return cli::dispatch_subcommand(
+      "tracetool", kUsage, argc, argv,
+      {{"info", [](int c, char** v) { return cli::run_command<InfoCommand>("tracetool info", "Metadata and index summary of a trace", c, v); }},
+       {"cat", [](int c, char** v) { return cli::run_command<CatCommand>("tracetool cat", "Print records, optionally filtered by tag", c, v); }},
+       {"verify", [](int c, char** v) { return cli::run_command<VerifyCommand>("tracetool verify", "Check every checksum, the index, frame order and the record hash", c, v); }},
+       {"convert", [](int c, char** v) { return cli::run_command<ConvertCommand>("tracetool convert", "Convert any readable trace to a container (OUT *.zst or -) or plain records", c, v); }}});
 }
 
 }  // namespace
 
-int main(int argc, char** argv) { return formats::finish_standard_output("tracetool", run(argc, argv)); }
+int main(int argc, char** argv) { return base::finish_standard_output("tracetool", run(argc, argv)); }

@@ -6,15 +6,15 @@
 
 #include <filesystem>
 
-#include "nodetrace/formats/writer.hpp"
+#include "nodetrace/formats/write/trace_writer.hpp"
 
 namespace nodetrace::cachesim {
 
 inline constexpr std::uint64_t kRecordsPerDataFrame = 1024;
 
 // The animation-frame marker of the 10-level complete tree the walks visit.
-inline formats::FrameMarker tree_marker(std::uint64_t frame) {
-  formats::FrameMarker marker;
+inline formats::AnimationFrameMarker tree_marker(std::uint64_t frame) {
+  formats::AnimationFrameMarker marker;
   marker.frame = frame;
   marker.nodes_per_level = {1, 2, 4, 8, 16, 32, 64, 128, 256, 512};
   marker.nodes = 1023;
@@ -44,13 +44,13 @@ inline void write_walk(formats::TraceWriter& writer, std::uint64_t& state, std::
 inline void write_walks(const std::filesystem::path& path) {
   formats::WriterOptions options;
   options.form = formats::RecordForm::Din;
-  options.records_per_frame = kRecordsPerDataFrame;
+  options.records_per_data_frame = kRecordsPerDataFrame;
   nlohmann::json header = {{"layout", {{"name", "bfl"}, {"split_level", 4},
                                        {"node_size", 8}, {"node_base", 4096}}}};
   auto writer = formats::TraceWriter::create(path.string(), header, options);
   std::uint64_t state = 12345;
   for (std::uint64_t frame = 0; frame < 2; ++frame) {
-    writer->begin_frame(tree_marker(frame));
+    writer->begin_animation_frame(tree_marker(frame));
     // Walks drift through the tree so locality changes along the trace.
     for (std::uint64_t walk = 0; walk < 2048; ++walk) write_walk(*writer, state, 6 + 2 * ((walk / 512) % 3));
   }
@@ -75,7 +75,7 @@ inline void write_row_sampled(const std::filesystem::path& path, std::uint64_t e
   auto writer = formats::TraceWriter::create(path.string(), header, options);
   std::uint64_t state = 99;
   for (std::uint64_t frame = 0; frame < frames; ++frame) {
-    writer->begin_frame(tree_marker(frame));
+    writer->begin_animation_frame(tree_marker(frame));
     for (std::uint64_t stratum = 0; stratum * every < bands; ++stratum) {
       const std::uint64_t band = stratum * every + (stratum * 7 + frame) % every;
       if (band >= bands) continue;

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "nodetrace/formats/reader.hpp"
+#include "nodetrace/formats/read/trace_reader.hpp"
 #include "test_support.hpp"
 
 namespace nodetrace::testing {

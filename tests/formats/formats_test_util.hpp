@@ -9,15 +9,15 @@
 #include <thread>
 #include <vector>
 
-#include "nodetrace/formats/error.hpp"
-#include "nodetrace/formats/reader.hpp"
-#include "nodetrace/formats/writer.hpp"
+#include "nodetrace/base/error.hpp"
+#include "nodetrace/formats/read/trace_reader.hpp"
+#include "nodetrace/formats/write/trace_writer.hpp"
 
 namespace nodetrace::formats::testing_util {
 
 struct ReadResult {
   std::vector<Record> records;
-  std::vector<std::pair<std::uint64_t, FrameMarker>> markers;  // record position, marker
+  std::vector<std::pair<std::uint64_t, AnimationFrameMarker>> markers;  // record position, marker
   RecordForm form = RecordForm::Din;
   bool tags_are_levels = false;
 };
@@ -36,11 +36,11 @@ inline ReadResult read_all(const std::string& path, const ReaderOptions& options
   return result;
 }
 
-// The FormatError message reading `path` gives, or "" when it reads cleanly.
+// The base::FormatError message reading `path` gives, or "" when it reads cleanly.
 inline std::string read_error(const std::string& path, const ReaderOptions& options = {}) {
   try {
     read_all(path, options);
-  } catch (const FormatError& error) {
+  } catch (const base::FormatError& error) {
     return error.what();
   }
   return {};
@@ -79,12 +79,12 @@ std::string with_stdin_from(const std::string& bytes, Body&& body) {
 
 inline void write_trace(const std::string& path, const std::vector<Record>& records, const WriterOptions& options,
                         const nlohmann::json& header = nlohmann::json::object(),
-                        const std::vector<std::pair<std::uint64_t, FrameMarker>>& markers = {}) {
+                        const std::vector<std::pair<std::uint64_t, AnimationFrameMarker>>& markers = {}) {
   auto writer = TraceWriter::create(path, header, options);
   std::size_t next_marker = 0;
   for (std::size_t i = 0; i <= records.size(); ++i) {
     while (next_marker < markers.size() && markers[next_marker].first == i) {
-      writer->begin_frame(markers[next_marker++].second);
+      writer->begin_animation_frame(markers[next_marker++].second);
     }
     if (i < records.size()) writer->write(records[i]);
   }

@@ -36,10 +36,10 @@ class Tracetool : public ::testing::Test {
     }
     records.push_back({0x9000, 8, AccessType::Read, kTagPrimitiveList});
     WriterOptions options;
-    options.records_per_frame = 30;
-    FrameMarker first;
+    options.records_per_data_frame = 30;
+    AnimationFrameMarker first;
     first.frame = 0;
-    FrameMarker second;
+    AnimationFrameMarker second;
     second.frame = 1;
     testing_util::write_trace((dir_ / "t.din.zst").string(), records, options, {{"producer", {{"tool", "unit"}}}},
                               {{0, first}, {60, second}});

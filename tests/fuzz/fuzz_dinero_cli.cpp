@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "fuzz_support.hpp"
-#include "nodetrace/cachesim/dinero.hpp"
-#include "nodetrace/formats/error.hpp"
+#include "nodetrace/cachesim/dinero/command_line.hpp"
+#include "nodetrace/base/error.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   namespace formats = nodetrace::formats;
@@ -24,7 +24,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   nodetrace::cachesim::DineroOptions options;
   try {
     options = nodetrace::cachesim::parse_dinero_options(args);
-  } catch (const formats::UsageError&) {
+  } catch (const base::UsageError&) {
     return 0;
   }
   (void)nodetrace::cachesim::dinero_preamble(options);
@@ -52,8 +52,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     auto reader = formats::TraceReader::open(file.path(), reader_options);
     std::ostringstream out, warnings;
     nodetrace::cachesim::run_dinero(options, *reader, out, warnings);
-  } catch (const formats::UsageError&) {
-  } catch (const formats::FormatError&) {
+  } catch (const base::UsageError&) {
+  } catch (const base::FormatError&) {
   }
   return 0;
 }

@@ -6,8 +6,8 @@
 #include <optional>
 
 #include "fuzz_support.hpp"
-#include "nodetrace/formats/error.hpp"
-#include "nodetrace/formats/reader.hpp"
+#include "nodetrace/base/error.hpp"
+#include "nodetrace/formats/read/trace_reader.hpp"
 
 namespace nodetrace::fuzz {
 
@@ -29,8 +29,8 @@ inline void read_trace(std::string_view bytes, std::optional<formats::RecordForm
       while (again->next(batch)) {
       }
     }
-  } catch (const formats::FormatError&) {
-  } catch (const formats::IoError&) {
+  } catch (const base::FormatError&) {
+  } catch (const base::IoError&) {
   }
 }
 

@@ -10,7 +10,7 @@
 #include <string_view>
 
 #include "fuzz_support.hpp"
-#include "nodetrace/tracer/scene_loader.hpp"
+#include "nodetrace/tracer/scene/scene_loader.hpp"
 
 namespace nodetrace::fuzz {
 

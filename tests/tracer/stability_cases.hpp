@@ -17,12 +17,12 @@
 #include <string>
 #include <vector>
 
-#include "nodetrace/tracer/interaction.hpp"
-#include "nodetrace/tracer/kdtree.hpp"
-#include "nodetrace/tracer/layout.hpp"
-#include "nodetrace/tracer/render.hpp"
-#include "nodetrace/tracer/scene.hpp"
-#include "nodetrace/tracer/scene_geometry.hpp"
+#include "nodetrace/tracer/render/interaction.hpp"
+#include "nodetrace/tracer/accel/kdtree.hpp"
+#include "nodetrace/tracer/accel/layout.hpp"
+#include "nodetrace/tracer/render/render.hpp"
+#include "nodetrace/tracer/scene/scene.hpp"
+#include "nodetrace/tracer/scene/scene_geometry.hpp"
 #include "test_render_scenes.hpp"
 
 namespace nodetrace::tracer::stability {

@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "nodetrace/tracer/scene.hpp"
+#include "nodetrace/tracer/scene/scene.hpp"
 
 namespace nodetrace::tracer::test_scenes {
 

@@ -7,8 +7,8 @@
 #include <cstring>
 #include <string>
 
-#include "nodetrace/tracer/scene.hpp"
-#include "nodetrace/tracer/scene_loader.hpp"
+#include "nodetrace/tracer/scene/scene.hpp"
+#include "nodetrace/tracer/scene/scene_loader.hpp"
 
 namespace nodetrace::tracer::testing {
 

@@ -9,11 +9,14 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "nodetrace/formats/error.hpp"
-#include "nodetrace/tracer/scene_loader.hpp"
+#include "nodetrace/cli/command_line.hpp"
+#include "nodetrace/cli/exit_status.hpp"
+#include "nodetrace/base/error.hpp"
+#include "nodetrace/base/split_level.hpp"
+#include "nodetrace/tracer/scene/scene_loader.hpp"
 #include "render_options.hpp"
 
-namespace nodetrace::tracer::cli {
+namespace nodetrace::tracer::tools {
 
 namespace {
 
@@ -41,10 +44,10 @@ void InfoCommand::add_options(CLI::App& app) {
 }
 
 int InfoCommand::run() const {
-  try {
-    if (!scene_options.frames.empty()) throw formats::UsageError("--frames: info describes one frame; use --frame");
+  return cli::exit_status_of("tracer info", [&] {
+    if (!scene_options.frames.empty()) throw base::UsageError("--frames: info describes one frame; use --frame");
     // Options first, before a scene is loaded.
-    if (scene_options.time) formats::check_finite(*scene_options.time, "--time");
+    if (scene_options.time) cli::check_finite(*scene_options.time, "--time");
     const KdBuildOptions build_options = make_build_options(scene_options);
     const auto source = open_scene(scene_spec);
     for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer info: warning: %s\n", warning.c_str());
@@ -73,7 +76,8 @@ int InfoCommand::run() const {
     }
     nlohmann::json split_levels = nlohmann::json::object();
     for (std::uint64_t size : {1024u, 2048u, 4096u, 8192u, 16384u}) {
-      split_levels[std::to_string(size)] = split_level_for_high_size(s.nodes_per_level, size, node_size);
+      split_levels[std::to_string(size)] = base::split_level_for_capacity(
+          s.nodes_per_level, base::LevelPlacement::contiguous_bytes(node_size), size);
     }
     j["kdtree"] = {{"nodes", s.nodes},
                    {"interior", s.interior},
@@ -123,27 +127,15 @@ int InfoCommand::run() const {
                  plan.cast[k] ? "cast" : "left out: " + plan.why_not[k]);
     }
     return 0;
-  } catch (const formats::UsageError& e) {
-    std::fprintf(stderr, "tracer info: %s\n", e.what());
-    return 2;
-  } catch (const SceneError& e) {
-    std::fprintf(stderr, "tracer info: %s\n", e.what());
-    return 1;
-  } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "tracer info: out of memory (the scene is too large for this machine)\n");
-    return 1;
-  } catch (const std::exception& e) {  // anything else, e.g. no thread to start
-    std::fprintf(stderr, "tracer info: %s\n", e.what());
-    return 1;
-  }
+  }, "the scene is");
 }
 
 }  // namespace
 
-Subcommand add_info_command(CLI::App& tracer) {
-  return make_subcommand<InfoCommand>(tracer, "info",
+int info_command(int argc, char** argv) {
+  return cli::run_command<InfoCommand>("tracer info",
                                       "Scene and kd-tree statistics: triangles, materials, lights, bounds, the SAH\n"
-                                      "kd-tree's figures, and which ray kinds a render casts.");
+                                      "kd-tree's figures, and which ray kinds a render casts.", argc, argv);
 }
 
-}  // namespace nodetrace::tracer::cli
+}  // namespace nodetrace::tracer::tools

@@ -1,6 +1,7 @@
 // tracer render [SCENE] -o TRACE: render with the Whitted ray tracer and
 // write every kd-tree node fetch as a level-tagged trace.
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 #include <fmt/core.h>
 #include <unistd.h>
 
@@ -11,14 +12,17 @@
 #include <string>
 
 #include "commands.hpp"
-#include "nodetrace/formats/archive_option.hpp"
-#include "nodetrace/formats/error.hpp"
-#include "nodetrace/formats/trace_output.hpp"
-#include "nodetrace/tracer/scene_loader.hpp"
-#include "nodetrace/tracer/trace_emit.hpp"
+#include "nodetrace/cli/command_line.hpp"
+#include "nodetrace/cli/exit_status.hpp"
+#include "nodetrace/cli/progress_line.hpp"
+#include "nodetrace/cli/archive_option.hpp"
+#include "nodetrace/base/error.hpp"
+#include "nodetrace/formats/write/trace_output.hpp"
+#include "nodetrace/tracer/scene/scene_loader.hpp"
+#include "nodetrace/tracer/render/trace_emit.hpp"
 #include "render_options.hpp"
 
-namespace nodetrace::tracer::cli {
+namespace nodetrace::tracer::tools {
 
 namespace {
 
@@ -103,7 +107,7 @@ void RenderCommand::add_options(CLI::App& app) {
       app.add_option("--zstd-level", zstd_level, "zstd level of the trace's data frames (higher: smaller and slower)")
           ->check(CLI::Range(1, 19))
           ->capture_default_str();
-  formats::add_archive_flag(app, archive, level);
+  cli::add_archive_flag(app, archive, level);
   app.add_flag("--discard-records", discard,
                "make every record but write none: the cost of recording alone (benchmarks)")
       ->excludes("--output");
@@ -113,7 +117,7 @@ void RenderCommand::add_options(CLI::App& app) {
 }
 
 int RenderCommand::run() const {
-  try {
+  return cli::exit_status_of("tracer render", [&] {
     TraceJobOptions options = make_job_options(render_options, scene_options);
     options.output = output;
     options.image = image;
@@ -125,60 +129,36 @@ int RenderCommand::run() const {
     options.form = formats::decide_trace_output(output, formats::OutputKind::Auto, named_form).form;
     options.render.streams = parse_streams(streams);
     if (output == "-" && isatty(STDOUT_FILENO)) {
-      throw formats::UsageError("refusing to write a trace to a terminal; redirect standard output");
+      throw base::UsageError("refusing to write a trace to a terminal; redirect standard output");
     }
     const std::string spec = scene_spec.empty() ? default_scene_name() : scene_spec;
     const auto source = open_scene(spec);
     for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer render: warning: %s\n", warning.c_str());
 
-    const bool show_progress = !quiet && isatty(STDERR_FILENO);
-    int last_percent = -1;
+    cli::ProgressLine progress_line(!quiet);
     Renderer::Progress progress;
-    if (show_progress) {
+    if (progress_line.shown()) {
       progress = [&](double fraction) {
-        const int percent = static_cast<int>(fraction * 100);
-        if (percent != last_percent) {
-          last_percent = percent;
-          std::fprintf(stderr, "\rrendering %s: %3d%%", source->name().c_str(), percent);
-          std::fflush(stderr);
-        }
+        progress_line.update(fmt::format("rendering {}: {:3d}%", source->name(), static_cast<int>(fraction * 100)));
       };
     }
     const TraceJobResult result = run_trace_job(*source, options, progress);
-    if (show_progress) std::fputs("\r\033[K", stderr);
+    progress_line.clear();
     if (!quiet) {
       double build_seconds = 0;
       for (const auto& f : result.frames) build_seconds += f.tree.build_seconds;
       print_summary(result, options, source->name(), build_seconds);
     }
     return 0;
-  } catch (const formats::UsageError& e) {
-    std::fprintf(stderr, "tracer render: %s\n", e.what());
-    return 2;
-  } catch (const SceneError& e) {
-    std::fprintf(stderr, "tracer render: %s\n", e.what());
-    return 1;
-  } catch (const formats::FormatError& e) {
-    std::fprintf(stderr, "tracer render: %s\n", e.what());
-    return 1;
-  } catch (const formats::IoError& e) {
-    std::fprintf(stderr, "tracer render: %s\n", e.what());
-    return 1;
-  } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "tracer render: out of memory (the scene or image is too large for this machine)\n");
-    return 1;
-  } catch (const std::exception& e) {  // anything else, e.g. no thread to start
-    std::fprintf(stderr, "tracer render: %s\n", e.what());
-    return 1;
-  }
+  }, "the scene or image is");
 }
 
 }  // namespace
 
-Subcommand add_render_command(CLI::App& tracer) {
-  return make_subcommand<RenderCommand>(tracer, "render",
+int render_command(int argc, char** argv) {
+  return cli::run_command<RenderCommand>("tracer render",
                                         "Render a scene with a Whitted ray tracer over a SAH kd-tree and write every\n"
-                                        "kd-tree node fetch (address, node level) as a trace.");
+                                        "kd-tree node fetch (address, node level) as a trace.", argc, argv);
 }
 
-}  // namespace nodetrace::tracer::cli
+}  // namespace nodetrace::tracer::tools

@@ -11,14 +11,14 @@
 #include <string>
 #include <vector>
 
-#include "nodetrace/formats/byte_size.hpp"
-#include "nodetrace/formats/error.hpp"
-#include "nodetrace/formats/option_limits.hpp"
-#include "nodetrace/formats/sample_rate.hpp"
-#include "nodetrace/tracer/camera_checks.hpp"
-#include "nodetrace/tracer/trace_emit.hpp"
+#include "nodetrace/base/byte_size.hpp"
+#include "nodetrace/base/error.hpp"
+#include "nodetrace/cli/option_limits.hpp"
+#include "nodetrace/base/sample_rate.hpp"
+#include "nodetrace/tracer/scene/camera_checks.hpp"
+#include "nodetrace/tracer/render/trace_emit.hpp"
 
-namespace nodetrace::tracer::cli {
+namespace nodetrace::tracer::tools {
 
 // Resource budgets of a render, stated in --help and in the errors.
 // Image sides up to 16 bits; pixels up to 2^26 (8192x8192): the image and
@@ -32,16 +32,6 @@ inline constexpr double kMaxCameraCoordinate = 1e15;
 // 0x10000 or more is an error).
 inline constexpr int kMaxNodeSize = 65535;
 
-// A size option ("4096", "4k", "1m"), read as everywhere in nodetrace;
-// the error names the option.
-inline std::uint64_t parse_byte_size(const std::string& text, const std::string& option) {
-  try {
-    return formats::parse_byte_size(text);
-  } catch (const formats::UsageError& error) {
-    throw formats::UsageError(option + ": " + error.what());
-  }
-}
-
 // Decimal, or hexadecimal with 0x.
 inline std::uint64_t parse_address(const std::string& text, const std::string& option) {
   std::size_t used = 0;
@@ -52,7 +42,7 @@ inline std::uint64_t parse_address(const std::string& text, const std::string& o
     used = 0;
   }
   if (used != text.size() || text.empty() || text[0] == '-') {
-    throw formats::UsageError(option + ": expected an address such as 4096 or 0x1000, got '" + text + "'");
+    throw base::UsageError(option + ": expected an address such as 4096 or 0x1000, got '" + text + "'");
   }
   return value;
 }
@@ -70,7 +60,7 @@ inline StreamSelection parse_streams(const std::string& text) {
     } else if (item == "triangles") {
       s.triangles = true;
     } else {
-      throw formats::UsageError("--streams: unknown stream '" + item + "' (expected nodes, lists, triangles)");
+      throw base::UsageError("--streams: unknown stream '" + item + "' (expected nodes, lists, triangles)");
     }
     if (comma == std::string::npos) break;
     start = comma + 1;
@@ -180,13 +170,13 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
 }
 
 inline KdBuildOptions make_build_options(const SceneCommandOptions& s) {
-  formats::check_finite(s.traversal_cost, "--traversal-cost");
-  formats::check_finite(s.intersection_cost, "--intersection-cost");
+  cli::check_finite(s.traversal_cost, "--traversal-cost");
+  cli::check_finite(s.intersection_cost, "--intersection-cost");
   if (!(s.traversal_cost > 0) || !(s.intersection_cost > 0)) {
-    throw formats::UsageError("--traversal-cost and --intersection-cost must be positive");
+    throw base::UsageError("--traversal-cost and --intersection-cost must be positive");
   }
   if (!(s.empty_bonus >= 0 && s.empty_bonus <= 1)) {
-    throw formats::UsageError(fmt::format("--empty-bonus {}: expected a number from 0 to 1", s.empty_bonus));
+    throw base::UsageError(fmt::format("--empty-bonus {}: expected a number from 0 to 1", s.empty_bonus));
   }
   KdBuildOptions build;
   build.traversal_cost = s.traversal_cost;
@@ -199,7 +189,7 @@ inline KdBuildOptions make_build_options(const SceneCommandOptions& s) {
 // Frame range from --frame / --time / --frames into the job options.
 inline void apply_frames(const SceneCommandOptions& s, TraceJobOptions& options) {
   if (s.frame) options.frames = {*s.frame, *s.frame, 1};
-  if (s.time) options.time = formats::check_finite(*s.time, "--time");
+  if (s.time) options.time = cli::check_finite(*s.time, "--time");
   if (!s.frames.empty()) options.frames = parse_frame_range(s.frames, "--frames");
 }
 
@@ -207,9 +197,9 @@ inline void apply_frames(const SceneCommandOptions& s, TraceJobOptions& options)
 inline Vec3 camera_vector(const std::vector<double>& v, const char* option) {
   const std::string given = fmt::format("{} {:g} {:g} {:g}", option, v[0], v[1], v[2]);
   for (const double x : v) {
-    if (!std::isfinite(x)) throw formats::UsageError(given + ": expected finite numbers");
+    if (!std::isfinite(x)) throw base::UsageError(given + ": expected finite numbers");
     if (std::fabs(x) > kMaxCameraCoordinate) {
-      throw formats::UsageError(fmt::format("{}: expected coordinates of at most {:g} in magnitude", given,
+      throw base::UsageError(fmt::format("{}: expected coordinates of at most {:g} in magnitude", given,
                                             kMaxCameraCoordinate));
     }
   }
@@ -219,7 +209,7 @@ inline Vec3 camera_vector(const std::vector<double>& v, const char* option) {
 inline void check_image_size(int width, int height) {
   const std::uint64_t pixels = std::uint64_t(width) * std::uint64_t(height);
   if (pixels > kMaxImagePixels) {
-    throw formats::UsageError(fmt::format("--width {} --height {}: at most {} pixels (e.g. 8192x8192)", width,
+    throw base::UsageError(fmt::format("--width {} --height {}: at most {} pixels (e.g. 8192x8192)", width,
                                           height, kMaxImagePixels));
   }
 }
@@ -235,7 +225,7 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
   render.max_depth = r.max_depth;
   render.pixel_order = *parse_pixel_order(r.pixel_order);
   render.tile_size = r.tile_size;
-  render.threads = formats::check_thread_count(r.threads, "--threads");
+  render.threads = cli::check_thread_count(r.threads, "--threads");
   render.addresses.node_size = r.node_size;
   render.addresses.node_base = parse_address(r.node_base, "--node-base");
   if (!r.list_base.empty()) render.addresses.list_base = parse_address(r.list_base, "--list-base");
@@ -244,13 +234,13 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
   }
   if (r.fov) {
     if (!(*r.fov >= 0.01 && *r.fov <= 179)) {
-      throw formats::UsageError(fmt::format("--fov {}: expected degrees from 0.01 to 179", *r.fov));
+      throw base::UsageError(fmt::format("--fov {}: expected degrees from 0.01 to 179", *r.fov));
     }
     render.fov_y_degrees = static_cast<float>(*r.fov);
   }
   if (!r.eye.empty() || !r.look_at.empty() || !r.up.empty()) {
     if (r.eye.empty() || r.look_at.empty()) {
-      throw formats::UsageError("a camera needs both --eye and --look-at (--up and --fov are optional)");
+      throw base::UsageError("a camera needs both --eye and --look-at (--up and --fov are optional)");
     }
     Camera camera;
     camera.eye = camera_vector(r.eye, "--eye");
@@ -258,9 +248,9 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
     if (!r.up.empty()) camera.up = camera_vector(r.up, "--up");
     switch (camera_problem(camera.eye, camera.look_at, camera.up)) {
       case CameraProblem::EyeAtLookAt:
-        throw formats::UsageError("--eye and --look-at are the same point: the camera looks nowhere");
+        throw base::UsageError("--eye and --look-at are the same point: the camera looks nowhere");
       case CameraProblem::UpAlongView:
-        throw formats::UsageError(fmt::format("--up is parallel to the view direction (up {:g} {:g} {:g}{}): "
+        throw base::UsageError(fmt::format("--up is parallel to the view direction (up {:g} {:g} {:g}{}): "
                                               "expected a direction across the view",
                                               camera.up.x, camera.up.y, camera.up.z,
                                               r.up.empty() ? ", the default" : ""));
@@ -269,19 +259,19 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
     render.camera = camera;
   }
   if (!r.sample_rows.empty()) {
-    options.sampling = RowSampling{formats::parse_sample_rate(r.sample_rows, "--sample-rows"), r.band_height, r.sample_seed};
+    options.sampling = RowSampling{base::parse_sample_rate(r.sample_rows, "--sample-rows"), r.band_height, r.sample_seed};
   }
   options.split_level = r.split_level;
-  if (!r.high_size.empty()) options.high_size = parse_byte_size(r.high_size, "--high-size");
+  if (!r.high_size.empty()) options.high_size = base::parse_byte_size(r.high_size, "--high-size");
   if (!r.layout.empty()) {
     options.layout = *parse_layout_name(r.layout);
   } else if (options.split_level || options.high_size) {
     options.layout = LayoutKind::Hybrid;
   }
   if (options.layout != LayoutKind::Hybrid && (options.split_level || options.high_size)) {
-    throw formats::UsageError("--split-level and --high-size apply to --layout hybrid only");
+    throw base::UsageError("--split-level and --high-size apply to --layout hybrid only");
   }
   return options;
 }
 
-}  // namespace nodetrace::tracer::cli
+}  // namespace nodetrace::tracer::tools

@@ -8,9 +8,11 @@
 #include <string>
 
 #include "commands.hpp"
-#include "nodetrace/tracer/scene_loader.hpp"
+#include "nodetrace/cli/command_line.hpp"
+#include "nodetrace/cli/exit_status.hpp"
+#include "nodetrace/tracer/scene/scene_loader.hpp"
 
-namespace nodetrace::tracer::cli {
+namespace nodetrace::tracer::tools {
 
 namespace {
 
@@ -27,7 +29,7 @@ void ScenesCommand::add_options(CLI::App& app) {
 }
 
 int ScenesCommand::run() const {
-  try {
+  return cli::exit_status_of("tracer scenes", [&] {
     const auto scenes = builtin_scenes();
     const std::string default_name = default_scene_name();
     if (format == "json") {
@@ -55,19 +57,15 @@ int ScenesCommand::run() const {
     }
     fmt::print("\nTRIANGLES is the count at the default size; choose another with NAME:SIZE.\n");
     return 0;
-  } catch (const std::exception& error) {
-    std::fprintf(stderr, "tracer scenes: %s\n", error.what());
-    return 1;
-  }
+  });
 }
 
 }  // namespace
 
-Subcommand add_scenes_command(CLI::App& tracer) {
-  return make_subcommand<ScenesCommand>(
-      tracer, "scenes",
+int scenes_command(int argc, char** argv) {
+  return cli::run_command<ScenesCommand>("tracer scenes",
       "List the built-in procedural scenes: name, triangle count at the default size, the accepted sizes "
-      "and a description.\nUse one as SCENE (NAME or NAME:SIZE) in `tracer render` and `tracer info`.");
+      "and a description.\nUse one as SCENE (NAME or NAME:SIZE) in `tracer render` and `tracer info`.", argc, argv);
 }
 
-}  // namespace nodetrace::tracer::cli
+}  // namespace nodetrace::tracer::tools

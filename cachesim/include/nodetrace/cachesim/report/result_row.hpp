@@ -1,0 +1,56 @@
+// What a run answers, per trace: the report's rows (one per configuration),
+// and the per-level and per-animation-frame rows. The sweep, the sampled
+// sweep and the Dinero IV wrapper fill them; the report prints them.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nodetrace/cachesim/sweep/config.hpp"
+
+namespace nodetrace::cachesim {
+
+// One report row (DESIGN.md column list). Optional fields are the empty
+// columns (high / low columns of `single`, high_loads under `cache`).
+struct ResultRow {
+  std::string trace;
+  Configuration config;
+  std::uint32_t split_level = 0;  // resolved K (split only)
+  std::uint64_t refs = 0;
+  std::uint64_t fetches = 0;
+  std::uint64_t misses = 0;
+  std::uint64_t high_refs = 0;
+  std::uint64_t high_misses = 0;
+  std::optional<std::uint64_t> high_loads;
+  std::uint64_t low_refs = 0;
+  std::uint64_t low_misses = 0;
+};
+
+// `--per-level`: references and misses of one node level in one configuration.
+struct LevelRow {
+  std::string trace;
+  Scheme scheme = Scheme::Single;
+  std::uint64_t size = 0;
+  std::uint32_t level = 0;
+  std::uint64_t refs = 0;
+  std::uint64_t misses = 0;
+};
+
+// `--per-frame`: one configuration's counts in one animation frame (its
+// split_level is that frame's K).
+struct AnimationFrameRow {
+  std::uint64_t frame = 0;
+  ResultRow row;
+};
+
+struct TraceResult {
+  std::vector<ResultRow> rows;
+  std::vector<LevelRow> level_rows;
+  std::vector<AnimationFrameRow> animation_frame_rows;  // frame by frame, configurations in report order
+  std::uint64_t other_stream_records = 0;  // tagged p / t: counted, not simulated
+  std::vector<std::string> notes;          // said under the table (or on stderr)
+};
+
+}  // namespace nodetrace::cachesim

@@ -1,0 +1,49 @@
+// `cachesim run --curve`: miss ratio against cache size, every power-of-two
+// size from one set to max_size, for the given block sizes and
+// associativities, of single caches and of the low cache of the split
+// scheme, in one pass over the trace. Fully associative LRU sizes come from
+// one Mattson stack (lru_stack.hpp); set-associative sizes from the sweep
+// (set stacks for LRU and direct-mapped caches, one simulation each for FIFO
+// and random).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nodetrace/cachesim/sweep/config.hpp"
+#include "nodetrace/formats/read/trace_reader.hpp"
+
+namespace nodetrace::cachesim {
+
+struct CurveOptions {
+  std::vector<std::uint32_t> blocks{8};
+  std::vector<std::uint32_t> assocs{1};  // 0 = full (LRU only)
+  std::vector<Scheme> schemes{Scheme::Single};
+  ReplacementPolicy policy = ReplacementPolicy::Lru;
+  std::optional<std::uint32_t> split_level;  // nullopt: auto for high_size
+  std::optional<std::uint64_t> high_size;    // needed by auto
+  std::uint64_t max_size = std::uint64_t{64} << 20;
+};
+
+// One point: for split, `size`, `fetches` and `misses` are the low cache's.
+struct CurvePoint {
+  std::string trace;
+  Scheme scheme = Scheme::Single;
+  std::uint32_t block = 8;
+  std::uint32_t assoc = 1;  // 0 = full
+  std::uint32_t split_level = 0;  // split: the first animation frame's K
+  std::uint64_t size = 0;
+  std::uint64_t fetches = 0;
+  std::uint64_t misses = 0;
+};
+
+// Throws base::UsageError for options it cannot answer, and as run_sweep.
+std::vector<CurvePoint> run_curve(formats::TraceReader& reader, const CurveOptions& options,
+                                  const std::string& trace_column);
+
+// CSV: trace,scheme,block,assoc,policy,split_level,size,fetches,misses,miss_ratio
+std::string format_curve(const std::vector<CurvePoint>& points, ReplacementPolicy policy);
+
+}  // namespace nodetrace::cachesim

@@ -1,0 +1,70 @@
+// Configurations answered together by set stacks (set_stacks.hpp): every
+// LRU (or direct-mapped) cache of one block size behind the same router
+// (single, or split with the same K in every animation frame) is one
+// question, so one pass answers all of them. The split scheme's high caches
+// are a second set of stacks under `cache` and one retain set under
+// `retain` (the blocks a frame touches do not depend on the high cache's
+// size; each member checks its own capacity).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sweep/config_simulator.hpp"
+
+namespace nodetrace::cachesim {
+
+// The key of the stack group `config` can join, or empty when set stacks do
+// not answer it (FIFO or random with ways, more ways than stacks keep).
+std::string stack_group_key(const Configuration& config);
+
+// The member whose high cache holds the fewest blocks (the first of them).
+std::size_t tightest_member(const std::vector<Configuration>& members);
+
+// One simulator per member (configurations of one key, report order). The
+// first one is the leader: only its feed() simulates (for all of them);
+// the others' feed() must not be called. All members must be fed by the
+// same thread and see the same begin_animation_frame calls. `retain_bound` (split
+// under `retain`, when the group is a piece of a larger one): the larger
+// group's tightest member, whose capacity and name the retain set uses;
+// null: the tightest of `members`.
+std::vector<std::unique_ptr<ConfigSimulator>> make_stack_group(
+    const std::vector<Configuration>& members, std::uint32_t split_level,
+    const TraceContext& context, bool per_level, const Configuration* retain_bound = nullptr);
+
+// Some of a stack group's members (indices into them, in order) and their
+// estimated work per record (units: a set count looked at by a fetch is
+// about 1; comparable with the sweep's estimates of other simulators).
+struct StackPiece {
+  std::vector<std::size_t> members;
+  double cost = 0;
+};
+
+// What a stack group costs, from a probe: its stacks walk sample records
+// (the first batch's), which shows how far the walk goes in each set
+// count. A group may be cut into pieces for threads, each a contiguous
+// range of the low (single) caches' set counts and a stack group of its
+// own: each set count's stacks see the same fetches whatever the others
+// do (the walk only stops early), so the pieces' counts are the group's;
+// the hand-over at an invalidate is per member, so it too. A piece past
+// the first costs one look at its first set count for every fetch.
+class StackGroupCost {
+ public:
+  StackGroupCost(const std::vector<Configuration>& members, std::uint32_t split_level,
+                 const TraceContext& context, bool per_level, const formats::Record* sample,
+                 std::size_t count);
+
+  // The most pieces cut() makes: the number of low set counts.
+  std::size_t max_pieces() const;
+  // At most `pieces` pieces (fewest sets first), cut where the costliest
+  // piece is cheapest.
+  std::vector<StackPiece> cut(std::size_t pieces) const;
+
+ private:
+  struct Profile;
+  double piece_cost(unsigned first_low, unsigned last_low, std::vector<std::size_t>* members) const;
+  std::shared_ptr<const Profile> profile_;
+};
+
+}  // namespace nodetrace::cachesim

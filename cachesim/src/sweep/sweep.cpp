@@ -1,0 +1,400 @@
+// The sweep: configurations split into parts of about equal estimated cost
+// (a stack group cut into pieces where it alone is more than a part's
+// share), batches routed to every part in trace order, K per animation
+// frame, the per-frame rows.
+#include "nodetrace/cachesim/sweep/sweep.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <ctime>
+#include <map>
+#include <optional>
+
+#include "sweep/config_simulator.hpp"
+#include "sweep/stack_group.hpp"
+#include "nodetrace/base/error.hpp"
+
+namespace nodetrace::cachesim {
+
+using formats::AccessType;
+using formats::Record;
+using formats::Tag;
+
+Sweep::Sweep(std::vector<Configuration> configs, TraceContext context, bool per_level,
+             bool per_animation_frame)
+    : configs_(std::move(configs)),
+      context_(std::move(context)),
+      per_level_(per_level),
+      per_animation_frame_(per_animation_frame) {
+  const bool split = has_split(configs_);
+  needs_levels_ = split || per_level_;
+  if (needs_levels_ && !context_.tags_are_levels) {
+    throw_untagged_trace(context_, split ? "the split scheme" : "--per-level");
+  }
+}
+
+Sweep::~Sweep() = default;
+
+namespace {
+
+// Records of the first batch that probe a stack group's cost (parts > 1).
+constexpr std::size_t kProbeRecords = std::size_t{1} << 17;
+
+// Estimated work per record of one configuration simulated by itself, in
+// the units of StackGroupCost (a set count looked at is about 1): a rough
+// weight of its cache's access, the split scheme's two caches and router
+// costing about half as much again (measured on the Table 1 grid: three
+// direct-mapped split configurations fed together took 1.8 times the CPU
+// of the stack group of the three single ones).
+double cost_alone(const Configuration& config) {
+  const double cache = config.assoc == 1 ? 1.0 : 1.0 + 0.5 * config.assoc;
+  return 1.0 + (config.scheme == Scheme::Split ? 1.5 : 1.0) * cache;
+}
+
+// The calling thread's CPU time: what a unit's feed costs, whatever else
+// runs on the machine.
+double thread_cpu_seconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + static_cast<double>(now.tv_nsec) * 1e-9;
+}
+
+}  // namespace
+
+void Sweep::start(const formats::RecordBatch& first_batch) {
+  started_ = true;
+  plan_ = std::make_unique<SplitLevelPlan>(configs_, context_);
+  plan_->begin_animation_frame(first_batch.marker ? &*first_batch.marker : nullptr);
+  // Units fed by one loop: a stack group (configurations that set stacks
+  // answer together, two or more of one key) or a piece of one, split
+  // configurations of tables only fed together, or one configuration.
+  simulators_.resize(configs_.size());
+  std::vector<std::vector<std::size_t>> units;
+  std::vector<double> unit_cost;
+  std::map<std::string, std::vector<std::size_t>> by_key;
+  std::vector<std::size_t> alone;
+  for (std::size_t i = 0; i < configs_.size(); ++i) {
+    const std::string key = stack_group_key(configs_[i]);
+    if (key.empty()) {
+      alone.push_back(i);
+    } else {
+      by_key[key].push_back(i);
+    }
+  }
+  // With one part nothing is balanced: no probe, every group whole.
+  const bool balance = requested_parts_ > 1;
+  struct Group {
+    std::vector<std::size_t> members;
+    std::vector<Configuration> configs;
+    std::optional<StackGroupCost> cost;
+  };
+  std::vector<Group> groups;
+  for (auto& [key, members] : by_key) {
+    if (members.size() == 1) {
+      alone.push_back(members.front());
+      continue;
+    }
+    Group group;
+    for (const std::size_t i : members) group.configs.push_back(configs_[i]);
+    if (balance) {
+      group.cost.emplace(group.configs, plan_->current(members.front()), context_, per_level_,
+                         first_batch.records.data(),
+                         std::min(first_batch.records.size(), kProbeRecords));
+    }
+    group.members = std::move(members);
+    groups.push_back(std::move(group));
+  }
+  // Split configurations of tables only, of other K: up to kMaxTogether fed
+  // by one loop (each record read once).
+  std::sort(alone.begin(), alone.end());
+  std::map<std::string, std::vector<std::vector<std::size_t>>> together;
+  std::vector<std::size_t> by_itself;
+  for (const std::size_t i : alone) {
+    const std::string key = together_key(configs_[i], per_level_);
+    if (key.empty()) {
+      by_itself.push_back(i);
+      continue;
+    }
+    auto& sets = together[key];
+    if (sets.empty() || sets.back().size() == kMaxTogether) sets.emplace_back();
+    sets.back().push_back(i);
+  }
+  for (auto& [key, sets] : together) {
+    for (auto& members : sets) {
+      if (members.size() == 1) {
+        by_itself.push_back(members.front());
+        continue;
+      }
+      std::vector<Configuration> member_configs;
+      std::vector<std::uint32_t> split_levels;
+      double cost = 1.0;
+      for (const std::size_t i : members) {
+        member_configs.push_back(configs_[i]);
+        split_levels.push_back(plan_->current(i));
+        cost += cost_alone(configs_[i]) - 1.0;  // one router for all
+      }
+      auto made = make_together(member_configs, split_levels, context_);
+      for (std::size_t m = 0; m < members.size(); ++m) simulators_[members[m]] = std::move(made[m]);
+      unit_cost.push_back(cost);
+      units.push_back(std::move(members));
+    }
+  }
+  for (const std::size_t i : by_itself) {
+    simulators_[i] = make_simulator(configs_[i], plan_->current(i), context_, per_level_);
+    unit_cost.push_back(cost_alone(configs_[i]));
+    units.push_back({i});
+  }
+  // A stack group that alone is more than a part's share is cut into
+  // pieces (as many as it needs, at most one per part).
+  double total = 0;
+  for (const double cost : unit_cost) total += cost;
+  for (const Group& group : groups) total += group.cost ? group.cost->cut(1).front().cost : 0;
+  const double share = total / static_cast<double>(requested_parts_);
+  for (Group& group : groups) {
+    std::vector<StackPiece> pieces;
+    if (group.cost) {
+      const double whole = group.cost->cut(1).front().cost;
+      // Twice the parts it needs, so that measured times can even out an
+      // estimate that was wrong (the first batch need not be typical).
+      const auto wanted = static_cast<std::size_t>(std::ceil(whole / share - 1e-9));
+      pieces = group.cost->cut(std::min(group.cost->max_pieces(),
+                                        wanted > 1 ? std::size_t{2} * wanted : std::size_t{1}));
+    } else {
+      StackPiece whole;
+      for (std::size_t m = 0; m < group.members.size(); ++m) whole.members.push_back(m);
+      pieces.push_back(std::move(whole));
+    }
+    // Every piece's retain set bounded by the whole group's tightest member.
+    const Configuration bound = group.configs[tightest_member(group.configs)];
+    for (const StackPiece& piece : pieces) {
+      std::vector<Configuration> piece_configs;
+      std::vector<std::size_t> members;
+      for (const std::size_t m : piece.members) {
+        piece_configs.push_back(group.configs[m]);
+        members.push_back(group.members[m]);
+      }
+      auto made = make_stack_group(piece_configs, plan_->current(members.front()), context_,
+                                   per_level_, &bound);
+      for (std::size_t m = 0; m < members.size(); ++m) simulators_[members[m]] = std::move(made[m]);
+      unit_cost.push_back(piece.cost);
+      units.push_back(std::move(members));
+    }
+  }
+  open_frames_.assign(simulators_.size(), OpenAnimationFrame{});
+  animation_frame_rows_.assign(simulators_.size(), {});
+  for (std::size_t u = 0; u < units.size(); ++u) {
+    units_.push_back(WorkUnit{std::move(units[u]), unit_cost[u], 0.0});
+  }
+  parts_.assign(std::max<std::size_t>(1, std::min(requested_parts_, units_.size())), Part{});
+  assign_parts(unit_cost);
+}
+
+void Sweep::assign_parts(const std::vector<double>& cost) {
+  std::vector<std::size_t> order(units_.size());
+  for (std::size_t u = 0; u < order.size(); ++u) order[u] = u;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return cost[a] > cost[b];
+  });
+  for (Part& part : parts_) {
+    part.units.clear();
+    part.simulators.clear();
+  }
+  std::vector<double> load(parts_.size(), 0);
+  for (const std::size_t u : order) {
+    const std::size_t lightest =
+        static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+    Part& part = parts_[lightest];
+    part.units.push_back(u);
+    part.simulators.insert(part.simulators.end(), units_[u].simulators.begin(),
+                           units_[u].simulators.end());
+    load[lightest] += cost[u];
+  }
+  for (Part& part : parts_) {
+    // Fed in report order (an error names the first configuration in it).
+    std::sort(part.units.begin(), part.units.end(), [&](std::size_t a, std::size_t b) {
+      return units_[a].simulators.front() < units_[b].simulators.front();
+    });
+    std::sort(part.simulators.begin(), part.simulators.end());
+  }
+}
+
+void Sweep::feed(const formats::RecordBatch& batch) {
+  begin_batch(batch);
+  for (std::size_t part = 0; part < parts_.size(); ++part) feed_part(batch, part);
+}
+
+void Sweep::set_parts(std::size_t parts) { requested_parts_ = std::max<std::size_t>(1, parts); }
+
+std::size_t Sweep::part_count() const { return parts_.size(); }
+
+void Sweep::begin_batch(const formats::RecordBatch& batch) {
+  if (!started_) {
+    start(batch);
+  } else if (batch.marker) {
+    plan_->begin_animation_frame(&*batch.marker);  // throws here, in trace order, for a bad marker
+  }
+  ++batches_;
+  // The estimates only start the work off: the CPU time each unit took
+  // shares it out from then on, seldom (a unit that moves leaves its
+  // stacks in the other core's cache).
+  if (parts_.size() > 1 && batches_ >= 4 && std::has_single_bit(batches_)) {
+    std::vector<double> seconds;
+    for (const WorkUnit& unit : units_) seconds.push_back(unit.seconds);
+    assign_parts(seconds);
+  }
+}
+
+namespace {
+
+ResultRow counts_since(const ResultRow& now, const ResultRow& before) {
+  ResultRow row = now;
+  row.refs -= before.refs;
+  row.fetches -= before.fetches;
+  row.misses -= before.misses;
+  row.high_refs -= before.high_refs;
+  row.high_misses -= before.high_misses;
+  if (row.high_loads) *row.high_loads -= before.high_loads.value_or(0);
+  row.low_refs -= before.low_refs;
+  row.low_misses -= before.low_misses;
+  return row;
+}
+
+}  // namespace
+
+void Sweep::change_frame(std::size_t s, const formats::AnimationFrameMarker* marker) {
+  OpenAnimationFrame& open = open_frames_[s];
+  if (per_animation_frame_ && open.open) {
+    ResultRow row = counts_since(simulators_[s]->result(), open.at_start);
+    row.split_level = open.split_level;
+    animation_frame_rows_[s].push_back(AnimationFrameRow{open.frame, std::move(row)});
+  }
+  if (marker == nullptr) {  // records before any marker: animation frame 0, K of the start
+    open.frame = 0;
+    open.split_level = plan_->first(s);
+  } else {
+    const Configuration& config = configs_[s];
+    // As the plan resolved it on the reader's thread, which may be ahead.
+    open.frame = marker->frame;
+    open.split_level =
+        config.scheme == Scheme::Split ? simulated_split_level(config, marker, context_) : 0;
+    simulators_[s]->begin_animation_frame(marker->frame, open.split_level);
+  }
+  open.open = true;
+  if (per_animation_frame_) open.at_start = simulators_[s]->result();
+}
+
+void Sweep::feed_part(const formats::RecordBatch& batch, std::size_t part_index) {
+  Part& part = parts_.at(part_index);
+  for (const std::size_t s : part.simulators) {
+    if (batch.marker) {
+      change_frame(s, &*batch.marker);
+    } else if (!open_frames_[s].open) {
+      change_frame(s, nullptr);
+    }
+  }
+  const Record* const records = batch.records.data();
+  const std::size_t count = batch.records.size();
+  // In chunks small enough to stay in the processor's cache while every
+  // configuration reads them; with parts, every kTimedEvery-th chunk's
+  // feeds are timed (reading the clock is a system call).
+  constexpr std::size_t kChunk = 4096;
+  constexpr std::size_t kTimedEvery = 8;
+  for (std::size_t begin = 0; begin < count; begin += kChunk) {
+    const std::size_t chunk = std::min(kChunk, count - begin);
+    const std::uint64_t first_record = batch.first_record + begin;
+    prepare(records + begin, chunk, first_record, part);
+    const bool timed = parts_.size() > 1 && (first_record / kChunk) % kTimedEvery == 0;
+    double started = timed ? thread_cpu_seconds() : 0;
+    for (const std::size_t u : part.units) {
+      simulators_[units_[u].simulators.front()]->feed(records + begin, chunk, first_record,
+                                                       part.prepared);
+      if (timed) {
+        const double now = thread_cpu_seconds();
+        units_[u].seconds += now - started;
+        started = now;
+      }
+    }
+  }
+}
+
+void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t first_record,
+                    Part& part) const {
+  // Din records are 4 bytes at a multiple of 4 as Dinero IV reads them.
+  std::uint64_t span_bits = 3;
+  if (context_.form != formats::RecordForm::Din) {
+    span_bits = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint64_t address = records[i].address;
+      span_bits |= address ^ (address + std::max<std::uint32_t>(records[i].size, 1) - 1);
+    }
+  }
+  unsigned not_demand = 0;
+  unsigned not_level = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    not_demand |= static_cast<unsigned>(records[i].type > AccessType::Misc);
+    not_level |= static_cast<unsigned>(records[i].tag > formats::kMaxLevel);
+  }
+  bool demand_only = not_demand == 0;
+  const bool all_levels = not_level == 0;
+  if (!all_levels) {
+    // Other streams (counted apart), or untagged records where levels are needed.
+    for (std::size_t i = 0; i < count; ++i) {
+      const Tag tag = records[i].tag;
+      if (formats::is_level(tag)) continue;
+      if (is_other_stream(tag)) {
+        ++part.other_stream_records;
+        demand_only = false;
+      } else if (needs_levels_) {
+        throw_untagged_record(context_, first_record + i + 1,
+                              "the split scheme and --per-level route");
+      }
+    }
+  }
+  part.prepared.span_bits = span_bits;
+  part.prepared.demand_only = demand_only;
+}
+
+std::vector<ResultRow> Sweep::counts() const {
+  std::vector<ResultRow> rows;
+  rows.reserve(simulators_.size());
+  for (std::size_t s = 0; s < simulators_.size(); ++s) {
+    rows.push_back(simulators_[s]->result());
+    rows.back().split_level = plan_->first(s);
+  }
+  return rows;
+}
+
+TraceResult Sweep::finish() {
+  if (!started_) start(formats::RecordBatch{});
+  TraceResult result;
+  for (std::size_t s = 0; s < simulators_.size(); ++s) {
+    ResultRow row = simulators_[s]->result();
+    row.split_level = plan_->first(s);
+    result.rows.push_back(std::move(row));
+    if (per_level_) simulators_[s]->append_level_rows(result.level_rows);
+  }
+  if (per_animation_frame_) {
+    for (std::size_t s = 0; s < simulators_.size(); ++s) {
+      if (!open_frames_[s].open) change_frame(s, nullptr);  // a trace without records
+      change_frame(s, nullptr);  // closes the last frame
+    }
+    // Every simulator saw the same frames: frame by frame, configurations in order.
+    const std::size_t frames = animation_frame_rows_.empty() ? 0 : animation_frame_rows_[0].size();
+    for (std::size_t f = 0; f < frames; ++f) {
+      for (const auto& rows : animation_frame_rows_) result.animation_frame_rows.push_back(rows[f]);
+    }
+  }
+  // Every part sees every record; part 0's count is the trace's.
+  const std::uint64_t other_stream_records = parts_.empty() ? 0 : parts_[0].other_stream_records;
+  result.other_stream_records = other_stream_records;
+  result.notes = plan_->notes();
+  if (other_stream_records > 0) {
+    result.notes.push_back(other_streams_note(context_.trace, other_stream_records));
+  }
+  return result;
+}
+
+}  // namespace nodetrace::cachesim

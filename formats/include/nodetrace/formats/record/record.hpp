@@ -1,0 +1,71 @@
+// The record model: one memory reference of a trace.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace nodetrace::formats {
+
+// Dinero IV's access types, numbered as din labels.
+enum class AccessType : std::uint8_t {
+  Read = 0,
+  Write = 1,
+  InstructionFetch = 2,
+  Misc = 3,
+  CopyBack = 4,
+  Invalidate = 5,
+};
+inline constexpr int kAccessTypeCount = 6;
+
+// A record's tag. Node levels are 0..kMaxLevel; the other values mark the
+// optional streams (`p`, `t`) or the absence of a tag.
+using Tag = std::uint16_t;
+inline constexpr Tag kMaxLevel = 0xFFF0;
+inline constexpr Tag kTagPrimitiveList = 0xFFFD;  // written as `p`
+inline constexpr Tag kTagTriangle = 0xFFFE;       // written as `t`
+inline constexpr Tag kTagNone = 0xFFFF;           // untagged record
+
+constexpr bool is_level(Tag tag) { return tag <= kMaxLevel; }
+
+struct Record {
+  std::uint64_t address = 0;
+  // Bytes referenced. Din has no size field: din records carry 4, the size
+  // Dinero IV gives them (see dinero_view).
+  std::uint32_t size = 4;
+  AccessType type = AccessType::Read;
+  Tag tag = kTagNone;
+
+  friend bool operator==(const Record&, const Record&) = default;
+};
+
+// The three record forms of docs/ARCHITECTURE.md "Trace records".
+enum class RecordForm : std::uint8_t {
+  Din,          // `LABEL HEXADDR TAG`          (dineroIV -informat d)
+  ExtendedDin,  // `TYPE HEXADDR HEXSIZE TAG`   (dineroIV -informat D)
+  Binary,       // 8 bytes: u32 address, u16 size, u8 type, pad (-informat b)
+};
+
+// Names used on command lines and in container headers: din, xdin, binary.
+std::string_view form_name(RecordForm form);
+std::optional<RecordForm> parse_form_name(std::string_view name);
+
+// The Dinero IV -informat letter: d, D, b.
+char dinero_informat(RecordForm form);
+
+// The reference as Dinero IV simulates a record read in `form`: din rounds the
+// address down to a multiple of 4 and uses size 4; the others keep both.
+constexpr Record dinero_view(Record record, RecordForm form) {
+  if (form == RecordForm::Din) {
+    record.address &= ~std::uint64_t{3};
+    record.size = 4;
+  }
+  return record;
+}
+
+// Tag text as written in records: decimal level (2 digits minimum), `p`, `t`,
+// or empty for kTagNone.
+std::string tag_text(Tag tag);
+
+}  // namespace nodetrace::formats

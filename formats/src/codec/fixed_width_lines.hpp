@@ -1,0 +1,316 @@
+// The fixed-width lines our writers produce (internal; FORMAT.md 1.1:
+// `0 00001a38 07`, `r 00001a38 8 07`): a parser for runs of such lines and a
+// writer of the common one, both without per-field loops. They are the fast
+// paths of the din and extended din codecs; the general code of
+// text_fields.hpp handles every other line and must agree with them
+// (tests/formats/test_fixed_width_lines.cpp).
+#pragma once
+
+#include <array>
+#include <bit>
+#include <cstddef>
+#include <cstring>
+
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
+#include "nodetrace/formats/record/record_summary.hpp"
+#include "codec/text_fields.hpp"
+
+namespace nodetrace::formats::detail {
+
+// Eight hex digits (most significant first) as a value, all at once (SWAR
+// on a 64-bit word): false when a byte is not a hex digit. Little-endian
+// hosts only (the caller falls back to the table otherwise).
+inline bool parse_hex8(const char* p, std::uint32_t& value) {
+  constexpr std::uint64_t kOnes = 0x0101010101010101ull;
+  constexpr std::uint64_t kHigh = kOnes * 0x80;
+  std::uint64_t x;
+  std::memcpy(&x, p, 8);
+  // With every byte below 0x80, adding (0x80 - lo) sets a byte's top bit iff
+  // it is >= lo, adding (0x7f - hi) iff it is > hi, and nothing carries.
+  const std::uint64_t lower = x | (kOnes * 0x20);  // 'A'-'F' -> 'a'-'f'
+  const std::uint64_t digit = (x + kOnes * (0x80 - '0')) & ~(x + kOnes * (0x7f - '9'));
+  const std::uint64_t letter = (lower + kOnes * (0x80 - 'a')) & ~(lower + kOnes * (0x7f - 'f'));
+  if ((x & kHigh) != 0 || ((digit | letter) & kHigh) != kHigh) return false;
+  // Digit values: the low nibble, plus 9 for letters (bit 6 set).
+  std::uint64_t v = (x & (kOnes * 0x0F)) + ((x >> 6) & kOnes) * 9;
+  v = __builtin_bswap64(v);  // byte i = the digit of weight 16^i
+  v = (v | (v >> 4)) & 0x00FF00FF00FF00FFull;
+  v = (v | (v >> 8)) & 0x0000FFFF0000FFFFull;
+  v = (v | (v >> 16)) & 0x00000000FFFFFFFFull;
+  value = static_cast<std::uint32_t>(v);
+  return true;
+}
+
+#if defined(__x86_64__)
+// Two lines of the commonest layout at once, one per 128-bit lane (AVX2,
+// chosen at run time): every byte checked by compares, the digits turned
+// into the address, level and type by multiply-adds, and each lane shuffled
+// into a Record. Stops before the first pair with a line it does not take
+// (the caller reads that line) and needs 30 bytes from a pair's start.
+static_assert(sizeof(Record) == 16 && offsetof(Record, size) == 8 && offsetof(Record, type) == 12 &&
+              offsetof(Record, tag) == 14);
+// 16 bytes repeated in both lanes.
+__attribute__((target("avx2"))) inline __m256i both_lanes(const char* bytes) {
+  return _mm256_broadcastsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(bytes)));
+}
+
+__attribute__((target("avx2"))) inline std::size_t din8_tagged_pairs_avx2(const char* begin, const char* end,
+                                                                          bool tags_are_levels,
+                                                                          std::vector<Record>& out) {
+  constexpr char F = static_cast<char>(0xFF), Z = static_cast<char>(0x80);
+  static constexpr char kSeparators[16] = {0, ' ', 0, 0, 0, 0, 0, 0, 0, 0, ' ', 0, 0, '\n', 0, 0};
+  static constexpr char kSeparatorAt[16] = {0, F, 0, 0, 0, 0, 0, 0, 0, 0, F, 0, 0, F, 0, 0};
+  static constexpr char kHexAt[16] = {0, 0, F, F, F, F, F, F, F, F, 0, 0, 0, 0, 0, 0};
+  static constexpr char kDigitAt[16] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, F, F, 0, 0, 0};
+  static constexpr char kTypeAt[16] = {F, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+  // Digit values in place for the multiply-adds: address digits 0-7, tag
+  // tens and ones, type.
+  static constexpr char kGather[16] = {2, 3, 4, 5, 6, 7, 8, 9, 11, 12, Z, Z, 0, Z, Z, Z};
+  static constexpr char kPairWeights[16] = {16, 1, 16, 1, 16, 1, 16, 1, 10, 1, 0, 0, 1, 0, 0, 0};
+  // Words packed from dwords: high address half, low half, level, type.
+  static constexpr char kRecord[16] = {2, 3, 0, 1, Z, Z, Z, Z, Z, Z, Z, Z, 6, Z, 4, 5};
+  const char no_tag = tags_are_levels ? 0 : F;
+  const char fixed[16] = {0, 0, 0, 0, 0, 0, 0, 0, 4, 0, 0, 0, 0, 0, no_tag, no_tag};
+  const __m256i separators = both_lanes(kSeparators), separator_at = both_lanes(kSeparatorAt);
+  const __m256i hex_at = both_lanes(kHexAt), digit_at = both_lanes(kDigitAt), type_at = both_lanes(kTypeAt);
+  const __m256i gather = both_lanes(kGather), pair_weights = both_lanes(kPairWeights), record = both_lanes(kRecord);
+  const __m256i fixed_fields = both_lanes(fixed);
+  // Word weights per dword: (256, 1) for the address halves, (1, 0) for level and type.
+  const __m256i quad_weights = _mm256_set_epi32(1, 1, 0x00010100, 0x00010100, 1, 1, 0x00010100, 0x00010100);
+  const char* p = begin;
+  while (end - p >= 30) {
+    const __m256i c = _mm256_loadu2_m128i(reinterpret_cast<const __m128i*>(p + 14), reinterpret_cast<const __m128i*>(p));
+    const __m256i digit = _mm256_and_si256(_mm256_cmpgt_epi8(c, _mm256_set1_epi8('0' - 1)),
+                                           _mm256_cmpgt_epi8(_mm256_set1_epi8('9' + 1), c));
+    const __m256i lower = _mm256_or_si256(c, _mm256_set1_epi8(0x20));
+    const __m256i letter = _mm256_and_si256(_mm256_cmpgt_epi8(lower, _mm256_set1_epi8('a' - 1)),
+                                            _mm256_cmpgt_epi8(_mm256_set1_epi8('f' + 1), lower));
+    const __m256i type_ok = _mm256_and_si256(digit, _mm256_cmpgt_epi8(_mm256_set1_epi8('6'), c));
+    __m256i ok = _mm256_and_si256(_mm256_cmpeq_epi8(c, separators), separator_at);
+    ok = _mm256_or_si256(ok, _mm256_and_si256(_mm256_or_si256(digit, letter), hex_at));
+    ok = _mm256_or_si256(ok, _mm256_and_si256(digit, digit_at));
+    ok = _mm256_or_si256(ok, _mm256_and_si256(type_ok, type_at));
+    if ((static_cast<unsigned>(_mm256_movemask_epi8(ok)) & 0x3FFF3FFFu) != 0x3FFF3FFFu) break;
+    const __m256i letters = _mm256_and_si256(_mm256_srli_epi16(c, 6), _mm256_set1_epi8(1));
+    const __m256i value = _mm256_add_epi8(_mm256_and_si256(c, _mm256_set1_epi8(0x0F)),
+                                          _mm256_add_epi8(_mm256_slli_epi16(letters, 3), letters));
+    const __m256i pairs = _mm256_maddubs_epi16(_mm256_shuffle_epi8(value, gather), pair_weights);
+    // Dwords: address digits 0-3, 4-7 (both * 256 + next), level, type.
+    const __m256i quads = _mm256_madd_epi16(pairs, quad_weights);
+    const __m256i records = _mm256_or_si256(_mm256_shuffle_epi8(_mm256_packus_epi32(quads, quads), record), fixed_fields);
+    Record two[2];
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(two), records);
+    out.push_back(two[0]);
+    out.push_back(two[1]);
+    p += 28;
+  }
+  return static_cast<std::size_t>(p - begin);
+}
+
+inline bool have_avx2() {
+  static const bool have = __builtin_cpu_supports("avx2");
+  return have;
+}
+#endif
+
+// fast_lines for the commonest layout, `0 00001a38 07\n` (din, 8 address
+// digits, a level): two loads per line and every field checked at once.
+// Needs two bytes past a line (it reads 16); the last line is left to the
+// caller. Little-endian hosts.
+inline std::size_t din8_tagged_lines(const char* begin, const char* end, bool tags_are_levels,
+                                     std::vector<Record>& out) {
+  constexpr std::uint64_t kOnes = 0x0101010101010101ull;
+  const char* p = begin;
+  for (;;) {
+#if defined(__x86_64__)
+    if (have_avx2()) p += din8_tagged_pairs_avx2(p, end, tags_are_levels, out);
+#endif
+    if (end - p < 16) break;
+    std::uint64_t a, b;
+    std::memcpy(&a, p, 8);      // type, ' ', digits 1-6
+    std::memcpy(&b, p + 8, 8);  // digits 7-8, ' ', tag, '\n', next line
+    // Separators: bytes 1 (' '), 10 (' ') and 13 ('\n').
+    if (((a >> 8) & 0xFF) != ' ' || ((b >> 16) & 0xFF) != ' ' || ((b >> 40) & 0xFF) != '\n') break;
+    // Type and the two tag digits as values 0-9 (type 0-5).
+    const std::uint64_t type = (a & 0xFF) ^ '0';
+    const std::uint64_t tag = ((b >> 24) & 0xFFFF) ^ 0x3030;
+    if (type > 5 || (tag & 0xF0F0) != 0 || ((tag + 0x0606) & 0x1010) != 0) break;
+    const std::uint64_t x = (a >> 16) | (b << 48);
+    const std::uint64_t lower = x | (kOnes * 0x20);
+    const std::uint64_t digit = (x + kOnes * (0x80 - '0')) & ~(x + kOnes * (0x7f - '9'));
+    const std::uint64_t letter = (lower + kOnes * (0x80 - 'a')) & ~(lower + kOnes * (0x7f - 'f'));
+    if (((x & (kOnes * 0x80)) | (~(digit | letter) & (kOnes * 0x80))) != 0) break;
+    std::uint64_t v = (x & (kOnes * 0x0F)) + ((x >> 6) & kOnes) * 9;
+    v = __builtin_bswap64(v);
+    v = (v | (v >> 4)) & 0x00FF00FF00FF00FFull;
+    v = (v | (v >> 8)) & 0x0000FFFF0000FFFFull;
+    v = (v | (v >> 16)) & 0x00000000FFFFFFFFull;
+    const Tag level = static_cast<Tag>((tag & 0xFF) * 10 + (tag >> 8));
+    out.push_back(Record{v, 4, static_cast<AccessType>(type), tags_are_levels ? level : kTagNone});
+    p += 14;
+  }
+  return static_cast<std::size_t>(p - begin);
+}
+
+// A run of lines that all have the layout of the first one: D address digits;
+// a one-digit size for extended din; a two-digit tag when kTagged. Stops at
+// the first line of another layout and returns the bytes consumed.
+template <int D, bool kExtended, bool kTagged>
+std::size_t fast_lines(const char* begin, const char* end, bool tags_are_levels, std::vector<Record>& out) {
+  constexpr int kAddress = 2;
+  constexpr int kAfterAddress = kAddress + D;
+  constexpr int kSize = kAfterAddress + 1;
+  constexpr int kTagPos = (kExtended ? kSize + 1 : kAfterAddress) + 1;
+  constexpr int kLength = (kTagged ? kTagPos + 2 : kTagPos - 1) + 1;
+  const char* p = begin;
+  out.reserve(out.size() + static_cast<std::size_t>(end - begin) / kLength);
+  if constexpr (std::endian::native == std::endian::little && D == 8 && !kExtended && kTagged) {
+    p += din8_tagged_lines(p, end, tags_are_levels, out);
+  }
+  while (end - p >= kLength) {
+    if (p[kLength - 1] != '\n' || p[1] != ' ' || p[kAfterAddress] != (kExtended || kTagged ? ' ' : '\n'))
+      break;
+    std::uint8_t type;
+    if constexpr (kExtended) {
+      type = kTypeLetter[static_cast<unsigned char>(p[0])];
+    } else {
+      type = static_cast<std::uint8_t>(static_cast<unsigned char>(p[0]) - '0');
+      if (type >= kAccessTypeCount) type = 0xFF;
+    }
+    std::uint64_t address = 0;
+    std::uint8_t bad = type;
+    if constexpr (std::endian::native == std::endian::little && D % 8 == 0) {
+      for (int i = 0; i < D; i += 8) {
+        std::uint32_t digits = 0;
+        if (!parse_hex8(p + kAddress + i, digits)) bad = 0xFF;
+        address = (address << 32) | digits;
+      }
+    } else {
+      for (int i = 0; i < D; ++i) {
+        const std::uint8_t digit = kHex[static_cast<unsigned char>(p[kAddress + i])];
+        bad |= digit;
+        address = (address << 4) | digit;
+      }
+    }
+    std::uint32_t size = 4;
+    if constexpr (kExtended) {
+      const std::uint8_t digit = kHex[static_cast<unsigned char>(p[kSize])];
+      bad |= digit;
+      size = digit;
+      if (size == 0) break;
+      if (p[kSize + 1] != (kTagged ? ' ' : '\n')) break;
+    }
+    Tag tag = kTagNone;
+    if constexpr (kTagged) {
+      const unsigned tens = static_cast<unsigned char>(p[kTagPos]) - '0';
+      const unsigned ones = static_cast<unsigned char>(p[kTagPos + 1]) - '0';
+      if (tens > 9 || ones > 9) break;
+      if (tags_are_levels) tag = static_cast<Tag>(tens * 10 + ones);
+    }
+    if (bad & 0xF0) break;
+    out.push_back(Record{address, size, static_cast<AccessType>(type), tag});
+    p += kLength;
+  }
+  return static_cast<std::size_t>(p - begin);
+}
+
+// The fast parser for the layout of the line at `p`, or nullptr; `tagged`
+// tells whether its lines carry a tag field.
+template <bool kExtended>
+FastParser choose_fast_parser(const char* p, const char* end, const ParseSettings& settings, bool& tagged) {
+  const void* newline = std::memchr(p, '\n', static_cast<std::size_t>(std::min<std::ptrdiff_t>(end - p, 64)));
+  if (!newline) return nullptr;
+  const auto length = static_cast<const char*>(newline) - p + 1;
+  for (const int digits : {8, 16}) {
+    const int untagged = digits + (kExtended ? 5 : 3);
+    const int tagged_length = untagged + 3;
+    if (length == untagged && !settings.tags_are_levels) {
+      return digits == 8 ? &fast_lines<8, kExtended, false> : &fast_lines<16, kExtended, false>;
+    }
+    if (length == tagged_length) {
+      tagged = true;
+      return digits == 8 ? &fast_lines<8, kExtended, true> : &fast_lines<16, kExtended, true>;
+    }
+  }
+  return nullptr;
+}
+
+// Eight lower-case hex digits of a 32-bit value as they appear in memory
+// (most significant first), without a loop: spread the nibbles one per byte,
+// put them in text order, then add '0' or 'a' - 10 to every byte at once.
+inline std::uint64_t hex8(std::uint32_t value) {
+  std::uint64_t x = value;
+  x = (x | (x << 16)) & 0x0000FFFF0000FFFFull;
+  x = (x | (x << 8)) & 0x00FF00FF00FF00FFull;
+  x = (x | (x << 4)) & 0x0F0F0F0F0F0F0F0Full;  // byte i = nibble i
+  x = __builtin_bswap64(x);                      // byte i = nibble 7 - i
+  const std::uint64_t letters = ((x + 0x0606060606060606ull) >> 4) & 0x0101010101010101ull;
+  return x + 0x3030303030303030ull + letters * ('a' - '0' - 10);
+}
+
+// "00".."99" as two bytes each: the node levels of a fixed-width line.
+constexpr std::array<char, 200> make_decimal_pairs() {
+  std::array<char, 200> pairs{};
+  for (int i = 0; i < 100; ++i) {
+    pairs[2 * i] = static_cast<char>('0' + i / 10);
+    pairs[2 * i + 1] = static_cast<char>('0' + i % 10);
+  }
+  return pairs;
+}
+inline constexpr auto kDecimalPairs = make_decimal_pairs();
+
+// The common line, written with a few stores and no loop: a level-tagged
+// record with a 32-bit address (and for extended din a one-digit size), as
+// `0 00001a38 07\n` or `r 00001a38 8 07\n`. Returns false, writing nothing
+// useful, when the record needs the general path.
+template <bool kExtended>
+bool put_common_line(char*& out, const Record& record) {
+  if ((record.address >> 32) != 0 || record.tag >= 100 || (kExtended && record.size >= 16)) return false;
+  char* p = out;
+  const auto type = static_cast<unsigned>(record.type);
+  p[0] = kExtended ? kTypeLetters[type] : static_cast<char>('0' + type);
+  p[1] = ' ';
+  const std::uint64_t digits = hex8(static_cast<std::uint32_t>(record.address));
+  std::memcpy(p + 2, &digits, 8);
+  p += 10;
+  if constexpr (kExtended) {
+    p[0] = ' ';
+    p[1] = kHexDigits[record.size];
+    p += 2;
+  }
+  p[0] = ' ';
+  std::memcpy(p + 1, &kDecimalPairs[2 * record.tag], 2);
+  p[3] = '\n';
+  out = p + 4;
+  return true;
+}
+
+// format_records for din (kExtended false) and extended din: the common line
+// where it applies (8 address digits), the general line elsewhere. Counts
+// each record in `summary` in the same pass: a second pass over the records
+// cost the writer about a third of what formatting them does.
+template <bool kExtended>
+void format_text_records(std::span<const Record> records, unsigned address_digits, ByteBuffer& out,
+                         RecordSummary& summary) {
+  const std::size_t start = out.size();
+  out.reserve(start + records.size() * kMaxTextLine);
+  char* p = out.data() + start;
+  const TextLayout layout{address_digits, true};
+  if (address_digits != 8) {
+    for (const Record& record : records) {
+      summary.add(record);
+      p = put_text_line(p, record, kExtended, layout);
+    }
+  } else {
+    for (const Record& record : records) {
+      summary.add(record);
+      if (!put_common_line<kExtended>(p, record)) p = put_text_line(p, record, kExtended, layout);
+    }
+  }
+  out.resize(static_cast<std::size_t>(p - out.data()));
+}
+
+}  // namespace nodetrace::formats::detail

@@ -1,0 +1,544 @@
+// The container reader (FORMAT.md sections 2 and 3): the header, then frame
+// by frame markers, data frames (decoded on the workers and handed over in
+// pieces, so memory stays small, each frame checked against the index) and
+// the trailer; from a file it reads the trailer from the end
+// first, which gives the index for keep_data_frame and seek_to_record.
+#define ZSTD_STATIC_LINKING_ONLY  // ZSTD_getFrameHeader, ZSTD_decompressBound, the buffer-less API
+#include <xxhash.h>
+#include <zstd.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstring>
+
+#include "container/container.hpp"
+#include "nodetrace/base/error.hpp"
+#include "read/reader_kinds.hpp"
+
+namespace nodetrace::formats::detail {
+namespace {
+
+// Pieces of a data frame: records per piece handed over, and pieces waiting
+// per frame. The next frame's worker decodes ahead only as far as its
+// pieces may wait: with 2 the two workers took turns (cachesim on the BART
+// Kitchen trace 114% CPU use, 0.84-1.07 s; 21 MB), with 32 they overlap
+// (165%, 0.49-0.68 s, as zstd -dc; 40-43 MB): the memory buys the second core.
+constexpr std::size_t kPieceRecords = 1u << 14;
+constexpr std::size_t kPiecesWaiting = 32;
+// Frames whose zstd window is larger than this (archives) are decoded one
+// at a time, so only one such window is held.
+constexpr std::uint64_t kSmallWindow = 8u << 20;
+// The largest zstd window a reader decodes (zstd's own default limit).
+constexpr std::uint64_t kMaxWindow = 1ull << 27;
+
+// Where the records of `text` end: after the last newline, or the last whole
+// binary record.
+std::size_t whole_records(const char* text, std::size_t size, RecordForm form) {
+  if (form == RecordForm::Binary) return size - size % 8;
+  const void* newline = size == 0 ? nullptr : ::memrchr(text, '\n', size);
+  return newline == nullptr ? 0 : static_cast<std::size_t>(static_cast<const char*>(newline) - text) + 1;
+}
+
+// Decompresses and parses one data frame (on a worker) step by step into
+// pieces; damage goes into a piece's frame_error for the reader to report
+// with the frame's place. A bad record is reported only once the rest of
+// the frame has decompressed without damage (damage is the better answer).
+void decode_data_frame(const std::string& frame, ParseSettings settings, bool keep_text, Stock& stock,
+                       PieceStream& out) {
+  const auto fail_frame = [&](std::string message) {
+    Chunk chunk;
+    chunk.frame_error = std::move(message);
+    out.push(std::move(chunk));
+  };
+  ZSTD_frameHeader header{};
+  const std::size_t status = ZSTD_getFrameHeader(&header, frame.data(), frame.size());
+  if (ZSTD_isError(status) || status != 0) return fail_frame("damaged zstd frame header");
+  if (header.frameContentSize == ZSTD_CONTENTSIZE_UNKNOWN || !header.checksumFlag) {
+    return fail_frame("a data frame must record its content size and checksum");
+  }
+  const unsigned long long bound = ZSTD_decompressBound(frame.data(), frame.size());
+  if (bound == ZSTD_CONTENTSIZE_ERROR || header.frameContentSize > bound) {
+    return fail_frame("damaged zstd frame (content size does not match its blocks)");
+  }
+  if (header.windowSize > kMaxWindow) {
+    return fail_frame(fmt::format("damaged zstd frame (a window of {} bytes, more than a reader allows)", header.windowSize));
+  }
+  // Block by block (zstd's buffer-less API) into a ring that holds the
+  // window: each block is parsed where zstd put it, with no copy out of a
+  // stream buffer. A record cut by the ring's wrap is joined in `seam`.
+  thread_local std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> context(ZSTD_createDCtx(), &ZSTD_freeDCtx);
+  thread_local ByteBuffer small_window_ring;
+  ByteBuffer& ring = header.windowSize > kSmallWindow ? stock.large_window_ring : small_window_ring;
+  const std::size_t ring_size = ZSTD_decodingBufferSize_min(header.windowSize, header.frameContentSize);
+  if (ZSTD_isError(ring_size)) return fail_frame("damaged zstd frame (its window does not fit in memory)");
+  if (ring.size() > 2 * ring_size + (1u << 20)) ring = ByteBuffer{};  // a much larger ring is not kept
+  if (ring.size() < std::max<std::size_t>(ring_size, 1)) ring.resize(std::max<std::size_t>(ring_size, 1));
+  // A frame no larger than the ring is decoded straight through.
+  const bool wraps = ring_size < header.frameContentSize;
+  const std::size_t status_begin = ZSTD_decompressBegin(context.get());
+  if (ZSTD_isError(status_begin)) return fail_frame(fmt::format("cannot decode ({})", ZSTD_getErrorName(status_begin)));
+  const char* src = frame.data();
+  std::size_t src_left = frame.size();
+  std::size_t pos = 0;    // where the next block goes in the ring
+  std::size_t parse = 0;  // the first byte in the ring not yet parsed
+  ByteBuffer seam;        // a record cut by the wrap
+  std::uint64_t total = 0;
+  char last_byte = '\n';
+  Chunk piece;
+  Chunk bad;  // the piece with the first bad record, held until the frame is known undamaged
+  bool have_bad = false;
+  const auto parse_text = [&](const char* text, std::size_t size) {
+    if (piece.records.capacity() == 0) piece.records = stock.records.take();
+    const std::size_t before = piece.records.size();
+    piece.records.reserve(before + size / 14 + 16);
+    if (!parse_records(std::string_view(text, size), settings, piece.records, piece.record_error,
+                       piece.ignored_fields)) {
+      piece.bad_record = true;
+      piece.record_error.record_in_chunk += before;
+      bad = std::move(piece);
+      have_bad = true;
+      return;
+    }
+    piece.decoded_bytes += size;
+    if (keep_text) piece.bytes.append(text, size);
+  };
+  for (;;) {
+    const std::size_t need = ZSTD_nextSrcSizeToDecompress(context.get());
+    if (need == 0) break;
+    if (need > src_left) return fail_frame("damaged zstd frame (it ends inside a block)");
+    if (wraps && ring_size - pos < header.blockSizeMax) {  // wrap, as zstd's own streaming does
+      seam.append(ring.data() + parse, pos - parse);
+      pos = parse = 0;
+    }
+    const std::size_t got = ZSTD_decompressContinue(context.get(), ring.data() + pos, ring_size - pos, src, need);
+    if (ZSTD_isError(got)) return fail_frame(fmt::format("damaged zstd frame ({})", ZSTD_getErrorName(got)));
+    src += need;
+    src_left -= need;
+    if (got == 0) continue;
+    total += got;
+    char* const block = ring.data() + pos;
+    last_byte = block[got - 1];
+    pos += got;
+    if (have_bad) {  // only looking for damage now
+      parse = pos;
+      seam.clear();
+      continue;
+    }
+    if (!seam.empty()) {
+      // Complete the cut record with the new block's first bytes.
+      std::size_t take = got;
+      if (settings.form == RecordForm::Binary) {
+        take = std::min(got, (8 - seam.size() % 8) % 8);
+      } else if (const void* newline = std::memchr(block, '\n', got)) {
+        take = static_cast<std::size_t>(static_cast<const char*>(newline) - block) + 1;
+      }
+      seam.append(block, take);
+      parse = pos - got + take;
+      const std::size_t cut = whole_records(seam.data(), seam.size(), settings.form);
+      if (cut == 0 && parse == pos) continue;  // the record goes on past this block
+      parse_text(seam.data(), cut);
+      if (have_bad) continue;
+      seam.clear();
+    }
+    const std::size_t cut = whole_records(ring.data() + parse, pos - parse, settings.form);
+    parse_text(ring.data() + parse, cut);
+    if (have_bad) continue;
+    parse += cut;
+    if (piece.records.size() >= kPieceRecords) {
+      if (!out.push(std::move(piece))) return;  // abandoned
+      piece = Chunk{};
+      if (keep_text) piece.bytes = stock.bytes.take();
+    }
+  }
+  if (src_left != 0) return fail_frame("damaged zstd frame (bytes after its end)");
+  // Anything left unparsed is a last record cut short: the boundary check below names it.
+  if (total != header.frameContentSize) return fail_frame("damaged zstd frame (wrong content size)");
+  const bool whole = settings.form == RecordForm::Binary ? total % 8 == 0 : total == 0 || last_byte == '\n';
+  if (!whole) return fail_frame("data frame does not end at a record boundary");
+  out.push(std::move(have_bad ? bad : piece));
+}
+
+// Decodes a data frame into `stream` once `earlier` (the previous frame with
+// a large window, if this one has one too) is done, then closes it.
+void decode_into(const std::string& frame, ParseSettings settings, bool keep_text, Stock& stock,
+                 PieceStream& stream, PieceStream* earlier) {
+  try {
+    if (earlier) earlier->wait_closed();
+    decode_data_frame(frame, settings, keep_text, stock, stream);
+  } catch (const std::exception& error) {
+    Chunk chunk;
+    chunk.frame_error = fmt::format("cannot decode: {}", error.what());
+    stream.push(std::move(chunk));
+  }
+  stream.close();
+}
+
+class ContainerReader final : public PipelinedReader {
+ public:
+  ContainerReader(OpenedInput opened, const ReaderOptions& options) : PipelinedReader(std::move(opened), options) {
+    open_container();
+    start_workers();
+  }
+
+  std::string_view input_kind() const override { return "container"; }
+  std::uint64_t data_frames_decompressed() const override { return data_frames_decompressed_; }
+  std::uint64_t data_frames_skipped() const override { return data_frames_skipped_; }
+
+  void seek_to_record(std::uint64_t record) override {
+    if (!input_->seekable() || !trailer_) cannot_seek();
+    const auto& index = trailer_->index;
+    auto found = std::find_if(index.begin(), index.end(), [&](const DataFrameIndexEntry& entry) {
+      return record >= entry.first_record && record < entry.first_record + entry.record_count;
+    });
+    if (found == index.end()) {
+      throw base::UsageError(fmt::format("{}: record {} is beyond the trace's {} records", name_, record,
+                                   index.empty() ? 0 : index.back().first_record + index.back().record_count));
+    }
+    drain();
+    input_->seek(found->offset);
+    data_frames_ = static_cast<std::uint64_t>(found - index.begin());
+    next_skip_ = static_cast<std::size_t>(data_frames_);
+    records_read_ = records_delivered_ = found->first_record;
+    frame_records_ = 0;
+    pending_marker_.reset();
+    pending_window_.reset();
+    markers_ = found->animation_frame + 1;
+    hashes_valid_ = false;
+    saw_trailer_ = false;
+    finished_ = false;
+    input_done_ = false;
+  }
+
+ private:
+  // Reads one whole skippable frame at the current position into `payload`.
+  void read_skippable(std::string& payload, const char* what) {
+    if (!input_->ensure(kSkippableHeaderSize)) fail(fmt::format("truncated: {} at byte {} is cut short", what, input_->offset()));
+    const std::uint32_t size = load_le32(input_->data() + 4);
+    if (!input_->ensure(kSkippableHeaderSize + size)) {
+      fail(fmt::format("truncated: {} at byte {} is cut short", what, input_->offset()));
+    }
+    payload.assign(input_->data() + kSkippableHeaderSize, size);
+    consume_hashed(kSkippableHeaderSize + size);
+  }
+
+  void consume_hashed(std::size_t count) {
+    XXH64_update(content_hash_.get(), input_->data(), count);
+    input_->consume(count);
+  }
+
+  void open_container() {
+    XXH64_reset(content_hash_.get(), 0);
+    XXH64_reset(record_hash_.get(), 0);
+    std::string payload;
+    read_skippable(payload, "header");
+    try {
+      header_.json = nlohmann::json::parse(payload);
+    } catch (const nlohmann::json::exception& error) {
+      fail(fmt::format("header is not valid JSON ({})", error.what()));
+    }
+    if (!header_.json.is_object()) fail("header is not a JSON object");
+    const auto container = header_.json.find("container");
+    if (container == header_.json.end() || !container->is_object() || !container->contains("name") ||
+        (*container)["name"] != kContainerName || !(*container)["version"].is_number_unsigned()) {
+      fail(fmt::format("header does not name the container (\"container\": {{\"name\": \"{}\", \"version\": N}})",
+                       kContainerName));
+    }
+    const auto version = (*container)["version"].get<std::uint64_t>();
+    if (version != kContainerVersion) {
+      fail(fmt::format("container version {} is not one this reader knows ({})", version, kContainerVersion));
+    }
+    const auto form = header_.form();
+    if (!form) fail("header's \"records\" is not din, xdin or binary");
+    // "tag" is "node-level" or absent; a "node-level" under another key is a
+    // damaged "tag" (which would make the levels look like no tags at all).
+    const auto tag = header_.json.find("tag");
+    if (tag != header_.json.end() && !header_.tags_are_levels()) {
+      fail(fmt::format("damaged header: \"tag\" is {}, not \"node-level\"", tag->dump()));
+    }
+    for (const auto& [key, value] : header_.json.items()) {
+      if (key != "tag" && value == "node-level") {
+        fail(fmt::format("damaged header: key \"{}\" holds \"node-level\", the value of \"tag\"", key));
+      }
+    }
+    settings_.form = *form;
+    settings_.tags_are_levels = options_.tags_are_levels || header_.tags_are_levels();
+    header_end_ = input_->offset();
+    if (input_->seekable() && header_.announces_trailer()) trailer_ = read_trailer_from_end();
+    if (input_->seekable() && trailer_ && options_.keep_data_frame) {
+      skip_.reserve(trailer_->index.size());
+      for (const DataFrameIndexEntry& entry : trailer_->index) skip_.push_back(!options_.keep_data_frame(entry));
+    }
+  }
+
+  TraceTrailer read_trailer_from_end() {
+    const std::uint64_t size = input_->size();
+    const auto missing = [&](const std::string& why) {
+      fail(fmt::format("truncated or damaged: no valid trailer at the end of the file ({})", why));
+    };
+    if (size < header_end_ + kSkippableHeaderSize + kFooterSize) missing("file too short");
+    const std::string footer = input_->read_at(size - kFooterSize, kFooterSize);
+    if (load_le32(footer.data() + 16) != kFooterMagic) missing("no footer magic");
+    if (load_le32(footer.data() + 12) != kContainerVersion) missing("footer version is not 1");
+    const std::uint64_t json_size = load_le32(footer.data() + 8);
+    if (json_size + kFooterSize + kSkippableHeaderSize > size - header_end_) {
+      missing("footer's length runs past the header");
+    }
+    const std::uint64_t start = size - kFooterSize - json_size - kSkippableHeaderSize;
+    const std::string frame_header = input_->read_at(start, kSkippableHeaderSize);
+    if (load_le32(frame_header.data()) != kTrailerMagic ||
+        load_le32(frame_header.data() + 4) != json_size + kFooterSize) {
+      missing("the footer's length does not lead to the trailer frame");
+    }
+    const std::string json = input_->read_at(start + kSkippableHeaderSize, json_size);
+    if (XXH64(json.data(), json.size(), 0) != load_le64(footer.data())) missing("trailer hash mismatch");
+    try {
+      return decode_trailer_json(json);
+    } catch (const base::FormatError& error) {
+      fail(error.what());
+    }
+  }
+
+  void read_decode_unit() override {
+    if (skip_data_frame_here()) return;
+    if (input_->at_end()) {
+      input_done_ = true;
+      return;
+    }
+    const std::uint64_t offset = input_->offset();
+    if (!input_->ensure(4)) fail(fmt::format("truncated: stray bytes at byte {}", offset));
+    const std::uint32_t magic = load_le32(input_->data());
+    if (magic == kZstdMagic) {
+      std::size_t size = 0;
+      for (std::size_t want = 1u << 16;; want *= 2) {
+        input_->ensure(want);
+        size = ZSTD_findFrameCompressedSize(input_->data(), input_->available());
+        if (!ZSTD_isError(size)) break;
+        if (input_->available() < want) {  // the whole rest of the input is not a whole frame
+          fail(fmt::format("truncated or damaged: data frame {} at byte {} is incomplete ({})", data_frames_ + 1,
+                           offset, ZSTD_getErrorName(size)));
+        }
+      }
+      DecodeUnit unit;
+      unit.data_frame = data_frames_++;
+      unit.entry.offset = offset;
+      unit.entry.compressed_size = size;
+      unit.entry.animation_frame = markers_ == 0 ? 0 : markers_ - 1;
+      unit.entry.checksum = size >= 4 ? load_le32(input_->data() + size - 4) : 0;
+      std::string frame(input_->data(), size);
+      consume_hashed(size);
+      auto stream = std::make_shared<PieceStream>(kPiecesWaiting);
+      // Large windows one at a time: each waits for the previous one.
+      std::shared_ptr<PieceStream> earlier;
+      ZSTD_frameHeader frame_header{};
+      if (ZSTD_getFrameHeader(&frame_header, frame.data(), frame.size()) == 0 &&
+          frame_header.windowSize > kSmallWindow) {
+        earlier = std::exchange(last_large_window_, stream);
+      }
+      unit.stream = stream;
+      pipeline_->push_ready(std::move(unit));
+      const bool keep_text = hashes_valid_ && options_.check_record_hash;  // for the record hash
+      post_stream_job(stream, [frame = std::move(frame), settings = settings_, keep_text, stock = stock_, stream,
+                               earlier = std::move(earlier)] {
+        decode_into(frame, settings, keep_text, *stock, *stream, earlier.get());
+      });
+      return;
+    }
+    if ((magic & kSkippableMask) != kHeaderMagic) {
+      fail(fmt::format("damaged: bytes at byte {} are not a zstd frame (magic {:#010x})", offset, magic));
+    }
+    if (magic == kTrailerMagic) {
+      read_stream_trailer(offset);
+      return;
+    }
+    const char* what = magic == kMarkerMagic   ? "animation frame marker"
+                       : magic == kWindowMagic ? "sample window marker"
+                                                       : "skippable frame";
+    std::string payload;
+    read_skippable(payload, what);
+    if (magic == kHeaderMagic) fail(fmt::format("a second header at byte {}", offset));
+    if (magic != kMarkerMagic && magic != kWindowMagic) return;  // someone else's skippable frame
+    DecodeUnit unit;
+    try {
+      const nlohmann::json json = nlohmann::json::parse(payload);
+      if (magic == kMarkerMagic) {
+        unit.kind = DecodeUnit::Kind::AnimationFrameMarker;
+        unit.marker = AnimationFrameMarker::from_json(json);
+      } else {
+        unit.kind = DecodeUnit::Kind::WindowMarker;
+        unit.window = WindowMarker::from_json(json);
+      }
+    } catch (const nlohmann::json::exception& error) {
+      fail(fmt::format("{} at byte {} is not valid JSON ({})", what, offset, error.what()));
+    } catch (const base::FormatError& error) {
+      fail(fmt::format("at byte {}: {}", offset, error.what()));
+    }
+    if (unit.kind == DecodeUnit::Kind::AnimationFrameMarker) ++markers_;
+    pipeline_->push_ready(std::move(unit));
+  }
+
+  // keep_data_frame: when the index's next data frame starts here and is not
+  // kept, steps over it (nothing read, nothing decompressed) and queues its
+  // place; otherwise keeps reads ahead from running into the next skipped one.
+  bool skip_data_frame_here() {
+    if (skip_.empty()) return false;
+    const auto& index = trailer_->index;
+    while (next_skip_ < skip_.size() && (!skip_[next_skip_] || next_skip_ < data_frames_)) ++next_skip_;
+    input_->limit_reads_to(next_skip_ < skip_.size() ? index[next_skip_].offset : 0);
+    // Past the last skipped frame (at the trailer, data_frames_ is the index's size) nothing is skipped.
+    if (next_skip_ >= skip_.size() || next_skip_ != data_frames_ || index[data_frames_].offset != input_->offset()) {
+      return false;
+    }
+    const DataFrameIndexEntry& entry = index[data_frames_];
+    if (entry.compressed_size == 0 || entry.offset + entry.compressed_size > input_->size()) {
+      fail(fmt::format("damaged index: data frame {} at byte {} of {} bytes runs past the end of the file",
+                       data_frames_ + 1, entry.offset, entry.compressed_size));
+    }
+    DecodeUnit unit;
+    unit.kind = DecodeUnit::Kind::SkippedDataFrame;
+    unit.entry = entry;
+    unit.data_frame = data_frames_++;
+    input_->skip(entry.compressed_size);
+    skipped_bytes_ = true;
+    pipeline_->push_ready(std::move(unit));
+    return true;
+  }
+
+  void read_stream_trailer(std::uint64_t offset) {
+    if (!input_->ensure(kSkippableHeaderSize)) fail(fmt::format("truncated: trailer at byte {}", offset));
+    const std::uint32_t size = load_le32(input_->data() + 4);
+    if (size < kFooterSize || !input_->ensure(kSkippableHeaderSize + size)) {
+      fail(fmt::format("truncated: trailer at byte {} is cut short", offset));
+    }
+    const char* footer = input_->data() + kSkippableHeaderSize + size - kFooterSize;
+    const std::string_view json(input_->data() + kSkippableHeaderSize, size - kFooterSize);
+    if (load_le32(footer + 16) != kFooterMagic || load_le32(footer + 12) != kContainerVersion ||
+        load_le32(footer + 8) != json.size() || XXH64(json.data(), json.size(), 0) != load_le64(footer)) {
+      fail(fmt::format("damaged trailer at byte {} (footer does not match)", offset));
+    }
+    TraceTrailer trailer;
+    try {
+      trailer = decode_trailer_json(json);
+    } catch (const base::FormatError& error) {
+      fail(error.what());
+    }
+    stream_content_hash_ = XXH64_digest(content_hash_.get());
+    input_->consume(kSkippableHeaderSize + size);
+    if (!input_->at_end()) fail(fmt::format("unexpected bytes after the trailer at byte {}", input_->offset()));
+    if (trailer_ && !(trailer_->index == trailer.index)) fail("the trailer read from the end differs from the stream's");
+    if (!trailer_) trailer_ = std::move(trailer);
+    saw_trailer_ = true;
+    input_done_ = true;
+  }
+
+  void check_chunk(const DecodeUnit& unit, Chunk& chunk) override {
+    if (!chunk.frame_error.empty()) fail(fmt::format("{}: {}", where(unit), chunk.frame_error));
+    frame_records_ += chunk.records.size();
+    record_bytes_ += chunk.decoded_bytes;
+    if (chunk.bad_record) return;
+    if (hashes_valid_ && options_.check_record_hash) {
+      XXH64_update(record_hash_.get(), chunk.bytes.data(), chunk.bytes.size());
+    }
+    if (!chunk.bytes.empty()) stock_->bytes.give(std::move(chunk.bytes));
+  }
+
+  void end_stream(const DecodeUnit& unit) override {
+    DataFrameIndexEntry seen = unit.entry;
+    seen.first_record = records_read_;
+    seen.record_count = frame_records_;
+    records_read_ += frame_records_;
+    frame_records_ = 0;
+    ++data_frames_decompressed_;
+    if (trailer_) check_index_entry(seen, unit.data_frame, where(unit));
+    seen_.push_back(seen);
+  }
+
+  static std::string where(const DecodeUnit& unit) {
+    return fmt::format("data frame {} at byte {}", unit.data_frame + 1, unit.entry.offset);
+  }
+
+  void check_index_entry(const DataFrameIndexEntry& seen, std::uint64_t number, const std::string& where) const {
+    const auto& index = trailer_->index;
+    if (number >= index.size()) fail(fmt::format("{}: the index lists only {} data frames", where, index.size()));
+    const DataFrameIndexEntry& expected = index[number];
+    if (expected == seen) return;
+    if (expected.checksum != seen.checksum) {
+      for (std::size_t other = 0; other < index.size(); ++other) {
+        if (index[other].checksum == seen.checksum && index[other].compressed_size == seen.compressed_size) {
+          fail(fmt::format("{}: frame out of order: it is the index's data frame {}", where, other + 1));
+        }
+      }
+      fail(fmt::format("{}: checksum {:08x} differs from the index's {:08x}", where, seen.checksum, expected.checksum));
+    }
+    fail(fmt::format("{}: index says offset {}, size {}, first record {}, {} records, animation frame {}; "
+                     "found offset {}, size {}, first record {}, {} records, animation frame {}",
+                     where, expected.offset, expected.compressed_size, expected.first_record, expected.record_count,
+                     expected.animation_frame, seen.offset, seen.compressed_size, seen.first_record,
+                     seen.record_count, seen.animation_frame));
+  }
+
+  void finish_input() override {
+    if (!saw_trailer_) {
+      if (header_.announces_trailer()) {
+        fail(fmt::format("truncated: the file ends after {} data frames without the trailer the header announces",
+                         data_frames_));
+      }
+      return;
+    }
+    const auto& index = trailer_->index;
+    if (data_frames_ != index.size()) {
+      fail(fmt::format("the index lists {} data frames but the file holds {}", index.size(), data_frames_));
+    }
+    if (!hashes_valid_) return;
+    for (std::size_t i = 0; i < seen_.size(); ++i) {
+      check_index_entry(seen_[i], i, fmt::format("data frame {} at byte {}", i + 1, seen_[i].offset));
+    }
+    const auto totals = trailer_->totals.find("records");
+    if (totals != trailer_->totals.end() && (!totals->is_number_unsigned() || totals->get<std::uint64_t>() != records_read_)) {
+      fail(fmt::format("the trailer's totals say {} records but the data frames hold {}", totals->dump(), records_read_));
+    }
+    if (skipped_bytes_) return;  // the hashes cover the skipped data frames
+    if (options_.check_record_hash && XXH64_digest(record_hash_.get()) != trailer_->record_hash) {
+      fail("record hash mismatch: the records are not the ones the trailer describes");
+    }
+    if (stream_content_hash_ != trailer_->content_hash) {
+      fail("content hash mismatch: the bytes before the trailer were changed");
+    }
+  }
+
+  void pass_skipped(const DecodeUnit& unit) override {
+    records_read_ += unit.entry.record_count;
+    seen_.push_back(unit.entry);
+    ++data_frames_skipped_;
+  }
+
+  struct HashStateDeleter {
+    void operator()(XXH64_state_t* state) const { XXH64_freeState(state); }
+  };
+
+  std::vector<bool> skip_;     // keep_data_frame's answer per index entry (true: skip)
+  std::size_t next_skip_ = 0;  // the first skipped data frame not yet passed
+  bool skipped_bytes_ = false;
+  bool saw_trailer_ = false;
+  bool hashes_valid_ = true;
+  std::uint64_t data_frames_decompressed_ = 0;
+  std::uint64_t data_frames_skipped_ = 0;
+  std::uint64_t header_end_ = 0;
+  std::uint64_t data_frames_ = 0;
+  std::uint64_t markers_ = 0;
+  std::uint64_t records_read_ = 0;  // records in the data frames handed over so far
+  std::uint64_t frame_records_ = 0;  // records of the data frame being delivered, so far
+  std::shared_ptr<PieceStream> last_large_window_;  // the last frame posted with a large window
+  std::vector<DataFrameIndexEntry> seen_;
+  std::unique_ptr<XXH64_state_t, HashStateDeleter> content_hash_{XXH64_createState()};
+  std::unique_ptr<XXH64_state_t, HashStateDeleter> record_hash_{XXH64_createState()};
+  std::uint64_t stream_content_hash_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<TraceReader> open_container_reader(OpenedInput opened, const ReaderOptions& options) {
+  return std::make_unique<ContainerReader>(std::move(opened), options);
+}
+
+}  // namespace nodetrace::formats::detail

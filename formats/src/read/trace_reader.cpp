@@ -1,0 +1,32 @@
+// TraceReader::open: which kind of input a trace is (FORMAT.md section 3),
+// from its first 4 bytes and, for a file, its last 20; reader_kinds.hpp has
+// a reader for each.
+#include "nodetrace/formats/read/trace_reader.hpp"
+
+#include "container/container.hpp"
+#include "container/container_footer.hpp"
+#include "read/reader_kinds.hpp"
+
+namespace nodetrace::formats {
+
+TraceReader::~TraceReader() = default;
+
+std::unique_ptr<TraceReader> TraceReader::open(const std::string& path, const ReaderOptions& options) {
+  detail::OpenedInput opened;
+  opened.name = path == "-" ? "<stdin>" : path;
+  opened.input = std::make_unique<detail::Input>(path, opened.name);
+  detail::Input& input = *opened.input;
+  if (!input.ensure(4)) return detail::open_plain_records_reader(std::move(opened), options);
+  const std::uint32_t magic = detail::load_le32(input.data());
+  std::string first_bytes(input.data(), 4);
+  if (magic != detail::kHeaderMagic && input.seekable() && detail::ends_with_container_footer(input)) {
+    detail::fail_damaged_header_magic(opened.name, first_bytes, "the file");
+  }
+  if (magic == detail::kHeaderMagic) return detail::open_container_reader(std::move(opened), options);
+  if (magic == detail::kZstdMagic || (magic & detail::kSkippableMask) == detail::kHeaderMagic) {
+    return detail::open_plain_zstd_reader(std::move(opened), options, std::move(first_bytes));
+  }
+  return detail::open_plain_records_reader(std::move(opened), options);
+}
+
+}  // namespace nodetrace::formats

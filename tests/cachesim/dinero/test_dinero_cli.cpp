@@ -1,0 +1,251 @@
+// dineroIV's command line (parse_dinero_options), its output layout beyond
+// the golden cases, and `cachesim dinero` run as a program.
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "nodetrace/cachesim/dinero/command_line.hpp"
+#include "nodetrace/base/error.hpp"
+#include "nodetrace/formats/read/trace_reader.hpp"
+#include "nodetrace/formats/write/trace_writer.hpp"
+#include "test_support.hpp"
+
+namespace nodetrace::cachesim {
+namespace {
+
+using Args = std::vector<std::string>;
+
+// The UsageError message for `args`, or "" when they parse.
+std::string usage_error(const Args& args) {
+  try {
+    parse_dinero_options(args);
+  } catch (const base::UsageError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(DineroOptions, DefaultsAppearInTheSummaryAsDineroListsThem) {
+  const DineroOptions o = parse_dinero_options({"-l1-usize", "1k", "-l1-ubsize", "16"});
+  const std::string summary = dinero_preamble(o);
+  EXPECT_NE(summary.find("-l1-usize 1024\n-l1-ubsize 16\n-l1-usbsize 16\n-l1-uassoc 1\n"
+                         "-l1-urepl l\n-l1-ufetch d\n-l1-uwalloc a\n-l1-uwback a\n"
+                         "-skipcount 0\n-flushcount 0\n-maxcount 0\n-stat-interval 0\n"
+                         "-informat D\n-on-trigger 0x0\n-off-trigger 0x0\n"),
+            std::string::npos)
+      << summary;
+  EXPECT_EQ(o.form, formats::RecordForm::ExtendedDin);
+}
+
+TEST(DineroOptions, SizesTakeDinerosSuffixes) {
+  const DineroOptions o =
+      parse_dinero_options({"-l1-dsize", "8k", "-l1-dbsize", "8", "-l2-usize", "1M", "-l2-ubsize", "64",
+                            "-l1-isize", "16K", "-l1-ibsize", "8", "-maxcount", "2k", "-informat", "d"});
+  ASSERT_EQ(o.hierarchy.levels.size(), 2u);
+  EXPECT_EQ(o.hierarchy.levels[0].data->size, 8192u);
+  EXPECT_EQ(o.hierarchy.levels[0].instruction->size, 16384u);
+  EXPECT_EQ(o.hierarchy.levels[1].unified->size, 1048576u);
+  EXPECT_EQ(o.hierarchy.max_count, 2048u);
+  EXPECT_EQ(o.form, formats::RecordForm::Din);
+}
+
+TEST(DineroOptions, ErrorsNameTheOption) {
+  const Args base{"-l1-usize", "8k", "-l1-ubsize", "16"};
+  auto with = [&](Args extra) {
+    Args args = base;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return usage_error(args);
+  };
+  EXPECT_NE(with({"-frobnicate"}).find("\"-frobnicate\" option not recognized"), std::string::npos);
+  EXPECT_NE(with({"-l1-ufetch", "a"}).find("-l1-ufetch"), std::string::npos);
+  EXPECT_NE(with({"-informat", "p"}).find("-informat"), std::string::npos);
+  EXPECT_NE(with({"-custom", "x"}).find("-custom"), std::string::npos);
+  EXPECT_NE(with({"-l1-uassoc"}).find("\"-l1-uassoc\" option requires additional argument"),
+            std::string::npos);
+  EXPECT_NE(with({"-l1-urepl", "x"}).find("replacement policy unrecognized"), std::string::npos);
+  EXPECT_NE(with({"-u", "8k"}).find("-dineroIII"), std::string::npos);
+  EXPECT_NE(usage_error({"-l1-usize", "1000", "-l1-ubsize", "16"}).find("-l1-usize arg must be power of 2"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"-l1-usize", "8k"}).find("level 1 ucache block size must be specified"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"-l1-usize", "1k", "-l1-ubsize", "16", "-l1-dsize", "1k", "-l1-dbsize", "16"})
+                .find("i or d together with u"),
+            std::string::npos);
+  EXPECT_EQ(usage_error(base), "");
+}
+
+TEST(DineroOptions, ImpossibleGeometryIsRefusedBeforeAnyInput) {
+  EXPECT_NE(usage_error({"-l1-usize", "8k", "-l1-ubsize", "16", "-l1-uassoc", "3"}).find("l1-ucache"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"-l1-usize", "64", "-l1-ubsize", "16", "-l1-uassoc", "8"})
+                .find("size < blocksize * associativity"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"-l1-usize", "1k", "-l1-ubsize", "16", "-l1-usbsize", "32"})
+                .find("sub-blocksize > blocksize"),
+            std::string::npos);
+}
+
+TEST(DineroOptions, RequestsAndTracePath) {
+  EXPECT_EQ(parse_dinero_options({"--help"}).request, DineroOptions::Request::Help);
+  EXPECT_EQ(parse_dinero_options({"-help"}).request, DineroOptions::Request::Help);
+  const DineroOptions o = parse_dinero_options({"-l1-usize", "1k", "-l1-ubsize", "16", "t.din"});
+  EXPECT_EQ(o.trace_path, "t.din");
+  EXPECT_NE(usage_error({"-l1-usize", "1k", "-l1-ubsize", "16", "a", "b"}).find("more than one trace"),
+            std::string::npos);
+}
+
+// Simulates `records` under `args` and returns dineroIV's text.
+std::string simulate(const Args& args, const std::vector<formats::Record>& records) {
+  const DineroOptions o = parse_dinero_options(args);
+  Hierarchy h(o.hierarchy);
+  h.access_batch(records, o.form);
+  h.finish();
+  return dinero_statistics(h, o);
+}
+
+formats::Record ref(formats::AccessType type, std::uint64_t address) {
+  return formats::Record{address, 4, type, formats::kTagNone};
+}
+
+TEST(DineroOutput, ThreeLevelsPrintOneTablePerCacheInLevelOrder) {
+  const std::string text =
+      simulate({"-l1-isize", "64", "-l1-ibsize", "8", "-l1-dsize", "64", "-l1-dbsize", "8", "-l2-usize",
+                "256", "-l2-ubsize", "16", "-l3-usize", "1k", "-l3-ubsize", "32", "-informat", "D"},
+               {ref(formats::AccessType::InstructionFetch, 0), ref(formats::AccessType::Read, 0x100)});
+  const auto i = text.find("l1-icache\n");
+  const auto d = text.find("l1-dcache\n");
+  const auto l2 = text.find("l2-ucache\n");
+  const auto l3 = text.find("l3-ucache\n");
+  ASSERT_NE(l3, std::string::npos) << text;
+  EXPECT_LT(i, d);
+  EXPECT_LT(d, l2);
+  EXPECT_LT(l2, l3);
+  // L3 sees the two L2 misses of 16 bytes and fetches 32 bytes for each.
+  EXPECT_NE(text.substr(l3).find(" Bytes From Memory\t          64\n"), std::string::npos) << text.substr(l3);
+}
+
+TEST(DineroOutput, IdCombineSumsTheInstructionAndDataCaches) {
+  const std::string text =
+      simulate({"-l1-isize", "64", "-l1-ibsize", "8", "-l1-dsize", "64", "-l1-dbsize", "8",
+                "-stat-idcombine", "-informat", "D"},
+               {ref(formats::AccessType::InstructionFetch, 0), ref(formats::AccessType::Read, 0x100),
+                ref(formats::AccessType::Read, 0x100)});
+  EXPECT_EQ(text.find("l1-icache"), std::string::npos);
+  EXPECT_NE(text.find("l1-I/Dcaches\n"), std::string::npos) << text;
+  EXPECT_NE(text.find(" Demand Fetches\t\t           3\t           1\t           2\t           2\t"),
+            std::string::npos)
+      << text;
+}
+
+TEST(DineroOutput, MaxCountIsReportedAsDineroDoes) {
+  std::ostringstream out, warnings;
+  const DineroOptions o = parse_dinero_options({"-l1-usize", "1k", "-l1-ubsize", "16", "-maxcount", "1"});
+  Hierarchy h(o.hierarchy);
+  const std::vector<formats::Record> records{ref(formats::AccessType::Read, 0), ref(formats::AccessType::Read, 4)};
+  EXPECT_EQ(h.access_batch(records, o.form), 1u);
+  EXPECT_TRUE(h.max_count_exceeded());
+}
+
+TEST(DineroOutput, StatIntervalPrintsIntermediateTablesAndCountsAreSummarised) {
+  const DineroOptions o = parse_dinero_options({"-l1-usize", "1k", "-l1-ubsize", "16", "-stat-interval", "2",
+                                                "-skipcount", "1", "-flushcount", "3k"});
+  const std::string preamble = dinero_preamble(o);
+  EXPECT_NE(preamble.find("-skipcount 1\n-flushcount 3072\n-maxcount 0\n-stat-interval 2\n"), std::string::npos)
+      << preamble;
+  // Five references, one skipped: tables after the 2nd and 4th simulated
+  // ones, then the final one.
+  std::string text;
+  {
+    struct Reader : formats::TraceReader {
+      std::string name = "<test>";
+      formats::TraceHeader head;
+      std::optional<formats::TraceTrailer> tail;
+      bool done = false;
+      const std::string& source_name() const override { return name; }
+      const formats::TraceHeader& header() const override { return head; }
+      formats::RecordForm form() const override { return formats::RecordForm::ExtendedDin; }
+      bool tags_are_levels() const override { return false; }
+      bool next(formats::RecordBatch& batch) override {
+        if (done) return false;
+        batch.records.assign(5, ref(formats::AccessType::Read, 0));
+        done = true;
+        return true;
+      }
+      const std::optional<formats::TraceTrailer>& trailer() const override { return tail; }
+      void seek_to_record(std::uint64_t) override {}
+    } reader;
+    std::ostringstream out, warnings;
+    run_dinero(o, reader, out, warnings);
+    text = out.str();
+  }
+  std::size_t tables = 0;
+  for (auto at = text.find("l1-ucache\n"); at != std::string::npos; at = text.find("l1-ucache\n", at + 1)) ++tables;
+  EXPECT_EQ(tables, 3u) << text;
+}
+
+TEST(DineroOutput, AContainersRecordFormDecidesDinRounding) {
+  // A din container read with -informat D: its header says din, so address 6
+  // is rounded to 4 and the reference stays in one 8-byte block.
+  testing::TempDir dir;
+  const std::string path = (dir / "t.zst").string();
+  formats::WriterOptions writer_options;
+  writer_options.form = formats::RecordForm::Din;
+  writer_options.tags_are_levels = false;
+  auto writer = formats::TraceWriter::create(path, nlohmann::json::object(), writer_options);
+  writer->write(ref(formats::AccessType::Read, 6));
+  writer->finish();
+  writer.reset();
+  const DineroOptions o = parse_dinero_options({"-l1-usize", "1k", "-l1-ubsize", "8", "-informat", "D", path});
+  auto reader = formats::TraceReader::open(o.trace_path, {});
+  std::ostringstream out, warnings;
+  run_dinero(o, *reader, out, warnings);
+  EXPECT_NE(out.str().find(" Multi-block refs                 0\n"), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find(" Demand Fetches\t\t           1\t"), std::string::npos) << out.str();
+}
+
+// --- `cachesim dinero` as a program ---------------------------------------
+
+std::string cachesim() { return testing::program("cachesim").string(); }
+
+TEST(DineroProgram, GoldenCaseFromAFileAndFromStandardInput) {
+  NODETRACE_SHARED_OR_SKIP(shared);
+  const auto dir = shared / "dinero-golden";
+  const std::string args = "-informat d -l1-dsize 8k -l1-dbsize 8 -l1-dassoc 4 -l1-drepl f";
+  const std::string expected = testing::read_file(dir / "kd1-d8k-b8-a4-fifo.out");
+  const auto from_file = testing::run_command(cachesim() + " dinero " + args + " '" +
+                                              (dir / "kd-bfl-s1.din.zst").string() + "'");
+  EXPECT_EQ(from_file.exit_code, 0) << from_file.err;
+  EXPECT_TRUE(from_file.out == expected);
+  const auto from_stdin = testing::run_command(cachesim() + " dinero " + args,
+                                               testing::read_file(dir / "kd-bfl-s1.din.zst"));
+  EXPECT_EQ(from_stdin.exit_code, 0) << from_stdin.err;
+  EXPECT_TRUE(from_stdin.out == expected);
+}
+
+TEST(DineroProgram, UsageErrorsExitTwoAndNameTheOption) {
+  const auto unknown = testing::run_command(cachesim() + " dinero -l1-usize 1k -l1-ubsize 16 -bogus", "");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("-bogus"), std::string::npos) << unknown.err;
+  const auto prefetch = testing::run_command(cachesim() + " dinero -l1-usize 1k -l1-ubsize 16 -l1-ufetch a", "");
+  EXPECT_EQ(prefetch.exit_code, 2);
+  EXPECT_NE(prefetch.err.find("-l1-ufetch"), std::string::npos) << prefetch.err;
+  EXPECT_EQ(prefetch.out, "");  // refused before any output or input
+}
+
+TEST(DineroProgram, BadTraceDataExitsOneAndNamesTheRecord) {
+  const auto bad = testing::run_command(cachesim() + " dinero -informat d -l1-usize 1k -l1-ubsize 16",
+                                        "0 10\n0 1g\n");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("record 2"), std::string::npos) << bad.err;
+}
+
+TEST(DineroProgram, HelpExitsZero) {
+  const auto help = testing::run_command(cachesim() + " dinero --help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.out.find("-lN-Tsize"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace nodetrace::cachesim

@@ -1,0 +1,271 @@
+// dinero-wrap: the Dinero IV output parser on every golden file, finding
+// Dinero IV, and run / exec end to end against `cachesim run`, with
+// `cachesim dinero` standing in for Dinero IV (and a real dineroIV when one
+// is on PATH).
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include <cstdlib>
+#include <regex>
+
+#include "nodetrace/cachesim/wrap/wrap.hpp"
+#include "nodetrace/base/error.hpp"
+#include "nodetrace/formats/write/trace_writer.hpp"
+#include "test_support.hpp"
+
+namespace nodetrace::cachesim::wrap {
+namespace {
+
+using testing::program;
+using testing::run_command;
+
+std::string quoted(const std::filesystem::path& path) { return fmt::format("'{}'", path.string()); }
+
+std::string stand_in() { return fmt::format("--dinero \"{} dinero\"", program("cachesim").string()); }
+
+TEST(WrapParser, ReadsEveryGoldenOutput) {
+  NODETRACE_SHARED_OR_SKIP(shared);
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(shared / "dinero-golden")) {
+    if (entry.path().extension() != ".out") continue;
+    ++files;
+    SCOPED_TRACE(entry.path().filename().string());
+    const std::string text = testing::read_file(entry.path());
+    const auto caches = parse_dinero_output(text);
+    ASSERT_FALSE(caches.empty());
+    // Cross-check each table against its own "Demand miss rate" row (4 decimals).
+    std::size_t from = 0;
+    for (const auto& cache : caches) {
+      EXPECT_TRUE(std::regex_match(cache.name, std::regex("l[1-5]-[uid]cache")));
+      from = text.find("\n" + cache.name + "\n", from);
+      ASSERT_NE(from, std::string::npos);
+      const auto rate_at = text.find("Demand miss rate", from);
+      ASSERT_NE(rate_at, std::string::npos);
+      const double rate = std::stod(text.substr(rate_at + 16));
+      EXPECT_GE(cache.demand_fetches, cache.demand_misses);
+      if (cache.demand_fetches > 0) {
+        EXPECT_NEAR(static_cast<double>(cache.demand_misses) / cache.demand_fetches, rate, 5e-5);
+      }
+      ++from;
+    }
+  }
+  EXPECT_GE(files, 18);
+}
+
+TEST(WrapParser, KnownNumbers) {
+  NODETRACE_SHARED_OR_SKIP(shared);
+  const auto kd = parse_dinero_output(
+      testing::read_file(shared / "dinero-golden" / "kd1-d8k-b8-a1.out"));
+  ASSERT_EQ(kd.size(), 1u);
+  EXPECT_EQ(kd[0].name, "l1-dcache");
+  EXPECT_EQ(kd[0].demand_fetches, 200000u);
+  EXPECT_EQ(kd[0].demand_misses, 39930u);
+  const auto three = parse_dinero_output(
+      testing::read_file(shared / "dinero-golden" / "mm32-i8k-d8k-u64k.out"));
+  ASSERT_EQ(three.size(), 3u);
+  EXPECT_EQ(three[0].name, "l1-icache");
+  EXPECT_EQ(three[0].demand_fetches, 188971u);
+  EXPECT_EQ(three[0].demand_misses, 563u);
+  EXPECT_EQ(three[1].name, "l1-dcache");
+  EXPECT_EQ(three[1].demand_misses, 26129u);
+  EXPECT_EQ(three[2].name, "l2-ucache");
+  EXPECT_EQ(three[2].demand_fetches, 29809u);
+  EXPECT_EQ(three[2].demand_misses, 7145u);
+}
+
+TEST(WrapParser, RejectsOutputWithoutTables) {
+  EXPECT_THROW(parse_dinero_output(""), base::FormatError);
+  EXPECT_THROW(parse_dinero_output("dineroIV: usage\n"), base::FormatError);
+  EXPECT_THROW(parse_dinero_output("l1-ucache\n Demand Fetches\t\t 10\n"), base::FormatError);
+  EXPECT_THROW(parse_dinero_output("l1-ucache\n Demand Fetches\t\t x\n Demand Misses\t\t 1\n"),
+               base::FormatError);
+}
+
+TEST(WrapCommand, SplitsCommandsWithoutAShell) {
+  EXPECT_EQ(split_command("  a  b\tc "), (std::vector<std::string>{"a", "b", "c"}));
+  EXPECT_EQ(split_command("'/my dir/cachesim' dinero \"x y\""),
+            (std::vector<std::string>{"/my dir/cachesim", "dinero", "x y"}));
+  EXPECT_EQ(split_command("a;rm -rf x"), (std::vector<std::string>{"a;rm", "-rf", "x"}));
+  EXPECT_THROW(split_command("'open"), base::UsageError);
+}
+
+TEST(WrapCommand, FindsDineroByOptionThenEnvironment) {
+  EXPECT_EQ(find_dinero(std::string("x y")), (std::vector<std::string>{"x", "y"}));
+  ::setenv("DINEROIV", "from-env --flag", 1);
+  EXPECT_EQ(find_dinero(std::nullopt), (std::vector<std::string>{"from-env", "--flag"}));
+  ::unsetenv("DINEROIV");
+  const std::string path = std::getenv("PATH") ? std::getenv("PATH") : "";
+  ::setenv("PATH", "/nonexistent", 1);
+  try {
+    find_dinero(std::nullopt);
+    ADD_FAILURE() << "expected an error";
+  } catch (const base::UsageError& error) {
+    EXPECT_NE(std::string(error.what()).find("--dinero"), std::string::npos);
+  }
+  ::setenv("PATH", path.c_str(), 1);
+}
+
+TEST(WrapCommand, NoDineroIsAClearUsageError) {
+  const auto result = run_command("env -u DINEROIV PATH=/nonexistent " +
+                                  quoted(program("dinero-wrap")) + " run x.din");
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("Dinero IV not found"), std::string::npos) << result.err;
+}
+
+TEST(WrapCommand, PerLevelIsAnErrorThatSaysWhy) {
+  NODETRACE_SHARED_OR_SKIP(shared);
+  const auto result = run_command(
+      quoted(program("dinero-wrap")) + " run " +
+      quoted(shared / "dinero-golden" / "kd-bfl-s1.din.zst") +
+      " --tags-are-levels --per-level " + stand_in());
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("Dinero IV reports no counts per node level"), std::string::npos)
+      << result.err;
+}
+
+// `dinero-wrap run` and `cachesim run` with the same options print the same CSV.
+void expect_same_csv(const std::string& dinero_option, const std::string& arguments,
+                     const std::string& input = {}) {
+  const auto ours = run_command(quoted(program("cachesim")) + " run " + arguments, input);
+  ASSERT_EQ(ours.exit_code, 0) << ours.err;
+  const auto wrapped = run_command(
+      quoted(program("dinero-wrap")) + " run " + arguments + " " + dinero_option, input);
+  ASSERT_EQ(wrapped.exit_code, 0) << wrapped.err;
+  EXPECT_EQ(wrapped.out, ours.out);
+  EXPECT_GT(ours.out.size(), 200u);
+}
+
+TEST(WrapRun, EqualsCachesimRunOnTheGoldenKdTrace) {
+  NODETRACE_SHARED_OR_SKIP(shared);
+  expect_same_csv(stand_in(),
+                  quoted(shared / "dinero-golden" / "kd-bfl-s1.din.zst") +
+                      " --size 4k,16k --assoc 1,2 --policy lru,fifo --scheme single,split "
+                      "--split-level 4,6 --high-policy retain,cache --tags-are-levels "
+                      "--format csv");
+}
+
+TEST(WrapRun, EqualsCachesimRunOnMixedRecordsAndStdin) {
+  NODETRACE_SHARED_OR_SKIP(shared);
+  const auto xdin = shared / "dinero-golden" / "mm32.xdin.zst";
+  // Standard input is the din trace; --jobs 1 runs one process per pass.
+  expect_same_csv(stand_in() + " --jobs 1",
+                  quoted(xdin) + " - --size 1k,8k --block 4,16 --assoc 1,4 --format csv",
+                  testing::read_file(shared / "dinero-golden" / "mm32.din.zst"));
+}
+
+// `trees_differ`: each frame's marker gives another tree, so K = auto differs
+// between frames.
+void write_frames(const std::filesystem::path& path, bool trees_differ = false) {
+  formats::WriterOptions options;
+  options.form = formats::RecordForm::ExtendedDin;
+  options.records_per_data_frame = 100;
+  auto writer = formats::TraceWriter::create(
+      path.string(), {{"layout", {{"name", "bfl"}, {"split_level", 3}, {"node_size", 8}}}},
+      options);
+  for (std::uint64_t frame = 0; frame < 3; ++frame) {
+    formats::AnimationFrameMarker marker;
+    marker.frame = frame;
+    marker.nodes_per_level = {1, 2, 4, 8, 16};
+    if (trees_differ && frame == 1) marker.nodes_per_level = {1, 2, 8, 8, 16};
+    if (trees_differ && frame == 2) marker.nodes_per_level = {1, 4, 4, 8, 16};
+    writer->begin_animation_frame(marker);
+    for (std::uint64_t ray = 0; ray < 300; ++ray) {
+      std::uint64_t slot = 0;
+      for (formats::Tag level = 0; level < 5; ++level) {
+        formats::Record record;
+        record.address = 0x2000 + slot * 8 + (frame == 2 ? 4 : 0);  // frame 2 spans blocks
+        record.size = 8;
+        record.tag = level;
+        writer->write(record);
+        slot = 2 * slot + 1 + (((ray * 7 + frame) >> level) & 1);
+      }
+    }
+    formats::Record triangle;
+    triangle.address = 0x900000;
+    triangle.tag = formats::kTagTriangle;
+    writer->write(triangle);
+  }
+  writer->finish();
+}
+
+TEST(WrapRun, EqualsCachesimRunOnAContainerWithFrames) {
+  testing::TempDir dir;
+  write_frames(dir / "frames.xdin.zst");
+  expect_same_csv(stand_in(), quoted(dir / "frames.xdin.zst") +
+                                  " --size 64,128 --block 8,16 --scheme single,split "
+                                  "--split-level auto,2 --high-policy retain,cache --format csv");
+  expect_same_csv(stand_in(), quoted(dir / "frames.xdin.zst") +
+                                  " --size 128 --scheme split --count-loads --format csv");
+}
+
+TEST(WrapRun, EqualsCachesimRunWhenKChangesPerAnimationFrame) {
+  testing::TempDir dir;
+  write_frames(dir / "frames.xdin.zst", true);
+  const std::string arguments = quoted(dir / "frames.xdin.zst") +
+                                " --size 64,128 --scheme split --split-level auto "
+                                "--high-policy retain,cache --format csv";
+  expect_same_csv(stand_in(), arguments);
+  // K did change between frames (cachesim run's per-frame table says so).
+  const auto ours = run_command(quoted(program("cachesim")) + " run " + arguments);
+  EXPECT_NE(ours.err.find("64-byte high cache: split level (auto) from 2 to 3 over 3 animation frames"),
+            std::string::npos)
+      << ours.err;
+  const auto wrapped = run_command(quoted(program("dinero-wrap")) + " run " + arguments + " " +
+                                   stand_in());
+  EXPECT_EQ(wrapped.err, ours.err);
+}
+
+TEST(WrapRun, PerFrameIsAskedOfCachesimRun) {
+  testing::TempDir dir;
+  write_frames(dir / "frames.xdin.zst");
+  const auto result =
+      run_command(quoted(program("dinero-wrap")) + " run " + quoted(dir / "frames.xdin.zst") +
+                  " --per-frame " + stand_in());
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("use cachesim run for the per-frame table"), std::string::npos)
+      << result.err;
+}
+
+TEST(WrapRun, HighLevelsThatDoNotFitAreAnError) {
+  testing::TempDir dir;
+  write_frames(dir / "frames.xdin.zst");
+  const auto result =
+      run_command(quoted(program("dinero-wrap")) + " run " + quoted(dir / "frames.xdin.zst") +
+                  " --size 32 --scheme split --split-level 5 " + stand_in());
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("do not fit"), std::string::npos) << result.err;
+}
+
+TEST(WrapExec, PrintsDineroOutputUnchanged) {
+  NODETRACE_SHARED_OR_SKIP(shared);
+  const auto result = run_command(
+      quoted(program("dinero-wrap")) + " exec " +
+      quoted(shared / "dinero-golden" / "kd-bfl-s1.din.zst") + " " + stand_in() +
+      " -- -l1-dsize 8k -l1-dbsize 8 -l1-dassoc 1");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.out, testing::read_file(shared / "dinero-golden" / "kd1-d8k-b8-a1.out"));
+}
+
+TEST(WrapExec, TakesNoTagsAreLevelsOption) {
+  // exec feeds addresses only, so a tag option would do nothing.
+  const auto result = run_command(quoted(program("dinero-wrap")) + " exec - --tags-are-levels " +
+                                  stand_in() + " -- -l1-dsize 8k -l1-dbsize 8");
+  EXPECT_EQ(result.exit_code, 2);
+}
+
+TEST(WrapRun, RealDineroIVWhenOnPath) {
+  NODETRACE_SHARED_OR_SKIP(shared);
+  const auto which = run_command("command -v dineroIV");
+  if (which.exit_code != 0) {
+    GTEST_SKIP() << "dineroIV is not on PATH (Dinero IV is not packaged for Debian): "
+                    "comparison with the real Dinero IV skipped";
+  }
+  expect_same_csv("--dinero dineroIV",
+                  quoted(shared / "dinero-golden" / "kd-bfl-s1.din.zst") +
+                      " --size 4k,8k,16k --assoc 1,4 --policy lru,fifo --scheme single,split "
+                      "--split-level 6 --high-policy retain,cache --tags-are-levels --format csv");
+}
+
+}  // namespace
+}  // namespace nodetrace::cachesim::wrap

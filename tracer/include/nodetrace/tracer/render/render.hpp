@@ -1,0 +1,98 @@
+// The Whitted renderer: pinhole primary rays, shadow rays to the lights,
+// mirror reflection and refraction (Snell, Fresnel, total internal
+// reflection), over a kd-tree stored in a given layout. Every traversal
+// records the node fetches it makes (docs/ARCHITECTURE.md "What a traversal fetches").
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "nodetrace/formats/record/record.hpp"
+#include "nodetrace/tracer/render/camera.hpp"
+#include "nodetrace/tracer/render/image.hpp"
+#include "nodetrace/tracer/accel/kdtree.hpp"
+#include "nodetrace/tracer/accel/layout.hpp"
+#include "nodetrace/tracer/render/pixel_order.hpp"
+#include "nodetrace/tracer/geometry/ray.hpp"
+#include "nodetrace/tracer/render/ray_kinds.hpp"
+#include "nodetrace/tracer/render/render_stats.hpp"
+#include "nodetrace/tracer/scene/scene.hpp"
+#include "nodetrace/tracer/accel/traversal.hpp"
+
+namespace nodetrace::tracer {
+
+struct RenderOptions {
+  int width = 800, height = 600;
+  int max_depth = 10;  // primary rays are depth 1; no secondary ray beyond it
+  PixelOrder pixel_order = PixelOrder::Scanline;
+  int tile_size = 8;
+  std::optional<Camera> camera;  // overrides the scene's camera
+  std::optional<float> fov_y_degrees;  // overrides the field of view of the camera used
+  unsigned threads = 0;          // 0: one per core
+  bool record = true;            // false: render only (no records made)
+  StreamSelection streams;
+  AddressMap addresses;
+  int pixels_per_chunk = 512;  // unit of parallel work (does not change the output)
+  // A chunk's records go to the sink once this many are waiting, even in the
+  // middle of a pixel, so memory does not grow with the ray tree (does not
+  // change the output; a sink call may hold one traversal more).
+  std::size_t records_per_flush = std::size_t{1} << 18;
+};
+
+class Renderer {
+ public:
+  using RecordSink = std::function<void(std::span<const formats::Record>)>;
+  using Progress = std::function<void(double fraction_done)>;
+  // A stretch [begin, end) of positions in the pixel sequence.
+  struct PixelRun {
+    std::uint64_t begin = 0, end = 0;
+  };
+  // Called with a run's number before the first of its records reach the
+  // sink (from the thread calling the sink), once per run, in order.
+  using RunStart = std::function<void(std::size_t run)>;
+
+  // Keeps references to all three; they must outlive the renderer.
+  Renderer(const Scene& scene, const KdTree& tree, const Layout& layout,
+           const RenderOptions& options);
+
+  // Renders every pixel. Records reach `sink` in the sequential order (pixel
+  // by pixel, each pixel's ray tree depth-first) whatever the thread count.
+  // `image` (optional) receives the picture.
+  RenderStats render(const RecordSink& sink, Image* image, const Progress& progress = {}) const;
+  // Renders the pixels of `runs` only (in increasing, disjoint order), the
+  // others' rays never traced; their records are those the full render
+  // makes for these pixels, in the same order.
+  RenderStats render_runs(std::span<const PixelRun> runs, const RunStart& run_start, const RecordSink& sink,
+                          Image* image, const Progress& progress = {}) const;
+
+  // One traversal each, appending its records to `records` when not null.
+  std::optional<Hit> closest_hit(const Ray& ray, float t_max, std::vector<formats::Record>* records,
+                                 RenderStats* stats) const;
+  bool occluded(const Ray& ray, float t_max, std::vector<formats::Record>* records,
+                RenderStats* stats) const;
+
+  const RayKindPlan& ray_plan() const { return plan_; }
+  const Camera& camera() const { return camera_; }
+
+ private:
+  struct Context;
+  Vec3 shade(const Ray& ray, RayKind kind, int depth, Context& context) const;
+  void render_pixel(std::uint32_t pixel, Context& context, Image* image) const;
+
+  const Scene& scene_;
+  RenderOptions options_;
+  RayKindPlan plan_;
+  Camera camera_;
+  PinholeCamera pinhole_;
+  Traversal traversal_;
+  std::vector<Vec3> face_normals_;  // unit geometric normals
+  float light_scale_ = 1;
+};
+
+}  // namespace nodetrace::tracer

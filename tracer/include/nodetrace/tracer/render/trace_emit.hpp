@@ -1,0 +1,71 @@
+// Rendering a scene source into a trace: for each animation frame, build the
+// kd-tree, lay it out, render, and write the marker and the records through
+// formats::TraceWriter with the header of docs/ARCHITECTURE.md.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "nodetrace/formats/record/record.hpp"
+#include "nodetrace/tracer/render/animation_frame_range.hpp"
+#include "nodetrace/tracer/accel/kdtree.hpp"
+#include "nodetrace/tracer/accel/layout.hpp"
+#include "nodetrace/tracer/render/render.hpp"
+#include "nodetrace/tracer/render/row_sampling.hpp"
+#include "nodetrace/tracer/scene/scene.hpp"
+
+namespace nodetrace::tracer {
+
+struct TraceJobOptions {
+  RenderOptions render;
+  KdBuildOptions build;
+  LayoutKind layout = LayoutKind::Dfl;
+  // Hybrid K: a fixed level, or derived per frame from the high cache size.
+  std::optional<std::uint32_t> split_level;
+  std::optional<std::uint64_t> high_size;
+  // Frames of the source's animation, or one instant `time` (numbered
+  // frames.first).
+  AnimationFrameRange frames;
+  std::optional<double> time;
+  // Render only sampled row bands (row_sampling.hpp); nullopt: every pixel.
+  std::optional<RowSampling> sampling;
+  std::string output;  // trace path, "-" for stdout; empty: no trace
+  bool discard_records = false;  // make the records but write none (benchmarks)
+  formats::RecordForm form = formats::RecordForm::Din;
+  int zstd_level = 3;  // compression level of the container's data frames
+  bool archive = false;  // formats::use_archive_setting instead of zstd_level
+  std::string image;  // PNG of the first frame; empty: none
+};
+
+struct AnimationFrameReport {
+  std::uint64_t frame = 0;
+  double time = 0;
+  std::uint64_t triangles = 0;
+  KdTreeStats tree;
+  std::uint32_t split_level = 0;
+  std::uint64_t bands_rendered = 0;  // sampled renders: the bands chosen in this frame
+  RenderStats render;
+};
+
+struct TraceJobResult {
+  std::vector<AnimationFrameReport> frames;
+  RenderStats total;  // seconds: sum of the frames' render times
+  nlohmann::json header;
+  RayKindPlan plan;
+};
+
+// The split level of a layout for a tree: the fixed one, or the one derived
+// from the high cache size (hybrid only; 0 for the other layouts).
+std::uint32_t layout_split_level_for(const TraceJobOptions& options, const KdTreeStats& stats);
+
+// Throws base::UsageError for options that cannot work, SceneError from the
+// source, base::IoError / FormatError from the writer. `progress` gets the
+// fraction of all frames done.
+TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& options,
+                             const Renderer::Progress& progress = {});
+
+}  // namespace nodetrace::tracer

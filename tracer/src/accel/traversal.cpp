@@ -1,0 +1,165 @@
+#include "nodetrace/tracer/accel/traversal.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+#include "accel/watertight_intersection.hpp"
+
+namespace nodetrace::tracer {
+
+using formats::Record;
+
+namespace {
+
+// Slab test with the conservative rounding of Ize (2013) so a ray grazing the
+// root box is not lost.
+bool intersect_box(const Bounds& box, const Vec3& origin, const Vec3& inverse, float& t0,
+                   float& t1) {
+  constexpr float kGrow = 1.0f + 2.0f * 3.0f * std::numeric_limits<float>::epsilon();
+  t0 = 0.0f;
+  for (int axis = 0; axis < 3; ++axis) {
+    float near = (box.lo[axis] - origin[axis]) * inverse[axis];
+    float far = (box.hi[axis] - origin[axis]) * inverse[axis];
+    if (near > far) std::swap(near, far);
+    far *= kGrow;
+    // NaN (0 * inf) leaves the bound as it was.
+    t0 = near > t0 ? near : t0;
+    t1 = far < t1 ? far : t1;
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+Traversal::Traversal(const std::vector<Triangle>& triangles, const KdTree& tree, const Layout& layout,
+                     const StreamSelection& streams, const AddressMap& addresses)
+    : triangles_(triangles), tree_(tree), streams_(streams), addresses_(addresses) {
+  const auto& slots = layout.slot_of_node;
+  const auto& nodes = tree.nodes();
+  if (slots.size() != nodes.size()) throw std::invalid_argument("layout does not match the kd-tree");
+  node_records_.resize(nodes.size());
+  compact_.resize(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const KdNode& n = nodes[i];
+    node_records_[i] = {addresses.node_base + std::uint64_t{slots[i]} * addresses.node_size,
+                        addresses.node_size, formats::AccessType::Read,
+                        static_cast<formats::Tag>(n.level)};
+    if (n.is_leaf()) {
+      compact_[i].first = n.first;
+      compact_[i].bits = (n.count << 2) | KdNode::kLeafAxis;
+    } else {
+      // Traversal finds the left child next to its parent (pre-order).
+      if (n.left != i + 1) throw std::invalid_argument("kd-tree nodes are not in pre-order");
+      compact_[i].split = n.split;
+      compact_[i].bits = (n.right << 2) | n.axis;
+    }
+  }
+}
+
+template <bool AnyHit>
+bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records,
+                         RenderStats* stats) const {
+  if (compact_.empty() || tree_.bounds().empty()) return false;
+  // A ray with a non-finite or zero part meets nothing: without this its
+  // NaN comparisons would send it to every node of the tree.
+  const auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (!finite(ray.origin) || !finite(ray.direction) || ray.direction == Vec3{}) return false;
+  const Vec3 inverse{1.0f / ray.direction.x, 1.0f / ray.direction.y, 1.0f / ray.direction.z};
+  float t_min = 0, t_far = t_max;
+  if (!intersect_box(tree_.bounds(), ray.origin, inverse, t_min, t_far)) return false;
+
+  const detail::ShearedRay sheared(ray);
+  const auto& primitives = tree_.primitives();
+  const auto& map = addresses_;
+  const bool record_nodes = records && streams_.nodes;
+  struct Pending {
+    std::uint32_t node;
+    float t_min, t_max;
+  };
+  Pending stack[kMaxLevelLimit + 2];
+  int top = 0;
+  std::uint32_t node_index = 0;
+  float best = t_max;
+  bool found = false;
+  std::uint64_t fetches = 0, leaves = 0, tests = 0;
+
+  while (true) {
+    const CompactNode node = compact_[node_index];
+    ++fetches;
+    if (record_nodes) records->push_back(node_records_[node_index]);
+    const std::uint32_t axis = node.bits & 3u;
+    if (axis != KdNode::kLeafAxis) {
+      const float o = ray.origin[static_cast<int>(axis)];
+      const float t_split = (node.split - o) * inverse[static_cast<int>(axis)];
+      const bool below_first = o < node.split || (o == node.split && ray.direction[static_cast<int>(axis)] <= 0);
+      const std::uint32_t left = node_index + 1, right = node.bits >> 2;
+      const std::uint32_t first = below_first ? left : right;
+      const std::uint32_t second = below_first ? right : left;
+      if (t_split > t_far || t_split <= 0) {
+        node_index = first;
+      } else if (t_split < t_min) {
+        node_index = second;
+      } else {
+        stack[top++] = {second, t_split, t_far};
+        node_index = first;
+        t_far = t_split;
+      }
+      continue;
+    }
+    ++leaves;
+    const std::uint32_t count = node.bits >> 2;
+    for (std::uint32_t i = 0; i < count; ++i) {
+      const std::uint32_t slot = node.first + i;
+      const std::uint32_t id = primitives[slot];
+      if (records && streams_.lists) {
+        records->push_back({map.list_base + std::uint64_t{slot} * map.list_entry_size,
+                            map.list_entry_size, formats::AccessType::Read,
+                            formats::kTagPrimitiveList});
+      }
+      if (records && streams_.triangles) {
+        records->push_back({map.triangle_base + std::uint64_t{id} * map.triangle_size,
+                            map.triangle_size, formats::AccessType::Read, formats::kTagTriangle});
+      }
+      ++tests;
+      if (detail::intersect_sheared(sheared, triangles_[id], best, hit)) {
+        best = hit.t;
+        hit.triangle = id;
+        found = true;
+        if constexpr (AnyHit) break;
+      }
+    }
+    if constexpr (AnyHit) {
+      if (found) break;
+    }
+    // The closest hit so far is final once it lies within this leaf's span;
+    // a hit found past the span is kept (clipping rounding), not discarded.
+    if (found && best <= t_far) break;
+    if (top == 0) break;
+    const Pending next = stack[--top];
+    if (found && best < next.t_min) break;
+    node_index = next.node;
+    t_min = next.t_min;
+    t_far = next.t_max;
+  }
+  if (stats) {
+    stats->node_fetches += fetches;
+    stats->leaf_visits += leaves;
+    stats->triangle_tests += tests;
+  }
+  return found;
+}
+
+bool Traversal::closest_hit(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records,
+                            RenderStats* stats) const {
+  return traverse<false>(ray, t_max, hit, records, stats);
+}
+
+bool Traversal::any_hit(const Ray& ray, float t_max, std::vector<Record>* records, RenderStats* stats) const {
+  Hit hit;
+  return traverse<true>(ray, t_max, hit, records, stats);
+}
+
+}  // namespace nodetrace::tracer

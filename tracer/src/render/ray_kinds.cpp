@@ -1,0 +1,43 @@
+#include "nodetrace/tracer/render/ray_kinds.hpp"
+
+#include <vector>
+
+namespace nodetrace::tracer {
+
+std::string_view ray_kind_name(RayKind kind) {
+  switch (kind) {
+    case RayKind::Primary: return "primary";
+    case RayKind::Shadow: return "shadow";
+    case RayKind::Reflection: return "reflection";
+    case RayKind::Refraction: return "refraction";
+  }
+  return "primary";
+}
+
+RayKindPlan plan_ray_kinds(const Scene& scene, int max_depth) {
+  RayKindPlan plan;
+  plan.cast[0] = true;
+  bool reflects = false, transmits = false;
+  // Only the materials some triangle uses count.
+  std::vector<bool> used(scene.materials.size(), false);
+  for (const auto& t : scene.triangles) {
+    if (t.material < used.size()) used[t.material] = true;
+  }
+  for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+    if (!used[i]) continue;
+    const Material& m = scene.materials[i];
+    reflects = reflects || m.reflectance > 0 || m.transmittance > 0;  // Fresnel and TIR reflect too
+    transmits = transmits || m.transmittance > 0;
+  }
+  plan.cast[1] = !scene.lights.empty();
+  if (!plan.cast[1]) plan.why_not[1] = "scene has no light";
+  plan.cast[2] = reflects && max_depth > 1;
+  if (!plan.cast[2]) {
+    plan.why_not[2] = !reflects ? "no material reflects or transmits" : "max_depth is 1";
+  }
+  plan.cast[3] = transmits && max_depth > 1;
+  if (!plan.cast[3]) plan.why_not[3] = !transmits ? "no material transmits" : "max_depth is 1";
+  return plan;
+}
+
+}  // namespace nodetrace::tracer

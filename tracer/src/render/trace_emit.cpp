@@ -1,0 +1,283 @@
+#include "nodetrace/tracer/render/trace_emit.hpp"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cstdlib>
+#include <memory>
+
+#include "nodetrace/base/error.hpp"
+#include "nodetrace/formats/container/metadata.hpp"
+#include "nodetrace/base/split_level.hpp"
+#include "nodetrace/formats/write/trace_writer.hpp"
+
+namespace nodetrace::tracer {
+
+namespace {
+
+// A float as the double with the same shortest decimal form (0.2f -> 0.2, not
+// 0.20000000298023224), so headers read as they were typed.
+double shortest(float value) {
+  char text[32];
+  const auto [end, error] = std::to_chars(text, text + sizeof text, value);
+  (void)error;
+  return std::strtod(std::string(text, end).c_str(), nullptr);
+}
+
+nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
+                           const TraceJobOptions& options, std::uint32_t split_level,
+                           const RayKindPlan& plan, std::uint64_t frame_count) {
+  const RenderOptions& r = options.render;
+  nlohmann::json header;
+  header["producer"] = {{"tool", "tracer"}, {"version", NODETRACE_VERSION}};
+  header["scene"] = {{"name", source.name()},
+                     {"hash", source.content_hash()},
+                     {"triangles", first_scene.triangles.size()}};
+  nlohmann::json render = {{"width", r.width},
+                           {"height", r.height},
+                           {"max_depth", r.max_depth},
+                           {"pixel_order", pixel_order_name(r.pixel_order)},
+                           {"frames", frame_count},
+                           {"first_frame", options.frames.first}};
+  if (options.frames.step != 1) render["frame_step"] = options.frames.step;
+  if (r.pixel_order == PixelOrder::Tiled) render["tile_size"] = r.tile_size;
+  if (options.time) render["time"] = *options.time;
+  if (r.camera) {
+    const Camera& c = *r.camera;
+    render["camera"] = {{"eye", {shortest(c.eye.x), shortest(c.eye.y), shortest(c.eye.z)}},
+                        {"look_at", {shortest(c.look_at.x), shortest(c.look_at.y), shortest(c.look_at.z)}},
+                        {"up", {shortest(c.up.x), shortest(c.up.y), shortest(c.up.z)}},
+                        {"fov", shortest(c.fov_y_degrees)}};
+  }
+  if (r.fov_y_degrees) render["fov"] = shortest(*r.fov_y_degrees);
+  header["render"] = render;
+  nlohmann::json layout = {{"name", layout_name(options.layout)},
+                           {"node_size", r.addresses.node_size},
+                           {"node_base", r.addresses.node_base}};
+  // Only the hybrid layout has a BFL top part: a split level written for the
+  // others would make simulators compare their K against a meaningless 0.
+  if (options.layout == LayoutKind::Hybrid) {
+    layout["split_level"] = split_level;
+    if (options.high_size) layout["high_size"] = *options.high_size;
+  }
+  header["layout"] = layout;
+  header["kdtree"] = {{"traversal_cost", shortest(options.build.traversal_cost)},
+                      {"intersection_cost", shortest(options.build.intersection_cost)},
+                      {"empty_bonus", shortest(options.build.empty_bonus)},
+                      {"max_depth", options.build.max_depth}};
+  nlohmann::json cast = nlohmann::json::array();
+  nlohmann::json left_out = nlohmann::json::object();
+  for (int k = 0; k < kRayKindCount; ++k) {
+    const std::string name(ray_kind_name(static_cast<RayKind>(k)));
+    if (plan.cast[k]) {
+      cast.push_back(name);
+    } else {
+      left_out[name] = plan.why_not[k];
+    }
+  }
+  header["rays"] = {{"cast", cast}, {"left_out", left_out}};
+  // A light behind the surface lights nothing there, so it gets no ray.
+  if (plan.casts(RayKind::Shadow)) header["rays"]["shadow"] = "one per light in front of the surface hit";
+  nlohmann::json streams = nlohmann::json::array();
+  if (r.streams.nodes) streams.push_back("nodes");
+  if (r.streams.lists) streams.push_back("lists");
+  if (r.streams.triangles) streams.push_back("triangles");
+  header["streams"] = {{"kinds", streams}};
+  if (r.streams.lists) {
+    header["streams"]["list_base"] = r.addresses.list_base;
+    header["streams"]["list_entry_size"] = r.addresses.list_entry_size;
+  }
+  if (r.streams.triangles) {
+    header["streams"]["triangle_base"] = r.addresses.triangle_base;
+    header["streams"]["triangle_size"] = r.addresses.triangle_size;
+  }
+  if (options.sampling) {
+    const RowSampling& sampling = *options.sampling;
+    formats::SamplingInfo info;
+    info.method = "rows";
+    info.every = sampling.every;
+    info.band_height = sampling.band_height;
+    info.seed = sampling.seed;
+    info.bands = band_count(r.height, sampling.band_height);
+    // A band is a run of band_height x width positions of the pixel sequence
+    // (row_sampling.hpp): whole rows in scanline order.
+    info.extra = {{"band_pixels", std::uint64_t(sampling.band_height) * std::uint64_t(r.width)}};
+    header["sampling"] = info.to_json();
+  }
+  return header;
+}
+
+// The window marker of a sampled band: its number among the image's bands,
+// its pixel-sequence positions, and its rows when it is whole rows.
+formats::WindowMarker window_marker(const TraceJobOptions& options, const SampledBand& band, std::uint64_t frame) {
+  const RenderOptions& r = options.render;
+  formats::WindowMarker marker;
+  marker.window = band.band;
+  marker.frame = frame;
+  marker.extra = {{"pixels", {band.first_pixel, band.end_pixel}}};
+  std::uint64_t first_row = 0, end_row = 0;
+  if (band_rows(*options.sampling, r.pixel_order, r.tile_size, r.width, r.height, band, first_row, end_row)) {
+    marker.extra["rows"] = {first_row, end_row};
+  }
+  return marker;
+}
+
+}  // namespace
+
+std::uint32_t layout_split_level_for(const TraceJobOptions& options, const KdTreeStats& stats) {
+  if (options.layout != LayoutKind::Hybrid) return 0;
+  if (options.split_level) return *options.split_level;
+  if (options.high_size) {
+    return base::split_level_for_capacity(
+        stats.nodes_per_level, base::LevelPlacement::contiguous_bytes(options.render.addresses.node_size),
+        *options.high_size);
+  }
+  throw base::UsageError("the hybrid layout needs --split-level K or --high-size SIZE");
+}
+
+namespace {
+
+// A stream's addresses, base + i * size for i < count, must not wrap past
+// 2^64 - 1: a wrapped address would alias the bottom of the address space.
+void check_address_range(const char* option, std::uint64_t base, std::uint64_t count, std::uint64_t size,
+                         const char* what) {
+  if (count == 0) return;
+  const std::uint64_t top = ~std::uint64_t{0};
+  if (count > top / size || count * size - 1 > top - base) {
+    throw base::UsageError(fmt::format("{} {:#x}: the {} {} of {} bytes would run past the 64-bit address "
+                                          "space (the base can be at most {:#x})",
+                                          option, base, count, what, size,
+                                          count > top / size ? 0 : top - (count * size - 1)));
+  }
+}
+
+}  // namespace
+
+TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& options,
+                             const Renderer::Progress& progress) {
+  const RenderOptions& r = options.render;
+  if (r.width <= 0 || r.height <= 0) throw base::UsageError("width and height must be positive");
+  if (r.max_depth < 1) throw base::UsageError("--max-depth must be at least 1");
+  if (options.sampling && (options.sampling->every == 0 || options.sampling->band_height == 0)) {
+    throw base::UsageError("--sample-rows and --band-height must be at least 1");
+  }
+  if (r.addresses.node_size == 0) throw base::UsageError("--node-size must be positive");
+  if (!r.streams.nodes && !r.streams.lists && !r.streams.triangles) {
+    throw base::UsageError("--streams selects no stream");
+  }
+  if (options.layout == LayoutKind::Hybrid && !options.split_level && !options.high_size) {
+    throw base::UsageError("the hybrid layout needs --split-level K or --high-size SIZE");
+  }
+  const Animation& animation = source.animation();
+  std::vector<std::pair<std::uint64_t, double>> frames;
+  if (options.time) {
+    frames.emplace_back(options.frames.first, *options.time);
+  } else {
+    check_frame_range(options.frames, animation.frames, source.name());
+    for (const auto f : options.frames.frames()) frames.emplace_back(f, animation.time_of_frame(f));
+  }
+
+  TraceJobResult result;
+  std::unique_ptr<formats::TraceWriter> writer;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const auto [frame, time] = frames[i];
+    const Scene scene = source.at_time(time);
+    const KdTree tree = KdTree::build(scene.triangles, options.build);
+    AnimationFrameReport report;
+    report.frame = frame;
+    report.time = time;
+    report.triangles = scene.triangles.size();
+    report.tree = tree.stats();
+    report.split_level = layout_split_level_for(options, tree.stats());
+    check_address_range("--node-base", r.addresses.node_base, tree.stats().nodes, r.addresses.node_size, "nodes");
+    if (r.streams.lists) {
+      check_address_range("--list-base", r.addresses.list_base, tree.stats().primitive_references,
+                          r.addresses.list_entry_size, "list entries");
+    }
+    if (r.streams.triangles) {
+      check_address_range("--triangle-base", r.addresses.triangle_base, scene.triangles.size(),
+                          r.addresses.triangle_size, "triangles");
+    }
+    const Layout layout = make_layout(tree, options.layout, report.split_level);
+    RenderOptions options_for_frame = r;
+    // Records are made for a trace file, or for --discard-records to drop.
+    options_for_frame.record = !options.output.empty() || options.discard_records;
+    const Renderer renderer(scene, tree, layout, options_for_frame);
+
+    if (i == 0) {
+      result.plan = renderer.ray_plan();
+      result.header = make_header(source, scene, options, report.split_level, result.plan, frames.size());
+      if (!options.output.empty()) {
+        formats::WriterOptions writer_options;
+        writer_options.form = options.form;
+        writer_options.threads = r.threads;
+        writer_options.zstd_level = options.zstd_level;
+        if (options.archive) formats::use_archive_setting(writer_options);
+        // Wider addresses only when some stream can reach past 32 bits.
+        const std::uint64_t node_end =
+            r.addresses.node_base + 4 * tree.stats().nodes * std::uint64_t{r.addresses.node_size};
+        const bool wide = node_end > 0xFFFFFFFFull ||
+                          (r.streams.lists && r.addresses.list_base > 0xC0000000ull) ||
+                          (r.streams.triangles && r.addresses.triangle_base > 0xC0000000ull);
+        writer_options.address_digits = wide ? 16 : 8;
+        writer = formats::TraceWriter::create(options.output, result.header, writer_options);
+      }
+    }
+    if (writer) {
+      formats::AnimationFrameMarker marker;
+      marker.frame = frame;
+      marker.time = time;
+      marker.nodes_per_level = tree.stats().nodes_per_level;
+      marker.nodes = tree.stats().nodes;
+      marker.leaves = tree.stats().leaves;
+      marker.depth = tree.stats().depth;
+      marker.extra = {{"triangles", scene.triangles.size()},
+                      {"empty_leaves", tree.stats().empty_leaves}};
+      if (options.layout == LayoutKind::Hybrid) marker.extra["split_level"] = report.split_level;
+      writer->begin_animation_frame(marker);
+    }
+    Image image;
+    const bool want_image = i == 0 && !options.image.empty();
+    const double done = double(i), count = double(frames.size());
+    Renderer::Progress frame_progress;
+    if (progress) frame_progress = [&](double f) { progress((done + f) / count); };
+    Renderer::RecordSink sink;
+    if (writer) sink = [&](std::span<const formats::Record> records) { writer->write(records); };
+    if (options.discard_records) sink = [](std::span<const formats::Record>) {};
+    if (options.sampling) {
+      // Only the chosen bands are rendered; each begins a sample window.
+      const std::vector<SampledBand> bands = choose_bands(*options.sampling, frame, r.width, r.height);
+      report.bands_rendered = bands.size();
+      std::vector<Renderer::PixelRun> runs;
+      for (const auto& band : bands) runs.push_back({band.first_pixel, band.end_pixel});
+      Renderer::RunStart begin_window;
+      if (writer) {
+        // An init-capture: clang's lambdas cannot capture the structured binding itself.
+        begin_window = [&, frame_number = frame](std::size_t run) {
+          writer->begin_window(window_marker(options, bands[run], frame_number));
+        };
+      }
+      report.render = renderer.render_runs(runs, begin_window, sink, want_image ? &image : nullptr, frame_progress);
+    } else {
+      report.render = renderer.render(sink, want_image ? &image : nullptr, frame_progress);
+    }
+    if (want_image) write_png(image, options.image);
+    result.total += report.render;
+    result.total.seconds += report.render.seconds;
+    result.frames.push_back(std::move(report));
+  }
+  if (writer) {
+    nlohmann::json rays = nlohmann::json::object();
+    for (int k = 0; k < kRayKindCount; ++k) {
+      rays[std::string(ray_kind_name(static_cast<RayKind>(k)))] = result.total.rays[k];
+    }
+    writer->add_totals({{"rays", rays},
+                        {"node_fetches", result.total.node_fetches},
+                        {"leaf_visits", result.total.leaf_visits},
+                        {"triangle_tests", result.total.triangle_tests}});
+    writer->finish();
+  }
+  return result;
+}
+
+}  // namespace nodetrace::tracer

@@ -1,0 +1,80 @@
+// open_scene: dispatch a scene spec to the OBJ, AFF or built-in loader.
+#include "nodetrace/tracer/scene/scene_loader.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "scene/scene_internal.hpp"
+
+namespace nodetrace::tracer {
+
+namespace detail {
+
+std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t state) {
+  for (const unsigned char byte : bytes) {
+    state ^= byte;
+    state *= 0x100000001b3ULL;
+  }
+  return state;
+}
+
+std::string format_hash(std::uint64_t hash) {
+  char text[32];
+  std::snprintf(text, sizeof text, "fnv1a64:%016llx", static_cast<unsigned long long>(hash));
+  return text;
+}
+
+std::string read_scene_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path.string() + ": cannot open scene file");
+  std::ostringstream contents;
+  contents << in.rdbuf();
+  if (in.bad()) throw SceneError(path.string() + ": read error");
+  return std::move(contents).str();
+}
+
+}  // namespace detail
+
+namespace {
+
+std::string lowercase_extension(const std::string& spec) {
+  std::string extension = std::filesystem::path(spec).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+}  // namespace
+
+std::unique_ptr<SceneSource> open_scene(const std::string& spec, const SceneLoadOptions& options) {
+  const std::string extension = lowercase_extension(spec);
+  if (extension == ".obj") return detail::open_obj(spec);
+  if (extension == ".aff") return detail::open_aff(spec);
+
+  std::string name = spec;
+  std::optional<int> size;
+  if (options.builtin_size != 0) size = options.builtin_size;
+  if (const auto colon = spec.find(':'); colon != std::string::npos) {
+    name = spec.substr(0, colon);
+    const std::string size_text = spec.substr(colon + 1);
+    size.emplace();
+    const auto [end, error] = std::from_chars(size_text.data(), size_text.data() + size_text.size(), *size);
+    if (error != std::errc() || end != size_text.data() + size_text.size() || size_text.empty()) {
+      throw SceneError("scene '" + spec + "': expected NAME:SIZE with an integer size, got '" +
+                       size_text + "'");
+    }
+  }
+  if (detail::is_builtin_name(name)) return detail::open_builtin(name, size);
+  if (std::filesystem::exists(spec)) {
+    throw SceneError(spec + ": unsupported scene file type '" + extension +
+                     "' (expected .obj or .aff)");
+  }
+  throw SceneError("scene '" + spec + "': no such file, and not a built-in scene (built-in: " +
+                   detail::builtin_names() + ")");
+}
+
+}  // namespace nodetrace::tracer
