@@ -4,6 +4,7 @@
 #include "codec/fixed_width_lines.hpp"
 #include "codec/record_codec.hpp"
 #include "codec/text_fields.hpp"
+#include "codec/variable_width_lines.hpp"
 
 namespace nodetrace::formats::detail {
 namespace {
@@ -43,7 +44,8 @@ bool parse_din_records(std::string_view bytes, const ParseSettings& settings, st
   bool tagged = false;
   const FastParser fast =
       bytes.empty() ? nullptr : choose_fast_parser<false>(bytes.data(), bytes.data() + bytes.size(), settings, tagged);
-  return parse_text_lines(bytes, settings, fast, tagged, &parse_din_line, out, error, ignored_fields);
+  return parse_text_lines(bytes, settings, fast, tagged, &variable_width_lines<false>, &parse_din_line, out, error,
+                          ignored_fields);
 }
 
 void format_din_records(std::span<const Record> records, unsigned address_digits, ByteBuffer& out,

@@ -108,14 +108,13 @@ bool read_line_rest(const char* p, const char* end, const ParseSettings& setting
 }
 
 bool parse_text_lines(std::string_view bytes, const ParseSettings& settings, FastParser fast, bool fast_tagged,
-                      LineParser line, std::vector<Record>& out, RecordError& error, std::uint64_t& ignored_fields) {
+                      VariableParser variable, LineParser line, std::vector<Record>& out, RecordError& error,
+                      std::uint64_t& ignored_fields) {
   const char* p = bytes.data();
   const char* const end = p + bytes.size();
   const std::size_t first = out.size();
   const bool fast_ignores_tags = fast_tagged && !settings.tags_are_levels;
-  if (fast) {
-    out.reserve(out.size() + bytes.size() / 11 + 1);
-  }
+  out.reserve(out.size() + bytes.size() / 11 + 1);
   while (p < end) {
     if (fast) {
       const std::size_t before = out.size();
@@ -123,7 +122,9 @@ bool parse_text_lines(std::string_view bytes, const ParseSettings& settings, Fas
       if (fast_ignores_tags) ignored_fields += out.size() - before;
       if (p == end) break;
     }
-    // One line the fast path did not take.
+    p += variable(p, end, settings.tags_are_levels, out, ignored_fields);
+    if (p == end) break;
+    // One line the fast paths did not take.
     const char* newline = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
     const char* line_end = newline ? newline : end;
     Record record;

@@ -78,14 +78,20 @@ bool read_line_rest(const char* p, const char* end, const ParseSettings& setting
 // A fast parser of a run of lines of one layout (fixed_width_lines.hpp): returns
 // the bytes of the whole lines it took, stopping at the first other line.
 using FastParser = std::size_t (*)(const char*, const char*, bool, std::vector<Record>&);
+// The fast parser of lines with fields of any width (variable_width_lines.hpp):
+// returns the bytes of the whole lines it took and counts the lines whose
+// ignored fields it dropped.
+using VariableParser = std::size_t (*)(const char*, const char*, bool, std::vector<Record>&, std::uint64_t&);
 // The general parser of one line (without its newline).
 using LineParser = bool (*)(const char*, const char*, const ParseSettings&, Record&, std::string&, bool&);
 
 // Parses text records: runs of lines through `fast` (when not nullptr; its
-// lines carry a tag field when `fast_tagged`), every other line through
-// `line`. The contract of parse_records (record_codec.hpp).
+// lines carry a tag field when `fast_tagged`), then through `variable`,
+// every other line through `line`. The contract of parse_records
+// (record_codec.hpp).
 bool parse_text_lines(std::string_view bytes, const ParseSettings& settings, FastParser fast, bool fast_tagged,
-                      LineParser line, std::vector<Record>& out, RecordError& error, std::uint64_t& ignored_fields);
+                      VariableParser variable, LineParser line, std::vector<Record>& out, RecordError& error,
+                      std::uint64_t& ignored_fields);
 
 inline char* put_hex(char* out, std::uint64_t value, unsigned min_digits) {
   unsigned digits = min_digits;

@@ -5,6 +5,7 @@
 #include "codec/fixed_width_lines.hpp"
 #include "codec/record_codec.hpp"
 #include "codec/text_fields.hpp"
+#include "codec/variable_width_lines.hpp"
 
 namespace nodetrace::formats::detail {
 namespace {
@@ -64,7 +65,8 @@ bool parse_xdin_records(std::string_view bytes, const ParseSettings& settings, s
   bool tagged = false;
   const FastParser fast =
       bytes.empty() ? nullptr : choose_fast_parser<true>(bytes.data(), bytes.data() + bytes.size(), settings, tagged);
-  return parse_text_lines(bytes, settings, fast, tagged, &parse_xdin_line, out, error, ignored_fields);
+  return parse_text_lines(bytes, settings, fast, tagged, &variable_width_lines<true>, &parse_xdin_line, out, error,
+                          ignored_fields);
 }
 
 void format_xdin_records(std::span<const Record> records, unsigned address_digits, ByteBuffer& out,
