@@ -5,7 +5,8 @@
 # scenes. Medians of --runs runs; each run is one `tracer render`. Then, for
 # the BART scenes, the same ratio for the whole command (wall and CPU user +
 # sys of `tracer render ... --high-size 4k` with and without -o, runs
-# alternating), with peak RSS.
+# alternating), with peak RSS; last, primary rays per second against Embree
+# where libembree-dev is installed (a benchmark-only reference).
 #   scripts/bench-tracer.sh [--build-dir build] [--runs 3] [--width 400 --height 300]
 #                           [--max-depth 10] [--threads N] [--scenes "a b c"]
 set -euo pipefail
@@ -21,7 +22,7 @@ while [ $# -gt 0 ]; do
     --max-depth) max_depth="$2"; shift 2 ;;
     --threads) threads="$2"; shift 2 ;;
     --scenes) scenes="$2"; shift 2 ;;
-    -h|--help) sed -n '2,11p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
     *) echo "bench-tracer.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -135,3 +136,19 @@ for bart in robots/Robot.aff kitchen/kitchen.aff; do
 done
 echo "render: tracer render without -o (nothing recorded); traced: with -o T.din.zst; cpu = user + sys;"
 echo "ratios traced / render (target <= 2.0 in wall and CPU time)"
+
+# Primary rays against Embree's rtcIntersect1 (a benchmark-only reference,
+# where libembree-dev is installed): the same rays and triangles, one thread
+# each, nothing recorded.
+if ! dpkg-query -W -f='${Status}' libembree-dev 2>/dev/null | grep -q "install ok installed"; then
+  echo "bench-tracer: Embree reference: libembree-dev is not installed (apt-get install libembree-dev): skipped"
+  exit 0
+fi
+cmake -S . -B "$build_dir" >/dev/null
+cmake --build "$build_dir" --target primary_rays_bench >/dev/null
+echo "primary rays, ${width}x${height}, kd-tree traversal against Embree, one thread each, medians of $runs run(s); load average $(cut -d' ' -f1 /proc/loadavg)"
+for bart in robots/Robot.aff kitchen/kitchen.aff; do
+  [ -f "$shared/$bart" ] || continue
+  "$build_dir/bin/primary_rays_bench" "$shared/$bart" --width "$width" --height "$height" --runs "$runs"
+done
+echo "ratio = kd-tree rays/s / Embree rays/s (target >= 0.6); same_first_hit: rays whose first hit is the same triangle"
