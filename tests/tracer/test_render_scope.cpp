@@ -12,6 +12,7 @@
 #include "nodetrace/tracer/layout.hpp"
 #include "nodetrace/tracer/render.hpp"
 #include "test_render_scenes.hpp"
+#include "test_support.hpp"
 
 namespace nodetrace::tracer {
 namespace {
@@ -171,6 +172,36 @@ TEST(KdLeafSizeTest, SplitsOnlyNodesOfMoreTrianglesAndIsTheDefaultTreeCutThere) 
       got.emplace_back(node.level, node.axis, node.is_leaf() ? float(triangles_below(tree, i).size()) : node.split);
     }
     EXPECT_TRUE(got == expected) << "leaf size " << leaf_size;
+  }
+}
+
+// The defaults spelled out are the defaults: the same trace, byte for byte,
+// and the header names none of the new options.
+TEST(RenderScopeCliTest, ExplicitDefaultsGiveTheSameTraceBytes) {
+  testing::TempDir dir;
+  const std::string tracer = testing::shell_quoted(testing::program("tracer"));
+  const std::string base = tracer + " render mountain:6 --width 24 --height 18 -q --high-size 1k -o ";
+  const auto plain = testing::run_command(base + testing::shell_quoted(dir / "plain.din.zst"));
+  const auto spelled = testing::run_command(base + testing::shell_quoted(dir / "spelled.din.zst") +
+                                            " --rays whitted --lights all --leaf-size 0");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  ASSERT_EQ(spelled.exit_code, 0) << spelled.err;
+  const std::string bytes = testing::read_file(dir / "plain.din.zst");
+  EXPECT_TRUE(bytes == testing::read_file(dir / "spelled.din.zst"));
+  const auto info = testing::run_command(tracer + " render mountain:6 --width 24 --height 18 -q --high-size 1k -o " +
+                                         testing::shell_quoted(dir / "narrow.din.zst") +
+                                         " --rays primary+shadow --lights first --leaf-size 3");
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  const auto header = testing::run_command(testing::shell_quoted(testing::program("tracetool")) +
+                                           " info --format json " + testing::shell_quoted(dir / "narrow.din.zst"));
+  ASSERT_EQ(header.exit_code, 0) << header.err;
+  for (const std::string field : {"\"rays\": \"primary+shadow\"", "\"lights\": \"first\"", "\"leaf_size\": 3"}) {
+    EXPECT_NE(header.out.find(field), std::string::npos) << field << " in " << header.out;
+  }
+  const auto plain_header = testing::run_command(testing::shell_quoted(testing::program("tracetool")) +
+                                                 " info --format json " + testing::shell_quoted(dir / "plain.din.zst"));
+  for (const std::string field : {"\"lights\"", "\"leaf_size\""}) {
+    EXPECT_EQ(plain_header.out.find(field), std::string::npos) << field << " in " << plain_header.out;
   }
 }
 
