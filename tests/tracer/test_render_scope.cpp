@@ -5,6 +5,7 @@
 
 #include <limits>
 #include <set>
+#include <tuple>
 
 #include "nodetrace/tracer/camera.hpp"
 #include "nodetrace/tracer/interaction.hpp"
@@ -163,7 +164,9 @@ TEST(KdLeafSizeTest, SplitsOnlyNodesOfMoreTrianglesAndIsTheDefaultTreeCutThere) 
     const KdTree tree = KdTree::build(scene.triangles, options);
     EXPECT_LT(tree.nodes().size(), plain.nodes().size()) << leaf_size;
     for (std::uint32_t i = 0; i < tree.nodes().size(); ++i) {
-      if (!tree.nodes()[i].is_leaf()) EXPECT_GT(triangles_below(tree, i).size(), leaf_size) << "node " << i;
+      if (!tree.nodes()[i].is_leaf()) {
+        EXPECT_GT(triangles_below(tree, i).size(), leaf_size) << "node " << i;
+      }
     }
     std::vector<std::tuple<int, int, float>> expected, got;
     pruned(plain, 0, leaf_size, expected);
