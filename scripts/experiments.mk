@@ -258,9 +258,15 @@ sim_files = $(filter %.csv,$(subst =, ,$(subst ;, ,$1)))
 
 # A target's manifest: one line KIND;key=value;... per word of $($1_lines),
 # the file rewritten only when its content changed.
+# Written by make itself ($(file)): a study's lines can exceed what one
+# shell command line may hold.
+define newline
+
+
+endef
 define manifest_rule
 $(OUT)/$1/manifest.txt: FORCE | $(OUT)/$1/.dir
-	@printf '%s\n' $$(foreach line,$$($1_lines),'$$(line)') > $$@.tmp
+	@$$(file >$$@.tmp,$$(subst $$(newline)$$(space),$$(newline),$$(foreach line,$$($1_lines),$$(line)$$(newline))))
 	@if cmp -s $$@.tmp $$@; then rm -f $$@.tmp; else mv -f $$@.tmp $$@; fi
 endef
 
