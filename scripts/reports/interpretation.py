@@ -110,17 +110,37 @@ def score(records):
     return summary
 
 
+def same_numbers(entry):
+    """What two readings with the same miss ratios in every cell share (e.g.
+    'each' and 'highk' at a fixed K: the retained high levels never miss)."""
+    return tuple((r["scene"], r["size_row"], r["without_ours"], r["with_ours"]) for r in entry["_cells"])
+
+
+def distinct(summary):
+    """The readings in rank order, each with the better-ranked reading whose
+    numbers it repeats (None when its numbers are its own)."""
+    seen = {}
+    out = []
+    for s in summary:
+        key = same_numbers(s)
+        out.append((s, seen.get(key)))
+        seen.setdefault(key, s["interp"])
+    return out
+
+
 def public(entry):
     return {k: v for k, v in entry.items() if not k.startswith("_")}
 
 
-def ranking_table(summary, default_word, limit=None, with_all=False):
+def ranking_table(summary, default_word, limit=None, with_all=False, same=None):
     header = ["rank", "reading", "BART mean abs diff", "BART max abs diff", "BART directions"]
     if with_all:
         header += ["all 18 mean abs diff (forest stands in)", "all directions"]
     body = []
     for i, s in enumerate(summary[:limit] if limit else summary, 1):
         name = describe(s["interp"]) + (" **(default)**" if s["interp"] == default_word else "")
+        if same and same.get(s["interp"]):
+            name += f" (the same numbers as rank {[e['interp'] for e in summary].index(same[s['interp']]) + 1})"
         line = [i, name, s["bart_mean_abs_diff"], s["bart_max_abs_diff"],
                 f"{s['bart_directions_agree']} / {s['bart_directions_known']}"]
         if with_all:

@@ -16,7 +16,8 @@ summary = interpretation.score(records)
 default = params["interpretation"]
 common.write_csv(os.path.join(args.out_dir, "interpretations-grid.csv"),
                  list(interpretation.public(summary[0])), [interpretation.public(s) for s in summary])
-best = [s["interp"] for s in summary[: int(params["interp_best"])]]
+# The best distinct readings: one that repeats a better one's numbers adds nothing.
+best = [s["interp"] for s, same in interpretation.distinct(summary) if same is None][: int(params["interp_best"])]
 common.write_atomic(os.path.join(args.out_dir, "best.txt"), " ".join(best) + "\n")
 
 shown = 20
@@ -26,10 +27,12 @@ text = (f"# Interpretations of the paper: grid ({params['interp_width']}x{params
         f"{params['interp_width']}x{params['interp_height']} and ranked by the mean absolute difference "
         "between our miss ratios and the paper's over the BART cells (Robot and Kitchen, without and "
         "with, 4/8/16 KB); then the largest difference and the cells where the split helps or hurts as "
-        f"in the paper. The best {params['interp_best']} go to the final phase (best.txt); all of them "
+        f"in the paper. The best {params['interp_best']} whose numbers differ go to the final phase (best.txt); "
+        "readings with the same numbers as a better one (the same in every cell) say so; all of them "
         "are in interpretations-grid.csv. The axes:\n\n" + axes + "\n\n"
         f"## The closest {min(shown, len(summary))}\n\n"
-        + interpretation.ranking_table(summary, default, shown)
+        + interpretation.ranking_table(summary, default, shown, same=dict(
+            (s["interp"], same) for s, same in interpretation.distinct(summary)))
         + "\n## Each axis around the closest reading\n\n"
         "The closest reading with one axis changed (only the readings in the grid).\n\n"
         + interpretation.axis_effects(summary, summary[0]["interp"]))
