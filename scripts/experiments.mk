@@ -123,7 +123,7 @@ INTERP_SPLIT_LEVELS ?= auto 6
 INTERP_TREES ?= default:1:1.5:0.2:0 20:1:1.5:0.2:0 default:1:1.5:0.2:2
 INTERP_RAY_SETS ?= whitted:all whitted:first primary+shadow:all primary:all
 INTERP_FRAMES ?= 0
-INTERP_BEST ?= 2
+INTERP_BEST ?= 8
 INTERP_FINAL_SCENES ?= robot kitchen forest
 INTERP_FINAL_WIDTH ?= $(WIDTH)
 INTERP_FINAL_HEIGHT ?= $(HEIGHT)
@@ -310,8 +310,9 @@ all: $(ALL_TARGETS)
 # The reading used (interp_default: the axes at the top, or INTERPRETATION);
 # by default "without" is the single cache over the same hybrid-layout trace
 # as "with". A second table gives CLOSEST_INTERPRETATION, the reading the
-# interpretations study found closest to the paper (empty: none).
-CLOSEST_INTERPRETATION ?=
+# interpretations study found closest to the paper (docs/REPRODUCTION.md;
+# empty: none): half and half, BFL "without", kd-tree depth limit 20.
+CLOSEST_INTERPRETATION ?= half:bfl:free:auto:20:1:1.5:0.2:0:whitted:all:0
 table1_figures := table1.png
 ifneq ($(call wanted,table1),)
 table1_word_used := $(interp_default)
