@@ -127,7 +127,7 @@ caption = (
     f"{'' if (first['width'], first['height']) == ('800', '600') else ' (the paper: 800x600)'}, animation frame {first['frame']}, {first['pixel_order']} pixel order, "
     f"rays: {first['rays']}, lights: {first['lights']}; kd-tree by SAH with traversal cost {first['traversal_cost']:g}, "
     f"intersection cost {first['intersection_cost']:g}, empty bonus {first['empty_bonus']:g}, depth "
-    f"limit {'8 + 1.3 log2 N' if not first['_header']['kdtree']['max_depth'] else 'set'} ({depths}); "
+    f"limit {'8 + 1.3 log2 N' if not first['_header']['kdtree']['max_depth'] else 'set'} ({depths})"
     f"{', leaf size ' + str(first['leaf_size']) if first['leaf_size'] else ''}; "
     f"baseline layout ('without'): {first['layout_without']}"
     f"{' (the same trace as with)' if first['layout_without'] == first['layout_with'] else ''}; "
