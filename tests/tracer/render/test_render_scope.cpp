@@ -1,17 +1,15 @@
-// The options that narrow a render or a tree for the study of the paper's
-// open choices: --rays (primary, primary+shadow), --lights first and
-// --leaf-size each change what they say and nothing else.
+// The options that narrow a render for the study of the paper's open
+// choices: --rays (primary, primary+shadow) and --lights first each change
+// what they say and nothing else.
 #include <gtest/gtest.h>
 
 #include <limits>
-#include <set>
-#include <tuple>
 
-#include "nodetrace/tracer/camera.hpp"
-#include "nodetrace/tracer/interaction.hpp"
-#include "nodetrace/tracer/kdtree.hpp"
-#include "nodetrace/tracer/layout.hpp"
-#include "nodetrace/tracer/render.hpp"
+#include "nodetrace/tracer/accel/kdtree.hpp"
+#include "nodetrace/tracer/accel/layout.hpp"
+#include "nodetrace/tracer/render/camera.hpp"
+#include "nodetrace/tracer/render/interaction.hpp"
+#include "nodetrace/tracer/render/render.hpp"
 #include "test_render_scenes.hpp"
 #include "test_support.hpp"
 
@@ -123,59 +121,6 @@ TEST(RenderScopeTest, FirstLightOnlyCastsOneShadowRayPerHitInFrontOfThatLight) {
   const Rendered alone = render(first_only_scene, small_options());
   EXPECT_TRUE(first.records == alone.records);
   EXPECT_EQ(first.stats.rays, alone.stats.rays);
-}
-
-// The triangles under a node: those of the leaves below it.
-std::set<std::uint32_t> triangles_below(const KdTree& tree, std::uint32_t index) {
-  const KdNode& node = tree.nodes()[index];
-  if (node.is_leaf()) {
-    return {tree.primitives().begin() + node.first, tree.primitives().begin() + node.first + node.count};
-  }
-  auto left = triangles_below(tree, node.left);
-  const auto right = triangles_below(tree, node.right);
-  left.insert(right.begin(), right.end());
-  return left;
-}
-
-// The default tree cut at every node of at most `leaf_size` triangles, in
-// pre-order: (level, axis, split or leaf size) per node.
-void pruned(const KdTree& tree, std::uint32_t index, std::uint32_t leaf_size,
-            std::vector<std::tuple<int, int, float>>& out) {
-  const KdNode& node = tree.nodes()[index];
-  const auto count = triangles_below(tree, index).size();
-  if (node.is_leaf() || count <= leaf_size) {
-    out.emplace_back(node.level, KdNode::kLeafAxis, float(count));
-    return;
-  }
-  out.emplace_back(node.level, node.axis, node.split);
-  pruned(tree, node.left, leaf_size, out);
-  pruned(tree, node.right, leaf_size, out);
-}
-
-TEST(KdLeafSizeTest, SplitsOnlyNodesOfMoreTrianglesAndIsTheDefaultTreeCutThere) {
-  const Scene scene = test_scenes::random_triangles(3000, 7);
-  const KdTree plain = KdTree::build(scene.triangles);
-  KdBuildOptions zero;
-  zero.leaf_size = 0;
-  EXPECT_EQ(KdTree::build(scene.triangles, zero).nodes().size(), plain.nodes().size());
-  for (const std::uint32_t leaf_size : {2u, 4u, 8u}) {
-    KdBuildOptions options;
-    options.leaf_size = leaf_size;
-    const KdTree tree = KdTree::build(scene.triangles, options);
-    EXPECT_LT(tree.nodes().size(), plain.nodes().size()) << leaf_size;
-    for (std::uint32_t i = 0; i < tree.nodes().size(); ++i) {
-      if (!tree.nodes()[i].is_leaf()) {
-        EXPECT_GT(triangles_below(tree, i).size(), leaf_size) << "node " << i;
-      }
-    }
-    std::vector<std::tuple<int, int, float>> expected, got;
-    pruned(plain, 0, leaf_size, expected);
-    for (std::uint32_t i = 0; i < tree.nodes().size(); ++i) {
-      const KdNode& node = tree.nodes()[i];
-      got.emplace_back(node.level, node.axis, node.is_leaf() ? float(triangles_below(tree, i).size()) : node.split);
-    }
-    EXPECT_TRUE(got == expected) << "leaf size " << leaf_size;
-  }
 }
 
 // The defaults spelled out are the defaults: the same trace, byte for byte,
