@@ -47,6 +47,27 @@ TREE_DEPTH ?= default
 TRAVERSAL_COST ?= 1
 INTERSECTION_COST ?= 1.5
 EMPTY_BONUS ?= 0.2
+# The reading of the paper's open choices table1 uses (docs/REPRODUCTION.md):
+# each axis below, or INTERPRETATION=AXIS=VALUE,... naming some of them
+# (axes: size base loads k depth tcost icost bonus leaf rays lights frame).
+#   SIZE_MEANING  half: a row's size is the total, split half and half; each:
+#                 each cache has the row's size; highk: the high cache holds
+#                 the levels < K (8 << K bytes), the low cache the row's size
+#   BASELINE      the layout of the "without" column: hybrid (the split's own
+#                 trace), dfl, bfl or veb
+#   HIGH_LOADS    free: the high cache's loads are not misses; counted
+#   SPLIT_LEVEL   K: auto (the most levels that fit the high cache) or a number
+#   LEAF_SIZE     a node of at most this many triangles is a leaf (0: SAH only)
+#   RAYS          whitted, primary+shadow or primary
+#   LIGHTS        all, or first (shadow rays to the scene's first light only)
+SIZE_MEANING ?= half
+BASELINE ?= hybrid
+HIGH_LOADS ?= free
+SPLIT_LEVEL ?= auto
+LEAF_SIZE ?= 0
+RAYS ?= whitted
+LIGHTS ?= all
+INTERPRETATION ?=
 
 # --- Studies ------------------------------------------------------------------
 BASELINE_LAYOUTS ?= dfl bfl veb
@@ -83,6 +104,29 @@ SAMPLING_METHODS ?= rows windows sets
 SAMPLING_RATES ?= 2 4 8 16 32 64
 SAMPLING_SEEDS ?= 1 2
 SAMPLING_WINDOW_RECORDS ?= 1048576
+# Interpretations: a grid of readings at INTERP_WIDTH x INTERP_HEIGHT over
+# INTERP_SCENES (every combination of the lists below; a tree setting is
+# DEPTH:TRAVERSAL:INTERSECTION:EMPTYBONUS:LEAFSIZE, a ray set RAYS:LIGHTS),
+# then the best INTERP_BEST
+# and the default reading at INTERP_FINAL_WIDTH x INTERP_FINAL_HEIGHT over
+# INTERP_FINAL_SCENES.
+INTERP_SCENES ?= robot kitchen
+INTERP_WIDTH ?= 200
+INTERP_HEIGHT ?= 150
+INTERP_SIZE_MEANINGS ?= half each highk
+INTERP_BASELINES ?= hybrid dfl bfl veb
+# Counted loads add at most the 2^K - 1 high nodes once per frame (Kitchen
+# 200x150 4 KB: 162 of 18.9 M fetches): counted is an axis, left out of the
+# default grid.
+INTERP_HIGH_LOADS ?= free
+INTERP_SPLIT_LEVELS ?= auto 6
+INTERP_TREES ?= default:1:1.5:0.2:0 20:1:1.5:0.2:0 default:1:1.5:0.2:2
+INTERP_RAY_SETS ?= whitted:all whitted:first primary+shadow:all primary:all
+INTERP_FRAMES ?= 0
+INTERP_BEST ?= 8
+INTERP_FINAL_SCENES ?= robot kitchen forest
+INTERP_FINAL_WIDTH ?= $(WIDTH)
+INTERP_FINAL_HEIGHT ?= $(HEIGHT)
 
 scene_robot := $(SHARED)/scenes/bart/robots/Robot.aff
 scene_kitchen := $(SHARED)/scenes/bart/kitchen/kitchen.aff
@@ -100,7 +144,10 @@ hex_split = $(subst 0,0 ,$(subst 1,1 ,$(subst 2,2 ,$(subst 3,3 ,$(subst 4,4 ,$(s
   7,7 ,$(subst 8,8 ,$(subst 9,9 ,$(subst a,a ,$(subst b,b ,$(subst c,c ,$(subst d,d ,$(subst e,e ,$(subst f,f ,$1))))))))))))))))
 checked_hash = $(if $(and $(filter 16,$(words $(call hex_split,$1))),$(filter 1,$(words $1))),$1,$(error \
   could not hash $2 (got '$1')))
-hash_text = $(call checked_hash,$(shell printf '%s' '$1' | sha256sum | cut -c1-16),the options '$1')
+# Remembered by text (a study names the same trace or run many times).
+hash_key = hash_of_$(subst :,~,$(subst $(space),^,$1))
+hash_text = $(or $($(call hash_key,$1)),$(eval $(call hash_key,$1) := $(call checked_hash,$(shell \
+  printf '%s' '$1' | sha256sum | cut -c1-16),the options '$1'))$($(call hash_key,$1)))
 file_hash = $(call checked_hash,$(shell sha256sum < '$1' | cut -c1-16),$1)
 
 # Hashes are computed on first use only, so `make clean` needs no build.
@@ -116,8 +163,10 @@ compute_scene_hash = $(if $(findstring /,$(call scene_arg,$1)),$(if $(wildcard $
   cd '$(dir $(scene_$1))' && find . -type f | LC_ALL=C sort | xargs -r sha256sum | sha256sum | cut -c1-16),scene $1),$(error scene $1: $(scene_$1) not found (SHARED=$(SHARED)))),builtin-$(scene_$1))
 
 # Bytes of a size such as 16k or 1m, and half of it (the paper's split).
-size_bytes = $(or $(shell echo $$(( $(subst k,*1024,$(subst m,*1048576,$1)) ))),$(error bad size '$1' (expected e.g. 4k)))
-half_size = $(shell echo $$(( $(call size_bytes,$1) / 2 )))
+# Remembered by size (a study asks for the same few many times).
+size_bytes = $(or $(bytes_of_$1),$(eval bytes_of_$1 := $(or $(shell echo $$(( $(subst k,*1024,$(subst \
+  m,*1048576,$1)) ))),$(error bad size '$1' (expected e.g. 4k))))$(bytes_of_$1))
+half_size = $(or $(half_of_$1),$(eval half_of_$1 := $(shell echo $$(( $(call size_bytes,$1) / 2 ))))$(half_of_$1))
 
 # kd-tree build options: DEPTHLIMIT TRAVERSAL INTERSECTION EMPTYBONUS.
 kd_options = --traversal-cost $2 --intersection-cost $3 --empty-bonus $4$(if $(filter default,$1),, --tree-depth $1)
@@ -126,6 +175,65 @@ kd_default := $(call kd_options,$(TREE_DEPTH),$(TRAVERSAL_COST),$(INTERSECTION_C
 render_options = --width $1 --height $2 --max-depth $(DEPTH) --frame $3 $4
 render_default := $(call render_options,$(WIDTH),$(HEIGHT),$(FRAME),$(kd_default))
 hybrid_for = --layout hybrid --high-size $(call half_size,$1)
+
+# --- An interpretation of the paper: one word of twelve fields -----------------
+# SIZE:BASE:LOADS:K:DEPTH:TRAVERSAL:INTERSECTION:EMPTYBONUS:LEAF:RAYS:LIGHTS:FRAME
+# (the axes at the top of this file; docs/REPRODUCTION.md says what each does).
+interp_axes := size base loads k depth tcost icost bonus leaf rays lights frame
+interp_given := $(subst $(comma), ,$(INTERPRETATION))
+$(foreach g,$(interp_given),$(if $(filter $(firstword $(subst =, ,$g)),$(interp_axes)),,$(error \
+  INTERPRETATION: unknown axis in '$g' (expected AXIS=VALUE, AXIS one of $(interp_axes)))))
+interp_pick = $(or $(patsubst $1=%,%,$(filter $1=%,$(interp_given))),$2)
+interp_default := $(call interp_pick,size,$(SIZE_MEANING)):$(call interp_pick,base,$(BASELINE)):$(call \
+  interp_pick,loads,$(HIGH_LOADS)):$(call interp_pick,k,$(SPLIT_LEVEL)):$(call interp_pick,depth,$(TREE_DEPTH)):$(call \
+  interp_pick,tcost,$(TRAVERSAL_COST)):$(call interp_pick,icost,$(INTERSECTION_COST)):$(call \
+  interp_pick,bonus,$(EMPTY_BONUS)):$(call interp_pick,leaf,$(LEAF_SIZE)):$(call interp_pick,rays,$(RAYS)):$(call \
+  interp_pick,lights,$(LIGHTS)):$(call interp_pick,frame,$(FRAME))
+i_size = $(word 1,$(subst :, ,$1))
+i_base = $(word 2,$(subst :, ,$1))
+i_loads = $(word 3,$(subst :, ,$1))
+i_k = $(word 4,$(subst :, ,$1))
+i_leaf = $(word 9,$(subst :, ,$1))
+i_rays = $(word 10,$(subst :, ,$1))
+i_lights = $(word 11,$(subst :, ,$1))
+i_frame = $(word 12,$(subst :, ,$1))
+interp_check = $(if $(filter 12,$(words $(subst :, ,$1))),,$(error interpretation '$1': expected 12 fields \
+  SIZE:BASE:LOADS:K:DEPTH:TRAVERSAL:INTERSECTION:EMPTYBONUS:LEAF:RAYS:LIGHTS:FRAME))$(if $(filter half each \
+  highk,$(call i_size,$1)),,$(error interpretation '$1': size is half, each or highk))$(if $(filter hybrid dfl bfl \
+  veb,$(call i_base,$1)),,$(error interpretation '$1': base is hybrid, dfl, bfl or veb))$(if $(filter free \
+  counted,$(call i_loads,$1)),,$(error interpretation '$1': loads is free or counted))$(if $(filter whitted \
+  primary+shadow primary,$(call i_rays,$1)),,$(error interpretation '$1': rays is whitted, primary+shadow or \
+  primary))$(if $(filter all first,$(call i_lights,$1)),,$(error interpretation '$1': lights is all or \
+  first))$(if $(and $(filter highk,$(call i_size,$1)),$(filter auto,$(call i_k,$1))),$(error interpretation \
+  '$1': size highk sizes the high cache by K, so K must be a number))
+# Bytes of the high and the low cache for a row of size $2.
+interp_high = $(if $(filter half,$(call i_size,$1)),$(call half_size,$2),$(if $(filter each,$(call \
+  i_size,$1)),$(call size_bytes,$2),$(call size_bytes,$(call k_bytes,$(call i_k,$1)))))
+k_bytes = $(or $(k_bytes_$1),$(eval k_bytes_$1 := $(shell echo $$(( 8 << $1 ))))$(k_bytes_$1))
+interp_low = $(if $(filter half,$(call i_size,$1)),$(call half_size,$2),$(call size_bytes,$2))
+# Tracer options of a reading at width $2, height $3 (the default's are render_default's).
+interp_kd = $(call kd_options,$(word 5,$(subst :, ,$1)),$(word 6,$(subst :, ,$1)),$(word 7,$(subst \
+  :, ,$1)),$(word 8,$(subst :, ,$1)))$(if $(filter 0,$(call i_leaf,$1)),, --leaf-size $(call i_leaf,$1))
+interp_render = $(call render_options,$2,$3,$(call i_frame,$1),$(call interp_kd,$1)$(if $(filter \
+  whitted,$(call i_rays,$1)),, --rays $(call i_rays,$1))$(if $(filter all,$(call i_lights,$1)),, --lights first))
+interp_layout = --layout hybrid $(if $(filter auto,$(call i_k,$1)),--high-size $(call interp_high,$1,$2),--split-level \
+  $(call i_k,$1))
+# cachesim options of the split's run, which gives the single over the same
+# trace too (the hybrid baseline): --size is the single's, --high-size and
+# --low-size the split's when they are not half the row each.
+interp_split_options = --size $2 --block $(BLOCK) --assoc 1 --scheme single$(comma)split --split-level $(call \
+  i_k,$1)$(if $(filter half,$(call i_size,$1)),, \
+  --high-size $(call interp_high,$1,$2) --low-size $(call interp_low,$1,$2))$(if $(filter counted,$(call \
+  i_loads,$1)), --count-loads)
+# $(call interp_files,TARGET,WORD,SCENE,SIZE,WIDTH,HEIGHT): single=CSV;split=CSV of one cell.
+interp_split_file = $(call sim,$1,$(call trace,$3,$(call interp_render,$2,$5,$6) $(call interp_layout,$2,$4)),$(call \
+  interp_split_options,$2,$4))
+# The single over another layout: one run for every size of SIZES.
+interp_single_file = $(if $(filter hybrid,$(call i_base,$2)),$(call interp_split_file,$1,$2,$3,$4,$5,$6),$(call \
+  sim,$1,$(call trace,$3,$(call interp_render,$2,$5,$6) --layout $(call i_base,$2)),--size $(call \
+  join_commas,$(SIZES)) --block $(BLOCK) --assoc 1 --scheme single))
+interp_files = $(call interp_check,$2)single=$(call interp_single_file,$1,$2,$3,$4,$5,$6);split=$(call \
+  interp_split_file,$1,$2,$3,$4,$5,$6)
 
 # $(call trace,SCENE,TRACER-OPTIONS): the trace of that scene rendered with
 # those options; its rule is defined on first use.
@@ -150,9 +258,15 @@ sim_files = $(filter %.csv,$(subst =, ,$(subst ;, ,$1)))
 
 # A target's manifest: one line KIND;key=value;... per word of $($1_lines),
 # the file rewritten only when its content changed.
+# Written by make itself ($(file)): a study's lines can exceed what one
+# shell command line may hold.
+define newline
+
+
+endef
 define manifest_rule
 $(OUT)/$1/manifest.txt: FORCE | $(OUT)/$1/.dir
-	@printf '%s\n' $$(foreach line,$$($1_lines),'$$(line)') > $$@.tmp
+	@$$(file >$$@.tmp,$$(subst $$(newline)$$(space),$$(newline),$$(foreach line,$$($1_lines),$$(line)$$(newline))))
 	@if cmp -s $$@.tmp $$@; then rm -f $$@.tmp; else mv -f $$@.tmp $$@; fi
 endef
 
@@ -181,24 +295,32 @@ common_params = param;width=$(WIDTH) param;height=$(HEIGHT) param;frame=$(FRAME)
 goals := $(or $(MAKECMDGOALS),$(.DEFAULT_GOAL))
 wanted = $(filter $1 all,$(goals))
 
-.PHONY: all table1 baselines assoc levels sensitivity calibration calibration-grid frames sampling clean FORCE
+.PHONY: all table1 baselines assoc levels sensitivity calibration calibration-grid interpretations \
+  interpretations-grid frames sampling clean FORCE
 .DELETE_ON_ERROR:
 
 # Every study; `all` makes them (a new study adds its target here and its section below).
-ALL_TARGETS := table1 baselines assoc levels sensitivity calibration frames sampling
+ALL_TARGETS := table1 baselines assoc levels sensitivity calibration interpretations frames sampling
 all: $(ALL_TARGETS)
 
 %/.dir:
 	@mkdir -p $(@D) && touch $@
 
 # --- table1: Robot, Kitchen, forest; 4/8/16 KB; single and split -----------
-# "without" is the single cache over the same hybrid-layout trace as "with".
+# The reading used (interp_default: the axes at the top, or INTERPRETATION);
+# by default "without" is the single cache over the same hybrid-layout trace
+# as "with". A second table gives CLOSEST_INTERPRETATION, the reading the
+# interpretations study found closest to the paper (docs/REPRODUCTION.md;
+# empty: none): half and half, BFL "without", kd-tree depth limit 20.
+CLOSEST_INTERPRETATION ?= half:bfl:free:auto:20:1:1.5:0.2:0:whitted:all:0
 table1_figures := table1.png
 ifneq ($(call wanted,table1),)
-table1_lines := $(common_params) param;layout_without=hybrid \
-  $(foreach s,$(SCENES),$(foreach z,$(SIZES),row;scene=$s;size=$z;file=$(call sim,table1,$(call \
-  trace,$s,$(render_default) $(call hybrid_for,$z)),--size $z --block $(BLOCK) --assoc 1 --scheme \
-  single$(comma)split --split-level auto)))
+table1_word_used := $(interp_default)
+table1_word_closest := $(CLOSEST_INTERPRETATION)
+table1_readings := used $(if $(filter-out $(interp_default),$(CLOSEST_INTERPRETATION)),closest)
+table1_lines := $(common_params) param;interpretation=$(interp_default) \
+  $(foreach r,$(table1_readings),$(foreach s,$(SCENES),$(foreach z,$(SIZES),row;reading=$r;interp=$(table1_word_$r);scene=$s;size=$z;$(call \
+  interp_files,table1,$(table1_word_$r),$s,$z,$(WIDTH),$(HEIGHT)))))
 $(eval $(call study_rule,table1))
 endif
 
@@ -287,6 +409,44 @@ calibration: calibration-grid $(if $(filter all,$(goals)),$(filter-out calibrati
 endif
 endif
 
+# --- interpretations: which reading of the paper's open choices reproduces it
+# Every combination of the INTERP_* lists at INTERP_WIDTH x INTERP_HEIGHT
+# (interpretations-grid, which writes best.txt), ranked by the mean absolute
+# difference to the paper over the BART cells; then the best INTERP_BEST and
+# the default reading at INTERP_FINAL_WIDTH x INTERP_FINAL_HEIGHT, in a second
+# make as calibration does. A size-by-K reading needs a number for K.
+interp_grid := $(foreach t,$(INTERP_TREES),$(foreach r,$(INTERP_RAY_SETS),$(foreach \
+  f,$(INTERP_FRAMES),$(foreach z,$(INTERP_SIZE_MEANINGS),$(foreach k,$(if $(filter highk,$z),$(filter-out \
+  auto,$(INTERP_SPLIT_LEVELS)),$(INTERP_SPLIT_LEVELS)),$(foreach b,$(INTERP_BASELINES),$(foreach \
+  o,$(INTERP_HIGH_LOADS),$z:$b:$o:$k:$t:$r:$f)))))))
+# $(call interp_rows,WIDTH,HEIGHT,WORDS,PHASE,SCENES)
+interp_rows = $(foreach w,$3,$(foreach s,$5,$(foreach z,$(SIZES),row;phase=$4;interp=$w;scene=$s;size=$z;$(call \
+  interp_files,interpretations,$w,$s,$z,$1,$2))))
+interp_params = $(common_params) param;interp_width=$(INTERP_WIDTH) param;interp_height=$(INTERP_HEIGHT) \
+  param;interp_best=$(INTERP_BEST) param;interpretation=$(interp_default)
+interpretations-grid_figures := best.txt
+interpretations_figures := interpretations.png interpretations-cells.csv
+INTERP_FINAL ?=
+ifneq ($(call wanted,interpretations)$(call wanted,interpretations-grid),)
+interpretations-grid_lines := $(interp_params) $(call interp_rows,$(INTERP_WIDTH),$(INTERP_HEIGHT),$(interp_grid),grid,$(INTERP_SCENES))
+$(eval $(call study_rule,interpretations-grid))
+ifneq ($(INTERP_FINAL),)
+interpretations_lines := $(interp_params) param;interp_final_width=$(INTERP_FINAL_WIDTH) \
+  param;interp_final_height=$(INTERP_FINAL_HEIGHT) param;grid_csv=$(OUT)/interpretations-grid/interpretations-grid.csv \
+  $(call interp_rows,$(INTERP_FINAL_WIDTH),$(INTERP_FINAL_HEIGHT),$(sort $(INTERP_FINAL) $(interp_default)),final,$(INTERP_FINAL_SCENES))
+$(eval $(call study_rule,interpretations))
+# Its report reads the grid's CSV too (what each axis does).
+$(OUT)/interpretations/interpretations.md: $(OUT)/interpretations-grid/interpretations-grid.csv
+else
+# Under `all`, after the others but calibration: its final traces may be theirs.
+interpretations: interpretations-grid $(if $(filter all,$(goals)),$(filter-out interpretations \
+  calibration,$(ALL_TARGETS)))
+	@best="$$(cat $(OUT)/interpretations-grid/best.txt)"; \
+	  if [ -z "$$best" ]; then echo "interpretations: $(OUT)/interpretations-grid/best.txt is empty (INTERP_BEST=$(INTERP_BEST))" >&2; exit 1; fi; \
+	  $(MAKE) --no-print-directory -f $(MK_FILE) interpretations INTERP_FINAL="$$best"
+endif
+endif
+
 # --- frames: the gain per sampled animation frame ---------------------------
 frames_figures := frames.png
 ifneq ($(call wanted,frames),)
@@ -342,4 +502,4 @@ endif
 to_render := $(filter-out $(wildcard $(all_traces)),$(all_traces))
 
 clean:
-	rm -rf $(OUT)/traces $(addprefix $(OUT)/,$(ALL_TARGETS) calibration-grid)
+	rm -rf $(OUT)/traces $(addprefix $(OUT)/,$(ALL_TARGETS) calibration-grid interpretations-grid)

@@ -7,18 +7,26 @@ with every parameter, and a bar chart of both."""
 import os
 
 import common
+import interpretation
 
 args = common.arguments(__doc__)
-params, rows = common.read_manifest(args.manifest)
+params, all_rows = common.read_manifest(args.manifest)
 paper = common.read_paper(args.paper)
 tracetool = params["tracetool"]
+# The reading used, and the closest one the interpretations study found (if given).
+readings = {r["reading"]: r["interp"] for r in all_rows}
+closest_rows = [r for r in all_rows if r["reading"] == "closest"]
+rows = [r for r in all_rows if r["reading"] == "used"]
 
 scenes = list(dict.fromkeys(r["scene"] for r in rows))
 sizes = list(dict.fromkeys(r["size"] for r in rows))
 cells = {}
 for row in rows:
-    single, split, ours_without, ours_with = common.single_and_split(row["file"])
-    header = common.trace_header(tracetool, single["trace"])
+    single = common.pick(common.read_cachesim(row["single"])[0], scheme="single", size=common.size_bytes(row["size"]))
+    split = common.pick(common.read_cachesim(row["split"])[0], scheme="split")
+    ours_without, ours_with = common.percent(single), common.percent(split)
+    header = common.trace_header(tracetool, split["trace"])
+    header_without = common.trace_header(tracetool, single["trace"])
     known = paper.get((row["scene"], row["size"]), {})
     paper_without, paper_with, paper_better = known.get("without"), known.get("with"), known.get("better")
     our_better = common.better_of(ours_without, ours_with)
@@ -43,11 +51,14 @@ for row in rows:
         "traversal_cost": header["kdtree"]["traversal_cost"],
         "intersection_cost": header["kdtree"]["intersection_cost"],
         "empty_bonus": header["kdtree"]["empty_bonus"],
-        "layout_without": header["layout"]["name"], "layout_with": header["layout"]["name"],
+        "layout_without": header_without["layout"]["name"], "layout_with": header["layout"]["name"],
+        "interpretation": row["interp"], "rays": header["render"].get("rays", "whitted"),
+        "lights": header["render"].get("lights", "all"), "leaf_size": header["kdtree"].get("leaf_size", 0),
+        "single_size": single["size"],
         "block": single["block"], "assoc": single["assoc"], "policy": single["policy"],
         "high_policy": split["high_policy"], "high_size": split["high_size"], "low_size": split["low_size"],
-        "split_level": split["split_level"], "fetches": single["fetches"],
-        "single_misses": single["misses"], "split_misses": split["misses"],
+        "split_level": split["split_level"], "fetches": split["fetches"],
+        "single_fetches": single["fetches"], "single_misses": single["misses"], "split_misses": split["misses"],
         "high_loads": split["high_loads"],
         "_ours": (ours_without, ours_with), "_paper": (paper_without, paper_with),
         "_header": header,
@@ -87,6 +98,13 @@ for z in sizes:
 
 agree = [c for c in ordered if c["direction_agrees"] is not None]
 agreeing = sum(c["direction_agrees"] == "yes" for c in agree)
+used = interpretation.parse(readings["used"])
+size_text = {
+    "half": "sizes are the total of both caches, split half and half (high / low)",
+    "each": "each cache (high and low) has the row's size; the single cache too",
+    "highk": f"the high cache holds the levels < K ({8 << int(used['k']) if used['k'].isdigit() else '?'} bytes), "
+             "the low cache and the single cache the row's size",
+}[used["size"]]
 helps = sum(c["our_better"] == "split" for c in ordered)
 first = ordered[0]
 depths = ", ".join(f"{common.PAPER_SCENES.get(s, s).split(' (')[0]} {cells[(s, sizes[0])]['tree_depth_limit']}"
@@ -96,25 +114,40 @@ ks = "; ".join(common.paper_name(s).split(" (")[0] + " " + "/".join(cells[(s, z)
 caption = (
     "Table 1 of Nah et al., \"A Split Node Cache Scheme for Fast Ray Tracing\" (RT'08), reproduced: "
     "node-cache miss ratio in percent without (one cache) and with the split scheme; each cell is "
-    "ours / the paper's (ours minus the paper's); '–': the paper's value is missing from "
-    "scripts/paper-table1.csv (only cited values are there). The split column says whether the "
-    "split lowers the miss ratio (helps) or raises it, ours / the paper's.\n\n"
+    "ours / the paper's (ours minus the paper's), the paper's values from scripts/paper-table1.csv. "
+    "The split column says whether the split lowers the miss ratio (helps) or raises it, ours / the "
+    "paper's.\n\n"
+    f"Interpretation used: {interpretation.describe(readings['used'])} (`{interpretation.make_argument(readings['used'])}`; "
+    "docs/REPRODUCTION.md).\n\n"
     f"Fixed by the paper: ray depth {first['max_ray_depth']}, {first['block']}-byte blocks, "
-    f"direct-mapped, sizes are the total of both caches, split half and half (high / low), the "
-    f"high-level cache retains its levels for the frame (loads not counted as misses).\n\n"
-    f"Left open by the paper, our choice: {first['width']}x{first['height']} pixels"
-    f"{'' if (first['width'], first['height']) == ('800', '600') else ' (the paper: 800x600)'}, animation frame {first['frame']}, {first['pixel_order']} pixel order, one Whitted "
-    f"ray tree per pixel; kd-tree by SAH with traversal cost {first['traversal_cost']:g}, "
+    f"direct-mapped.\n\n"
+    f"Left open by the paper, our choice: {size_text}; the high-level cache retains its levels for the "
+    f"frame (loads {'not counted' if used['loads'] == 'free' else 'counted'} as misses); "
+    f"{first['width']}x{first['height']} pixels"
+    f"{'' if (first['width'], first['height']) == ('800', '600') else ' (the paper: 800x600)'}, animation frame {first['frame']}, {first['pixel_order']} pixel order, "
+    f"rays: {first['rays']}, lights: {first['lights']}; kd-tree by SAH with traversal cost {first['traversal_cost']:g}, "
     f"intersection cost {first['intersection_cost']:g}, empty bonus {first['empty_bonus']:g}, depth "
-    f"limit {'8 + 1.3 log2 N' if not first['_header']['kdtree']['max_depth'] else 'set'} ({depths}); "
-    f"baseline layout ('without'): the same {first['layout_without']} layout as 'with', one cache of the "
-    f"full size; K (levels < K in the high cache) = the most levels whose nodes fit half the size, "
+    f"limit {'8 + 1.3 log2 N' if not first['_header']['kdtree']['max_depth'] else 'set'} ({depths})"
+    f"{', leaf size ' + str(first['leaf_size']) if first['leaf_size'] else ''}; "
+    f"baseline layout ('without'): {first['layout_without']}"
+    f"{' (the same trace as with)' if first['layout_without'] == first['layout_with'] else ''}; "
+    f"K (levels < K in the high cache) = {'the most levels whose nodes fit the high cache' if used['k'] == 'auto' else used['k']}, "
     f"K={'/'.join(z.upper() + 'B' for z in sizes)}: {ks}; "
     f"LRU (no effect when direct-mapped). The paper's Fairy Forest is not available: the built-in "
     f"procedural forest stands in.\n\n"
     f"The split helps in {helps} of {len(ordered)} cells here; its direction agrees with the paper's "
     f"in {agreeing} of the {len(agree)} cells where the paper's direction is known.\n")
 text = "# Table 1\n\n" + caption + "\n" + common.markdown_table(header_row, body)
+if closest_rows:
+    # The closest reading of the interpretations study, beside the one used.
+    records = interpretation.cells(closest_rows, paper)
+    entry = interpretation.score(records)[0]
+    text += ("\n## Closest interpretation\n\n"
+             f"{interpretation.describe(readings['closest'])} (`{interpretation.make_argument(readings['closest'])}`), "
+             "the reading the interpretations study found closest to the paper: mean |diff| "
+             f"{entry['bart_mean_abs_diff']} points over the BART cells (largest {entry['bart_max_abs_diff']}), "
+             f"the split's direction as the paper's in {entry['bart_directions_agree']} of "
+             f"{entry['bart_directions_known']} BART cells.\n\n" + interpretation.table1_layout(entry))
 common.write_atomic(os.path.join(args.out_dir, "table1.md"), text)
 
 # --- Bar chart: ours beside the paper's ------------------------------------

@@ -3,10 +3,13 @@
 // never stale, and outputs are the same bytes from a re-run, whatever -j.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "test_support.hpp"
 
@@ -65,7 +68,8 @@ class ExperimentsMakeTest : public ::testing::Test {
   }
 
   // Runs `make -f scripts/experiments.mk TARGET` into `out`; returns what the
-  // launcher saw (one line per render or simulation).
+  // launcher saw (one line per render or simulation). Table 1's second table
+  // (the closest reading) is left out unless `arguments` asks for it.
   std::string make(const std::string& arguments, const std::filesystem::path& out, bool expect_ok = true) {
     std::filesystem::remove(log_);
     const auto build = std::filesystem::path(NODETRACE_BIN_DIR).parent_path();
@@ -73,7 +77,7 @@ class ExperimentsMakeTest : public ::testing::Test {
         "env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL make --no-print-directory -C " +
         quoted(NODETRACE_SOURCE_DIR) + " -f scripts/experiments.mk BUILD=" + quoted(build) +
         " OUT=" + quoted(out) + " RUN=" + quoted(launcher_) + " scene_robot=" + quoted(scene_) +
-        " SCENES=robot SIZES='1k 4k' " + arguments + " 2>&1");
+        " SCENES=robot SIZES='1k 4k' CLOSEST_INTERPRETATION= " + arguments + " 2>&1");
     if (expect_ok) {
       EXPECT_EQ(result.exit_code, 0) << result.out;
     }
@@ -177,14 +181,21 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
       " CAL_EMPTY_BONUSES=0.2 CAL_BEST=1 CAL_FINAL_WIDTH=32 CAL_FINAL_HEIGHT=24"
       " FRAME_SCENES='robot kitchen' FRAME_WIDTH=16 FRAME_HEIGHT=12 FRAME_STEP=400"
       " SAMPLING_SCENES=robot SAMPLING_SIZES=4k SAMPLING_RATES='1 4' SAMPLING_SEEDS=1"
-      " SAMPLING_WINDOW_RECORDS=512 2>&1");
+      " SAMPLING_WINDOW_RECORDS=512 INTERP_SCENES=robot INTERP_WIDTH=16 INTERP_HEIGHT=12"
+      " INTERP_SIZE_MEANINGS='half each highk' INTERP_BASELINES='hybrid bfl' INTERP_HIGH_LOADS=free"
+      " INTERP_SPLIT_LEVELS='auto 4' INTERP_TREES='default:1:1.5:0.2:0 default:1:1.5:0.2:2'"
+      " INTERP_RAY_SETS='whitted:first primary:all' INTERP_BEST=2 INTERP_FINAL_SCENES='robot forest'"
+      " INTERP_FINAL_WIDTH=32 INTERP_FINAL_HEIGHT=24 2>&1");
   ASSERT_EQ(result.exit_code, 0) << result.out;
   for (const std::string file :
        {"table1/table1.md", "table1/table1.png", "baselines/baselines.md", "baselines/baselines.png",
         "assoc/assoc.md", "assoc/assoc.png", "levels/levels.md", "levels/levels-robot.png",
         "sensitivity/sensitivity.md", "sensitivity/sensitivity.png", "calibration-grid/best.txt",
         "calibration/calibration.md", "calibration/calibration.png", "frames/frames.md", "frames/frames.png",
-        "sampling/sampling.md", "sampling/sampling.csv", "sampling/sampling.png"}) {
+        "sampling/sampling.md", "sampling/sampling.csv", "sampling/sampling.png",
+        "interpretations-grid/best.txt", "interpretations-grid/interpretations-grid.md",
+        "interpretations/interpretations.md", "interpretations/interpretations.csv",
+        "interpretations/interpretations-cells.csv", "interpretations/interpretations.png"}) {
     EXPECT_TRUE(std::filesystem::exists(out / file)) << file;
   }
   const auto frames = read_file(out / "frames" / "frames.csv");
@@ -201,6 +212,44 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
     exact += line.find(",1/1,1,") != std::string::npos && line.find(",0.0000,1,") != std::string::npos;
   }
   EXPECT_EQ(exact, 9) << sampling;
+  // Sizes x K x baselines x trees x ray sets, a size-by-K reading only with K = 4:
+  // (2 + 2 + 1) x 2 x 2 x 2 = 40 readings in the grid, ranked, the best two in best.txt.
+  const auto grid = read_file(out / "interpretations-grid" / "interpretations-grid.csv");
+  EXPECT_EQ(std::count(grid.begin(), grid.end(), '\n'), 41) << grid;
+  EXPECT_EQ(count_lines_with(grid, "highk:"), 8) << grid;
+  EXPECT_EQ(count_lines_with(grid, "highk:hybrid:free:auto"), 0) << grid;
+  std::istringstream best(read_file(out / "interpretations-grid" / "best.txt"));
+  std::vector<std::string> words{std::istream_iterator<std::string>(best), {}};
+  EXPECT_EQ(words.size(), 2u);
+  // The final phase: the two best and the default, Robot and the forest, with the forest marked a stand-in.
+  const auto cells = read_file(out / "interpretations" / "interpretations-cells.csv");
+  const auto stand_ins = count_lines_with(cells, "forest,yes,");
+  EXPECT_GE(stand_ins, 2 * 2) << cells;
+  EXPECT_EQ(count_lines_with(cells, "robot,no,"), stand_ins) << cells;
+  EXPECT_NE(read_file(out / "interpretations" / "interpretations.md").find("all 18 mean abs diff (forest stands in)"),
+            std::string::npos);
+}
+
+TEST_F(ExperimentsMakeTest, Table1UsesTheInterpretationGivenAndShowsTheClosestBesideIt) {
+  const auto out = dir_ / "out";
+  make("table1 WIDTH=32 HEIGHT=24 INTERPRETATION=size=each,base=bfl,rays=primary", out);
+  const auto markdown = read_file(out / "table1" / "table1.md");
+  EXPECT_NE(markdown.find("size each, base bfl"), std::string::npos) << markdown;
+  EXPECT_NE(markdown.find("rays primary"), std::string::npos) << markdown;
+  const auto csv = read_file(out / "table1" / "table1.csv");
+  EXPECT_NE(csv.find(",bfl,hybrid,each:bfl:free:auto:"), std::string::npos) << csv;
+  EXPECT_EQ(markdown.find("Closest interpretation"), std::string::npos) << markdown;
+  // The single cache is the row's size, the split twice it (each cache the row's size).
+  EXPECT_NE(csv.find(",1024,1024,"), std::string::npos) << csv;
+  // A closest reading adds a second table beside the one used.
+  make("table1 WIDTH=32 HEIGHT=24 CLOSEST_INTERPRETATION=each:hybrid:free:auto:default:1:1.5:0.2:0:whitted:first:0",
+       out);
+  const auto both = read_file(out / "table1" / "table1.md");
+  EXPECT_NE(both.find("## Closest interpretation"), std::string::npos) << both;
+  EXPECT_NE(both.find("lights first"), std::string::npos) << both;
+  // A bad axis stops make with a message naming it.
+  make("table1 WIDTH=32 HEIGHT=24 INTERPRETATION=colour=blue", out, false);
+  EXPECT_NE(output_.find("unknown axis in 'colour=blue'"), std::string::npos) << output_;
 }
 
 }  // namespace

@@ -76,6 +76,7 @@ struct SceneCommandOptions {
   float intersection_cost = KdBuildOptions{}.intersection_cost;
   float empty_bonus = KdBuildOptions{}.empty_bonus;
   int tree_depth = 0;
+  std::uint32_t leaf_size = 0;
 };
 
 inline void add_scene_options(CLI::App& app, SceneCommandOptions& o) {
@@ -91,6 +92,9 @@ inline void add_scene_options(CLI::App& app, SceneCommandOptions& o) {
       ->capture_default_str();
   app.add_option("--tree-depth", o.tree_depth, "deepest kd-tree level (default 8 + 1.3 log2 N)")
       ->check(CLI::Range(1, kMaxLevelLimit));
+  app.add_option("--leaf-size", o.leaf_size,
+                 "a node of at most N triangles is a leaf whatever the SAH says (default 0: the SAH decides)")
+      ->check(CLI::Range(0u, 1000000u));
 }
 
 // Rows per sampled band by default: one. Measured on BART Robot frame 0 at
@@ -114,6 +118,7 @@ struct RenderCommandOptions {
   std::string sample_rows;
   std::uint32_t band_height = kDefaultBandHeight;
   std::uint64_t sample_seed = 0;
+  std::string rays = "whitted", lights = "all";
 };
 
 inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
@@ -125,6 +130,13 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
       ->capture_default_str();
   app.add_option("--max-depth", o.max_depth, "ray tree depth (primary rays are depth 1)")
       ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  app.add_option("--rays", o.rays,
+                 "rays traced: primary, primary+shadow (no reflection or refraction) or whitted (all)")
+      ->check(CLI::IsMember({"primary", "primary+shadow", "whitted"}))
+      ->capture_default_str();
+  app.add_option("--lights", o.lights, "lights that get shadow rays: all, or the scene's first only")
+      ->check(CLI::IsMember({"all", "first"}))
       ->capture_default_str();
   app.add_option("--pixel-order", o.pixel_order, "scanline, tiled or morton")
       ->check(CLI::IsMember({"scanline", "tiled", "morton"}))
@@ -183,6 +195,7 @@ inline KdBuildOptions make_build_options(const SceneCommandOptions& s) {
   build.intersection_cost = s.intersection_cost;
   build.empty_bonus = s.empty_bonus;
   build.max_depth = s.tree_depth;
+  build.leaf_size = s.leaf_size;
   return build;
 }
 
@@ -223,6 +236,10 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
   render.width = r.width;
   render.height = r.height;
   render.max_depth = r.max_depth;
+  render.rays = r.rays == "primary"          ? RayScope::Primary
+                : r.rays == "primary+shadow" ? RayScope::PrimaryShadow
+                                             : RayScope::Whitted;
+  render.first_light_only = r.lights == "first";
   render.pixel_order = *parse_pixel_order(r.pixel_order);
   render.tile_size = r.tile_size;
   render.threads = cli::check_thread_count(r.threads, "--threads");

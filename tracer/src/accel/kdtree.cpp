@@ -212,7 +212,7 @@ class KdTreeBuilder {
     tree_.nodes_.emplace_back();
     tree_.nodes_[index].level = static_cast<std::uint16_t>(level);
     const std::size_t n = ids.size();
-    if (n == 0 || level >= max_depth_ || unproductive >= kMaxUnproductiveSplits) {
+    if (n == 0 || n <= options_.leaf_size || level >= max_depth_ || unproductive >= kMaxUnproductiveSplits) {
       return make_leaf(index, ids, box);
     }
     const SplitChoice split = find_split(events, n, box);

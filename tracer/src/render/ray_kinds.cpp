@@ -14,7 +14,16 @@ std::string_view ray_kind_name(RayKind kind) {
   return "primary";
 }
 
-RayKindPlan plan_ray_kinds(const Scene& scene, int max_depth) {
+std::string_view ray_scope_name(RayScope scope) {
+  switch (scope) {
+    case RayScope::Primary: return "primary";
+    case RayScope::PrimaryShadow: return "primary+shadow";
+    case RayScope::Whitted: return "whitted";
+  }
+  return "whitted";
+}
+
+RayKindPlan plan_ray_kinds(const Scene& scene, int max_depth, RayScope scope) {
   RayKindPlan plan;
   plan.cast[0] = true;
   bool reflects = false, transmits = false;
@@ -37,6 +46,16 @@ RayKindPlan plan_ray_kinds(const Scene& scene, int max_depth) {
   }
   plan.cast[3] = transmits && max_depth > 1;
   if (!plan.cast[3]) plan.why_not[3] = !transmits ? "no material transmits" : "max_depth is 1";
+  // A narrower scope leaves out kinds the scene would need; the reason names it.
+  if (scope != RayScope::Whitted) {
+    const std::string narrowed = "rays limited to " + std::string(ray_scope_name(scope));
+    for (int k = scope == RayScope::Primary ? 1 : 2; k < kRayKindCount; ++k) {
+      if (plan.cast[k]) {
+        plan.cast[k] = false;
+        plan.why_not[k] = narrowed;
+      }
+    }
+  }
   return plan;
 }
 

@@ -34,13 +34,14 @@ Renderer::Renderer(const Scene& scene, const KdTree& tree, const Layout& layout,
                    const RenderOptions& options)
     : scene_(scene),
       options_(options),
-      plan_(plan_ray_kinds(scene, options.max_depth)),
+      plan_(plan_ray_kinds(scene, options.max_depth, options.rays)),
       camera_(camera_to_use(scene, tree, options)),
       pinhole_(camera_, options.width, options.height),
       traversal_(scene.triangles, tree, layout, options.streams, options.addresses) {
   // NFF / SPD convention (which AFF inherits): each of N lights has
   // intensity 1 / sqrt(N). Pixels only; the rays cast do not depend on it.
-  light_scale_ = scene.lights.size() > 1 ? 1.0f / std::sqrt(float(scene.lights.size())) : 1.0f;
+  const std::size_t lights = options.first_light_only ? std::min<std::size_t>(1, scene.lights.size()) : scene.lights.size();
+  light_scale_ = lights > 1 ? 1.0f / std::sqrt(float(lights)) : 1.0f;
   face_normals_.reserve(scene.triangles.size());
   for (const auto& t : scene.triangles) face_normals_.push_back(triangle_unit_normal(t, {0, 0, 1}));
 }

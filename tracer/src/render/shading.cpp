@@ -45,7 +45,10 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
   Vec3 color = scene_.ambient * (material.ambient ? *material.ambient : material.diffuse);
   if (plan_.casts(RayKind::Shadow)) {
     const Vec3 shadow_origin = offset_ray_origin(surface, facing);
-    for (const auto& light : scene_.lights) {
+    const std::size_t lights = options_.first_light_only ? std::min<std::size_t>(1, scene_.lights.size())
+                                                         : scene_.lights.size();
+    for (std::size_t i = 0; i < lights; ++i) {
+      const PointLight& light = scene_.lights[i];
       const Vec3 to_light = light.position - point;
       // A light behind the surface lights nothing here: no ray is needed.
       if (dot(to_light, facing) <= 0) continue;

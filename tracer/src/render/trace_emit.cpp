@@ -50,6 +50,9 @@ nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
                         {"fov", shortest(c.fov_y_degrees)}};
   }
   if (r.fov_y_degrees) render["fov"] = shortest(*r.fov_y_degrees);
+  // Written only when narrowed, so a default render's header is as before.
+  if (r.rays != RayScope::Whitted) render["rays"] = ray_scope_name(r.rays);
+  if (r.first_light_only) render["lights"] = "first";
   header["render"] = render;
   nlohmann::json layout = {{"name", layout_name(options.layout)},
                            {"node_size", r.addresses.node_size},
@@ -65,6 +68,7 @@ nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
                       {"intersection_cost", shortest(options.build.intersection_cost)},
                       {"empty_bonus", shortest(options.build.empty_bonus)},
                       {"max_depth", options.build.max_depth}};
+  if (options.build.leaf_size) header["kdtree"]["leaf_size"] = options.build.leaf_size;
   nlohmann::json cast = nlohmann::json::array();
   nlohmann::json left_out = nlohmann::json::object();
   for (int k = 0; k < kRayKindCount; ++k) {
@@ -77,7 +81,10 @@ nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
   }
   header["rays"] = {{"cast", cast}, {"left_out", left_out}};
   // A light behind the surface lights nothing there, so it gets no ray.
-  if (plan.casts(RayKind::Shadow)) header["rays"]["shadow"] = "one per light in front of the surface hit";
+  if (plan.casts(RayKind::Shadow)) {
+    header["rays"]["shadow"] = r.first_light_only ? "one to the first light when in front of the surface hit"
+                                                  : "one per light in front of the surface hit";
+  }
   nlohmann::json streams = nlohmann::json::array();
   if (r.streams.nodes) streams.push_back("nodes");
   if (r.streams.lists) streams.push_back("lists");

@@ -17,6 +17,9 @@ struct KdBuildOptions {
   float intersection_cost = 1.5f;  // K_I: cost of one ray/triangle test
   float empty_bonus = 0.2f;        // cost reduction for cutting off empty space (0..1)
   int max_depth = 0;               // deepest level of a node; 0: 8 + 1.3 log2 N
+  // A node of at most this many triangles is a leaf whatever the SAH says
+  // (the minimum to split is one more); 0: the SAH alone decides.
+  std::uint32_t leaf_size = 0;
 };
 
 // The depth limit used when KdBuildOptions::max_depth is 0.

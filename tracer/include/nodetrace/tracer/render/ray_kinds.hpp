@@ -21,6 +21,11 @@ struct RayKindPlan {
   std::array<std::string, kRayKindCount> why_not;
   bool casts(RayKind kind) const { return cast[static_cast<int>(kind)]; }
 };
-RayKindPlan plan_ray_kinds(const Scene& scene, int max_depth);
+// Which rays a render traces at most: the primary rays only, those and the
+// shadow rays, or the whole Whitted ray tree (the default).
+enum class RayScope : std::uint8_t { Primary, PrimaryShadow, Whitted };
+std::string_view ray_scope_name(RayScope scope);  // "primary", "primary+shadow", "whitted"
+
+RayKindPlan plan_ray_kinds(const Scene& scene, int max_depth, RayScope scope = RayScope::Whitted);
 
 }  // namespace nodetrace::tracer

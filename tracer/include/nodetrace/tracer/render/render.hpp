@@ -30,6 +30,8 @@ namespace nodetrace::tracer {
 struct RenderOptions {
   int width = 800, height = 600;
   int max_depth = 10;  // primary rays are depth 1; no secondary ray beyond it
+  RayScope rays = RayScope::Whitted;  // which kinds of rays are traced at most
+  bool first_light_only = false;      // shadow rays to the scene's first light only
   PixelOrder pixel_order = PixelOrder::Scanline;
   int tile_size = 8;
   std::optional<Camera> camera;  // overrides the scene's camera
