@@ -24,7 +24,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   nodetrace::cachesim::DineroOptions options;
   try {
     options = nodetrace::cachesim::parse_dinero_options(args);
-  } catch (const base::UsageError&) {
+  } catch (const nodetrace::base::UsageError&) {
     return 0;
   }
   (void)nodetrace::cachesim::dinero_preamble(options);
@@ -52,8 +52,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     auto reader = formats::TraceReader::open(file.path(), reader_options);
     std::ostringstream out, warnings;
     nodetrace::cachesim::run_dinero(options, *reader, out, warnings);
-  } catch (const base::UsageError&) {
-  } catch (const base::FormatError&) {
+  } catch (const nodetrace::base::UsageError&) {
+  } catch (const nodetrace::base::FormatError&) {
   }
   return 0;
 }
