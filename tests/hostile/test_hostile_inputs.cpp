@@ -127,6 +127,14 @@ const HostileCase kCases[] = {
   {"FrameRecordsZero", "$B/tracetool convert t.din out.din.zst --tags-are-levels --frame-records 0", 2, "tracetool convert: --frame-records: Value 0 not in range 1 to 16777216"},
   {"FrameRecordsHuge", "$B/tracetool convert t.din out.din.zst --tags-are-levels --frame-records 100000000000", 2, "tracetool convert: --frame-records: Value 100000000000 not in range 1 to 16777216"},
   // Usage messages name the program and subcommand first (issue 22, items 4, 7, 8, 10, 16).
+  // One behaviour for a missing or unknown subcommand in every program (item 6).
+  {"TracetoolBogus", "$B/tracetool bogus", 2, "tracetool: unknown subcommand 'bogus'"},
+  {"TracerBogus", "$B/tracer bogus", 2, "tracer: unknown subcommand 'bogus'"},
+  {"CachesimBogus", "$B/cachesim bogus", 2, "cachesim: unknown subcommand 'bogus'"},
+  {"DineroWrapBogus", "$B/dinero-wrap bogus", 2, "dinero-wrap: unknown subcommand 'bogus'"},
+  {"TracetoolBare", "$B/tracetool", 2, "tracetool: inspect, print, verify and convert"},
+  {"TracerBare", "$B/tracer", 2, "tracer: render scenes"},
+  {"CachesimBare", "$B/cachesim", 2, "cachesim: simulate node caches"},
   {"CachesimStdinTwice", "cat t.din | $B/cachesim run - - --tags-are-levels", 2, "cachesim run: traces: standard input (-) is named more than once"},
   {"CachesimEmptyZst", ": > empty.din.zst; $B/cachesim run empty.din.zst", 1, "cachesim run: empty.din.zst: 0 bytes: not a zstd stream"},
   {"VerifyEmptyZst", ": > empty.din.zst; $B/tracetool verify empty.din.zst", 1, "tracetool verify: empty.din.zst: 0 bytes: not a zstd stream"},
