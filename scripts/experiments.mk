@@ -251,8 +251,9 @@ define_sim = $(if $(defined_$1),,$(eval $(call sim_rule,$1,$2,$3))$(eval defined
 define sim_rule
 $1: $2 | $(dir $1).dir
 	@echo "simulate $(notdir $2) $3" >&2
-	@$(RUN) $(CACHESIM) run $2 $3 --format csv > $$@.tmp$$$$$$$$ && mv $$@.tmp$$$$$$$$ $$@ \
-	  || { rm -f $$@.tmp$$$$$$$$; exit 1; }
+	@$(RUN) $(CACHESIM) run $2 $(subst --per-level,--per-level $$@.levels.tmp$$$$$$$$,$3) --format csv \
+	  > $$@.tmp$$$$$$$$ $(if $(findstring --per-level,$3),&& mv $$@.levels.tmp$$$$$$$$ $$@.levels.csv) \
+	  && mv $$@.tmp$$$$$$$$ $$@ || { rm -f $$@.tmp$$$$$$$$ $$@.levels.tmp$$$$$$$$; exit 1; }
 endef
 sim_files = $(filter %.csv,$(subst =, ,$(subst ;, ,$1)))
 

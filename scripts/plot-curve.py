@@ -27,6 +27,8 @@ def main(argv):
                   file=sys.stderr)
             return 1
         for number, row in enumerate(reader, start=2):
+            if row.get("miss_ratio") == "":
+                continue  # no fetches: no ratio to plot
             try:
                 key = (row["trace"], row["scheme"], int(row["block"]), row["assoc"])
                 lines.setdefault(key, []).append((int(row["size"]), float(row["miss_ratio"])))

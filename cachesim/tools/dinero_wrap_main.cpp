@@ -43,7 +43,7 @@ int run_subcommand(int argc, char** argv) {
       "one per core at a time), same report and columns as cachesim run.",
       "dinero-wrap run"};
   tools::RunCommandLine line;
-  tools::add_run_options(app, line);
+  tools::add_run_options(app, line, /*side_tables=*/false);
   std::string dinero;
   unsigned jobs = 0;
   app.add_option("--dinero", dinero,

@@ -26,6 +26,21 @@ namespace nodetrace::cachesim::tools {
 
 namespace {
 
+// --curve answers every power-of-two size of single and low caches: these
+// options have nothing to set there, and one silently ignored misleads.
+void check_curve_options(const CLI::App& app) {
+  for (const char* option : {"--size", "--high-policy", "--low-size", "--high-assoc", "--count-loads", "--per-level",
+                             "--per-frame"}) {
+    if (app.count(option) > 0) {
+      throw base::UsageError(fmt::format(
+          "{} does not apply to --curve (it covers every power-of-two size up to 64 MB, single caches and the "
+          "split scheme's low cache); --curve takes --block, --assoc, --policy, --scheme, --split-level, "
+          "--high-size, --format",
+          option));
+    }
+  }
+}
+
 int curve_command(const RunCommandLine& line, const SweepOptions& options) {
   if (options.policies.size() != 1 || options.split_levels.size() != 1) {
     throw base::UsageError("--curve takes one --policy and one --split-level");
@@ -43,8 +58,9 @@ int curve_command(const RunCommandLine& line, const SweepOptions& options) {
     const std::vector<CurvePoint> more = run_curve(*reader, curve, trace);
     points.insert(points.end(), more.begin(), more.end());
   }
-  const std::string csv = format_curve(points, curve.policy);
-  std::fwrite(csv.data(), 1, csv.size(), stdout);
+  const ReportFormat format = parse_report_format(line.format).value_or(ReportFormat::Table);
+  const std::string text = format_curve(points, curve.policy, format);
+  std::fwrite(text.data(), 1, text.size(), stdout);
   std::fflush(stdout);
   return 0;
 }
@@ -80,7 +96,7 @@ SamplingOptions sampling_options(const SamplingCommandLine& line, const RunComma
   }
   options.window_records = line.window_records;
   options.seed = line.seed;
-  if (options.sampling() && (run.per_level || run.per_animation_frame || run.curve)) {
+  if (options.sampling() && (!run.per_level.empty() || !run.per_animation_frame.empty() || run.curve)) {
     throw base::UsageError(
         "--sample-windows / --sample-sets: not with --per-level, --per-frame or --curve");
   }
@@ -99,6 +115,15 @@ Readers open_traces(const RunCommandLine& line, const SamplingOptions& sampling)
     readers.push_back(formats::TraceReader::open(trace, options));
   }
   return readers;
+}
+
+// The records a trace holds, when its trailer says (a seekable container).
+std::optional<std::uint64_t> record_total(const formats::TraceReader& reader) {
+  const auto& trailer = reader.trailer();
+  if (!trailer || !trailer->totals.contains("records") || !trailer->totals["records"].is_number_unsigned()) {
+    return std::nullopt;
+  }
+  return trailer->totals["records"].get<std::uint64_t>();
 }
 
 // The first row-sampled trace (header "sampling"), or nullptr.
@@ -140,7 +165,7 @@ int run_command(int argc, char** argv) {
   SamplingCommandLine sampling_line;
   // cachesim run only: dinero-wrap shares the other options, and a curve has no Dinero IV run to check it.
   app.add_flag("--curve", line.curve,
-               "Instead: miss ratio of every power-of-two size up to 64 MB (CSV), per --block and "
+               "Instead: miss ratio of every power-of-two size up to 64 MB (in --format), per --block and "
                "--assoc, single caches and the split scheme's low cache (K from --split-level, "
                "or auto for --high-size)");
   add_sampling_options(app, sampling_line);
@@ -148,11 +173,14 @@ int run_command(int argc, char** argv) {
   return nodetrace::cli::exit_status_of("cachesim run", [&] {
     const SweepOptions options = sweep_options(line);
     const SamplingOptions sampling = sampling_options(sampling_line, line);
-    if (line.curve) return curve_command(line, options);
+    if (line.curve) {
+      check_curve_options(app);
+      return curve_command(line, options);
+    }
     const std::vector<Configuration> configs = expand_configurations(options);
     const Readers readers = open_traces(line, sampling);
     if (const formats::TraceReader* sampled = row_sampled(readers)) {
-      if (line.per_level || line.per_animation_frame) {
+      if (!line.per_level.empty() || !line.per_animation_frame.empty()) {
         throw base::UsageError(fmt::format(
             "{} is row-sampled (header \"sampling\"): not with --per-level or --per-frame",
             sampled->source_name()));
@@ -167,15 +195,18 @@ int run_command(int argc, char** argv) {
     std::vector<std::string> notes;
     nodetrace::cli::ProgressLine progress_line;
     std::string current_trace;
+    std::optional<std::uint64_t> current_total;
     SweepProgress progress;
     if (progress_line.shown()) {
       progress = [&](std::uint64_t records_read) {
-        progress_line.update(fmt::format("{}: {} M records", current_trace, records_read / 1000000));
+        progress_line.update_count(current_trace, records_read, current_total, "records");
       };
     }
     for (std::size_t t = 0; t < readers.size(); ++t) {
       const std::string& trace = line.traces[t];
       current_trace = trace;
+      current_total = record_total(*readers[t]);
+      progress_line.restart();
       TraceResult result =
           run_sweep(*readers[t], configs, trace, options.per_level, progress, options.per_animation_frame);
       progress_line.clear();

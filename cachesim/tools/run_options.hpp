@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <string>
@@ -14,6 +15,7 @@
 #include "nodetrace/cachesim/sweep/sweep.hpp"
 #include "nodetrace/base/byte_size.hpp"
 #include "nodetrace/base/error.hpp"
+#include "nodetrace/base/output_file.hpp"
 #include "nodetrace/cli/option_limits.hpp"
 #include "nodetrace/formats/read/trace_reader.hpp"
 
@@ -47,15 +49,17 @@ struct RunCommandLine {
   std::string high_assoc;
   bool count_loads = false;
   bool tags_are_levels = false;
-  bool per_level = false;
-  bool per_animation_frame = false;
+  std::string per_level;            // --per-level FILE: the per-level table's output ("" = none, "-" = stdout)
+  std::string per_animation_frame;  // --per-frame FILE: likewise
   bool curve = false;
   std::string format = "table";
   std::string informat;  // plain traces: din, xdin, binary
   unsigned threads = 0;  // decoding threads; 0 = one per core
 };
 
-inline void add_run_options(CLI::App& app, RunCommandLine& line) {
+// `side_tables`: --per-level and --per-frame (cachesim run only: Dinero IV
+// reports totals, so dinero-wrap does not list options that cannot work).
+inline void add_run_options(CLI::App& app, RunCommandLine& line, bool side_tables = true) {
   app.add_option("traces", line.traces, "Trace files (container, plain din / xdin, zstd); - is stdin")
       ->required();
   app.add_option("--size", line.sizes, "Total cache sizes, bytes with optional k/m, at most 256m (list)")
@@ -90,10 +94,18 @@ inline void add_run_options(CLI::App& app, RunCommandLine& line) {
                "retain: count the high-level loads as misses");
   app.add_flag("--tags-are-levels", line.tags_are_levels,
                "Read the tag field of a plain trace as the node level");
-  app.add_flag("--per-level", line.per_level,
-               "Add a table of references and misses per node level");
-  app.add_flag("--per-frame", line.per_animation_frame,
-               "Add a table of the counts of each animation frame (each with its own K)");
+  if (side_tables) {
+    app.add_option("--per-level", line.per_level,
+                   "Write the table of references and misses per node level to FILE (its own table: "
+                   "every configuration column, then level, refs, misses; - for standard output, "
+                   "which then carries it alone)")
+        ->type_name("FILE");
+    app.add_option("--per-frame", line.per_animation_frame,
+                   "Write the table of the counts of each animation frame (each with its own K) to "
+                   "FILE (the main columns with frame after trace; - for standard output, which then "
+                   "carries it alone)")
+        ->type_name("FILE");
+  }
   app.add_option("--format", line.format, "Report format")
       ->check(CLI::IsMember({"table", "csv", "json"}))
       ->capture_default_str();
@@ -105,12 +117,13 @@ inline void add_run_options(CLI::App& app, RunCommandLine& line) {
 }
 
 template <typename T, typename Parse>
-std::vector<T> parse_list(const std::vector<std::string>& texts, const char* option, Parse parse) {
+std::vector<T> parse_list(const std::vector<std::string>& texts, const char* option, Parse parse,
+                          const char* accepted) {
   std::vector<T> values;
   for (const std::string& text : texts) {
     const auto value = parse(text);
     if (!value) {
-      throw base::UsageError(fmt::format("{}: '{}' is not one of the accepted values", option, text));
+      throw base::UsageError(fmt::format("{}: '{}' is not one of {}", option, text, accepted));
     }
     values.push_back(*value);
   }
@@ -118,6 +131,9 @@ std::vector<T> parse_list(const std::vector<std::string>& texts, const char* opt
 }
 
 inline SweepOptions sweep_options(const RunCommandLine& line) {
+  if (std::count(line.traces.begin(), line.traces.end(), "-") > 1) {
+    throw base::UsageError("traces: standard input (-) is named more than once; it can be read only once");
+  }
   SweepOptions options;
   options.sizes.clear();
   for (const auto& text : line.sizes) options.sizes.push_back(cache_size(text, "--size"));
@@ -139,10 +155,10 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
   }
   options.assocs.clear();
   for (const auto& text : line.assocs) options.assocs.push_back(parse_assoc(text));
-  options.policies = parse_list<ReplacementPolicy>(line.policies, "--policy", parse_policy_name);
-  options.schemes = parse_list<Scheme>(line.schemes, "--scheme", parse_scheme_name);
+  options.policies = parse_list<ReplacementPolicy>(line.policies, "--policy", parse_policy_name, "lru, fifo, random");
+  options.schemes = parse_list<Scheme>(line.schemes, "--scheme", parse_scheme_name, "single, split");
   options.high_policies =
-      parse_list<HighPolicy>(line.high_policies, "--high-policy", parse_high_policy_name);
+      parse_list<HighPolicy>(line.high_policies, "--high-policy", parse_high_policy_name, "retain, cache");
   options.split_levels.clear();
   for (const auto& text : line.split_levels) {
     if (text == "auto") {
@@ -161,8 +177,20 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
   if (!line.low_size.empty()) options.low_size = cache_size(line.low_size, "--low-size");
   if (!line.high_assoc.empty()) options.high_assoc = parse_assoc(line.high_assoc);
   options.count_loads = line.count_loads;
-  options.per_level = line.per_level;
-  options.per_animation_frame = line.per_animation_frame;
+  options.per_level = !line.per_level.empty();
+  options.per_animation_frame = !line.per_animation_frame.empty();
+  if (line.per_level == "-" && line.per_animation_frame == "-") {
+    throw base::UsageError(
+        "--per-level - and --per-frame -: one table per output; write at least one of them to a file");
+  }
+  for (const std::string* file : {&line.per_level, &line.per_animation_frame}) {
+    if (file->empty() || *file == "-") continue;
+    for (const std::string& trace : line.traces) {
+      if (trace == *file) {
+        throw base::UsageError(fmt::format("{}: named both as a trace and as a table to write", *file));
+      }
+    }
+  }
   return options;
 }
 
@@ -186,15 +214,33 @@ inline void print_notes(const std::vector<std::string>& notes, ReportFormat form
   std::fflush(stdout);
 }
 
-// Prints the report and its notes: under a table, or on standard error so
-// that CSV and JSON stay machine-readable.
+// Writes one table to `path` ("-": standard output), whole or not at all.
+inline void write_table(const std::string& path, const std::string& text) {
+  if (path == "-") {
+    std::fwrite(text.data(), 1, text.size(), stdout);
+    return;
+  }
+  base::OutputFile file(path);
+  file.write(text);
+  file.commit();
+}
+
+// Prints the report and its notes (under a table, or on standard error so
+// that CSV and JSON stay machine-readable). Each table is an output of its
+// own: the main one on standard output, unless --per-level - or --per-frame -
+// puts that table there instead; the others in their files.
 inline void print_report(const std::vector<ResultRow>& rows, const std::vector<LevelRow>& levels,
                          const std::vector<std::string>& notes, const RunCommandLine& line,
                          const std::vector<AnimationFrameRow>& frames = {}) {
   const ReportFormat format = parse_report_format(line.format).value_or(ReportFormat::Table);
-  const std::string report =
-      format_report(rows, levels, line.per_level, format, frames, line.per_animation_frame);
-  std::fwrite(report.data(), 1, report.size(), stdout);
+  if (!line.per_level.empty()) write_table(line.per_level, format_level_rows(levels, format));
+  if (!line.per_animation_frame.empty()) {
+    write_table(line.per_animation_frame, format_animation_frame_rows(frames, format));
+  }
+  if (line.per_level != "-" && line.per_animation_frame != "-") {
+    const std::string report = format_rows(rows, format);
+    std::fwrite(report.data(), 1, report.size(), stdout);
+  }
   print_notes(notes, format);
 }
 

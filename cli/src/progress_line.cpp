@@ -2,9 +2,50 @@
 
 #include <unistd.h>
 
+#include <fmt/format.h>
+
+#include <cmath>
 #include <cstdio>
 
 namespace nodetrace::cli {
+
+namespace {
+
+std::string count_text(double count) {
+  return count >= 1e6 ? fmt::format("{:.1f} M", count / 1e6) : fmt::format("{:.0f}", count);
+}
+
+std::string duration_text(double seconds) {
+  const auto whole = static_cast<std::uint64_t>(std::ceil(seconds));
+  if (whole < 60) return fmt::format("{} s", whole);
+  if (whole < 3600) return fmt::format("{}:{:02} min", whole / 60, whole % 60);
+  return fmt::format("{}:{:02}:{:02} h", whole / 3600, whole / 60 % 60, whole % 60);
+}
+
+}  // namespace
+
+std::string progress_text(std::string_view what, std::uint64_t done, std::optional<std::uint64_t> total,
+                          std::string_view unit, double elapsed_seconds) {
+  std::string text = fmt::format("{}: {}", what, count_text(static_cast<double>(done)));
+  if (total && *total > 0) {
+    text += fmt::format(" of {} {} ({}%)", count_text(static_cast<double>(*total)), unit,
+                        std::min<std::uint64_t>(100, done * 100 / *total));
+  } else {
+    text += fmt::format(" {}", unit);
+  }
+  if (elapsed_seconds <= 0 || done == 0) return text;
+  const double rate = static_cast<double>(done) / elapsed_seconds;
+  text += fmt::format(", {} {}/s", count_text(rate), unit);
+  if (total && *total > done) text += fmt::format(", {} left", duration_text(static_cast<double>(*total - done) / rate));
+  return text;
+}
+
+void ProgressLine::update_count(std::string_view what, std::uint64_t done, std::optional<std::uint64_t> total,
+                                std::string_view unit) {
+  if (!shown_) return;
+  const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start_;
+  update(progress_text(what, done, total, unit, elapsed.count()));
+}
 
 ProgressLine::ProgressLine(bool wanted) : shown_(wanted && ::isatty(STDERR_FILENO) != 0) {}
 

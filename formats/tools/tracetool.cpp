@@ -56,6 +56,33 @@ void warn_of_dropped_fields(const formats::TraceReader& reader) {
              reader.form() == formats::RecordForm::ExtendedDin ? "size" : "address");
 }
 
+// RFC 4180: a field with a comma, quote or line break is quoted, quotes doubled.
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (const char c : text) {
+    if (c == '"') quoted += '"';
+    quoted += c;
+  }
+  return quoted + '"';
+}
+
+// A JSON pointer ("/header/layout/node_size") as dotted keys
+// ("header.layout.node_size"), its escapes (~1 for /, ~0 for ~) undone.
+std::string dotted(const std::string& pointer) {
+  std::string out;
+  for (std::size_t i = 1; i < pointer.size(); ++i) {
+    if (pointer[i] == '/') {
+      out += '.';
+    } else if (pointer[i] == '~' && i + 1 < pointer.size()) {
+      out += pointer[++i] == '1' ? '/' : '~';
+    } else {
+      out += pointer[i];
+    }
+  }
+  return out;
+}
+
 int run_info(const std::string& path, const std::string& format, bool tags_are_levels, const std::string& form) {
   auto reader = formats::TraceReader::open(path, reader_options(tags_are_levels, form_option(form)));
   nlohmann::json info = nlohmann::json::object();
@@ -99,6 +126,17 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
   }
   if (format == "json") {
     fmt::print("{}\n", info.dump(2));
+    return 0;
+  }
+  if (format == "csv") {
+    // One tidy table: a row per fact, nested keys joined with dots, values as
+    // in JSON except that text is unquoted.
+    fmt::print("field,value\n");
+    const nlohmann::json flat = info.flatten();
+    for (const auto& [field, value] : flat.items()) {
+      const std::string text = value.is_string() ? value.get<std::string>() : value.dump();
+      fmt::print("{},{}\n", csv_field(dotted(field)), csv_field(text));
+    }
     return 0;
   }
   const auto row = [](std::string_view key, const std::string& value) { fmt::print("{:<20} {}\n", key, value); };
@@ -148,16 +186,26 @@ int run_cat(const std::string& path, const std::string& tags, const std::string&
   options.kind = formats::OutputKind::Plain;
   options.threads = 1;
   auto writer = formats::TraceWriter::create("-", nlohmann::json::object(), options);
+  // Din has no size field (every record reads as 4 bytes); a container's
+  // header knows its nodes' size, so node records written as extended din
+  // (or binary) get that size rather than din's 4.
+  std::optional<std::uint32_t> node_size;
+  if (reader->form() == formats::RecordForm::Din && options.form != formats::RecordForm::Din &&
+      reader->header().present() && reader->tags_are_levels() && reader->header().json.contains("layout")) {
+    node_size = static_cast<std::uint32_t>(reader->header().layout().node_size);
+  }
   formats::RecordBatch batch;
   std::vector<Record> kept;
   while (reader->next(batch)) {
-    if (!filter) {
+    if (!filter && !node_size) {
       writer->write(batch.records);
       continue;
     }
     kept.clear();
-    for (const Record& record : batch.records) {
-      if (filter->keeps(record.tag)) kept.push_back(record);
+    for (Record record : batch.records) {
+      if (filter && !filter->keeps(record.tag)) continue;
+      if (node_size && formats::is_level(record.tag)) record.size = *node_size;
+      kept.push_back(record);
     }
     writer->write(kept);
   }
@@ -269,11 +317,12 @@ struct InfoCommand {
   InputOptions input;
   void add_options(CLI::App& app) {
     app.add_option("FILE", path, "Trace file, or - for standard input")->required();
-    app.add_option("--format", format, "Output: table or json")->check(CLI::IsMember({"table", "json"}));
+    app.add_option("--format", format, "Output: table, json (one object) or csv (one table: field,value)")
+        ->check(CLI::IsMember({"table", "json", "csv"}));
     input.add_to(app);
   }
   int run() const {
-    return cli::exit_status_of("tracetool", [&] { return run_info(path, format, input.tags_are_levels, input.form); });
+    return cli::exit_status_of("tracetool info", [&] { return run_info(path, format, input.tags_are_levels, input.form); });
   }
 };
 
@@ -287,7 +336,7 @@ struct CatCommand {
     input.add_to(app);
   }
   int run() const {
-    return cli::exit_status_of("tracetool", [&] { return run_cat(path, tags, to, input.tags_are_levels, input.form); });
+    return cli::exit_status_of("tracetool cat", [&] { return run_cat(path, tags, to, input.tags_are_levels, input.form); });
   }
 };
 
@@ -299,7 +348,7 @@ struct VerifyCommand {
     input.add_to(app);
   }
   int run() const {
-    return cli::exit_status_of("tracetool", [&] { return run_verify(path, input.tags_are_levels, input.form); });
+    return cli::exit_status_of("tracetool verify", [&] { return run_verify(path, input.tags_are_levels, input.form); });
   }
 };
 
@@ -324,7 +373,7 @@ struct ConvertCommand {
         ->check(CLI::IsMember(kForms));
   }
   int run() const {
-    return cli::exit_status_of("tracetool", [&] { return run_convert(in, out, options); });
+    return cli::exit_status_of("tracetool convert", [&] { return run_convert(in, out, options); });
   }
 };
 

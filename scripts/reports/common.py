@@ -52,14 +52,17 @@ def read_manifest(path):
 
 
 def read_cachesim(path):
-    """cachesim run --format csv: the main table, and the per-level table if any."""
-    with open(path, encoding="utf-8") as stream:
-        text = stream.read()
-    tables = [part for part in text.split("\n\n") if part.strip()]
-    parsed = [list(csv.DictReader(io.StringIO(part))) for part in tables]
-    if not parsed or not parsed[0]:
+    """cachesim run --format csv: the main table, and the per-level table
+    (--per-level FILE, written beside it as PATH.levels.csv) if any. Each
+    file is one table."""
+    def table(name):
+        with open(name, encoding="utf-8", newline="") as stream:
+            return list(csv.DictReader(stream))
+    rows = table(path)
+    if not rows:
         sys.exit(f"{path}: no cachesim rows")
-    return parsed[0], (parsed[1] if len(parsed) > 1 else [])
+    levels = path + ".levels.csv"
+    return rows, (table(levels) if os.path.exists(levels) else [])
 
 
 def percent(row):

@@ -1,6 +1,8 @@
 // End to end: tracer -> container -> cachesim / tracetool / dinero-wrap, each
 // answer checked against another tool's answer for the same records.
 #include <gtest/gtest.h>
+
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include <regex>
@@ -33,7 +35,7 @@ class PipelineTest : public ::testing::Test {
     const auto result = run_command(quoted(program("cachesim")) + " run " + quoted(trace_) + " " +
                                     options + " --format json");
     EXPECT_EQ(result.exit_code, 0) << result.err;
-    return nlohmann::json::parse(result.out);
+    return nlohmann::json::parse(result.out).at("rows");  // {"columns": [...], "rows": [...]}
   }
 
   // Total demand misses of the first cache in Dinero IV's output layout.
@@ -145,6 +147,11 @@ TEST(PipelineLayouts, OnlyAHybridLayoutsSplitLevelIsComparedWithK) {
   const auto dfl_run = run_command(simulate + quoted(dfl));
   ASSERT_EQ(dfl_run.exit_code, 0) << dfl_run.err;
   EXPECT_EQ(dfl_run.err.find("differs from the layout"), std::string::npos) << dfl_run.err;
+  // But the split scheme on a layout that does not keep the high levels together is.
+  EXPECT_NE(dfl_run.err.find("layout dfl: the split scheme routes levels < K to the high cache, but this "
+                             "layout scatters those levels"),
+            std::string::npos)
+      << dfl_run.err;
   // A hybrid layout built for another high-cache size is noted.
   const auto hybrid = dir / "hybrid.din.zst";
   ASSERT_EQ(run_command(render + " --split-level 1 -o " + quoted(hybrid)).exit_code, 0);
@@ -152,6 +159,38 @@ TEST(PipelineLayouts, OnlyAHybridLayoutsSplitLevelIsComparedWithK) {
   ASSERT_EQ(hybrid_run.exit_code, 0) << hybrid_run.err;
   EXPECT_NE(hybrid_run.err.find("differs from the layout's split_level 1"), std::string::npos)
       << hybrid_run.err;
+  // The note says what it means and what to do.
+  EXPECT_NE(hybrid_run.err.find("the high-level nodes are not where this layout put them together"),
+            std::string::npos)
+      << hybrid_run.err;
+  EXPECT_NE(hybrid_run.err.find("render one trace per high-cache size (tracer render --layout hybrid --high-size SIZE"),
+            std::string::npos)
+      << hybrid_run.err;
+}
+
+// Din records carry no size: the tracer warns when nodes are larger than
+// din's 4 bytes, and tracetool cat --to xdin gives node records the header's
+// node size (issue 22 item 12).
+TEST(NodeSize, DinWarnsAndCatToXdinUsesTheHeadersNodeSize) {
+  TempDir dir;
+  const auto din = dir / "n16.din.zst";
+  const auto render = run_command(quoted(program("tracer")) + " render mountain:6 --width 8 --height 6 --quiet "
+                                  "--node-size 16 -o " + quoted(din));
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  EXPECT_NE(render.err.find("tracer render: warning: din records carry no size"), std::string::npos) << render.err;
+  EXPECT_NE(render.err.find("xdin records (--records xdin, or a .xdin.zst name) keep the size"), std::string::npos);
+  const auto xdin = run_command(quoted(program("tracer")) + " render mountain:6 --width 8 --height 6 --quiet "
+                                "--node-size 16 -o " + quoted(dir / "n16.xdin.zst"));
+  ASSERT_EQ(xdin.exit_code, 0) << xdin.err;
+  EXPECT_EQ(xdin.err, "");  // xdin keeps the size: nothing to warn of
+  const auto cat = run_command(quoted(program("tracetool")) + " cat --to xdin " + quoted(din));
+  ASSERT_EQ(cat.exit_code, 0) << cat.err;
+  const std::string first = cat.out.substr(0, cat.out.find('\n'));
+  // TYPE ADDRESS SIZE TAG: the size field is 16 (hex 10), not din's 4.
+  std::istringstream fields(first);
+  std::string type, address, size, tag;
+  fields >> type >> address >> size >> tag;
+  EXPECT_EQ(std::stoul(size, nullptr, 16), 16u) << first;
 }
 
 }  // namespace

@@ -110,31 +110,48 @@ const HostileCase kCases[] = {
   {"UpAlongView", "$B/tracer render ok.obj --eye 0 0 5 --look-at 0 0 0 --up 0 0 1", 2, "tracer render: --up is parallel to the view direction"},
   {"UpZero", "$B/tracer render ok.obj --eye 0 0 5 --look-at 0 0 0 --up 0 0 0", 2, "tracer render: --up is parallel to the view direction"},
   // Image, tree and address options.
-  {"WidthZero", "$B/tracer render ok.obj --width 0", 2, "--width: Value 0 not in range 1 to 65535"},
-  {"NodeSizeZero", "$B/tracer render ok.obj --node-size 0", 2, "--node-size: Value 0 not in range 1 to 65535"},
-  {"InfoNodeSizeZero", "$B/tracer info ok.obj --node-size 0", 2, "--node-size: Value 0 not in range 1 to 65535"},
-  {"TileSizeZero", "$B/tracer render ok.obj --tile-size 0", 2, "--tile-size: Value 0 not in range 1 to 65535"},
-  {"ImageSideTooLarge", "$B/tracer render ok.obj --width 65536 --height 65536", 2, "--width: Value 65536 not in range 1 to 65535"},
+  {"WidthZero", "$B/tracer render ok.obj --width 0", 2, "tracer render: --width: Value 0 not in range 1 to 65535"},
+  {"NodeSizeZero", "$B/tracer render ok.obj --node-size 0", 2, "tracer render: --node-size: Value 0 not in range 1 to 65535"},
+  {"InfoNodeSizeZero", "$B/tracer info ok.obj --node-size 0", 2, "tracer info: --node-size: Value 0 not in range 1 to 65535"},
+  {"TileSizeZero", "$B/tracer render ok.obj --tile-size 0", 2, "tracer render: --tile-size: Value 0 not in range 1 to 65535"},
+  {"ImageSideTooLarge", "$B/tracer render ok.obj --width 65536 --height 65536", 2, "tracer render: --width: Value 65536 not in range 1 to 65535"},
   {"ImageTooLarge", "$B/tracer render ok.obj --width 65535 --height 65535", 2, "tracer render: --width 65535 --height 65535: at most 67108864 pixels"},
   {"NodeBaseWraps", "$B/tracer render sphereflake:1 --width 4 --height 3 --node-base 0xfffffffffffffff0 -o t.din.zst", 2, "tracer render: --node-base 0xfffffffffffffff0"},
   {"ListBaseWraps", "$B/tracer render ok.obj --width 4 --height 3 --streams nodes,lists --list-base 0xffffffffffffffff -o t.din.zst", 2, "tracer render: --list-base 0xffffffffffffffff"},
   {"SceneSizeZero", "$B/tracer info sphereflake:0", 1, "tracer info: scene 'sphereflake:0': size 0 is out of range"},
   {"SceneSizeLarge", "$B/tracer info sphereflake:9", 1, "tracer info: scene 'sphereflake:9': size 9 is out of range"},
-  {"SplitLevelHuge", "$B/tracer render ok.obj --width 4 --height 3 --split-level 4294967295", 2, "--split-level: Value 4294967295 not in range 0 to 100"},
+  {"SplitLevelHuge", "$B/tracer render ok.obj --width 4 --height 3 --split-level 4294967295", 2, "tracer render: --split-level: Value 4294967295 not in range 0 to 100"},
   {"TraversalCostNan", "$B/tracer render ok.obj --width 4 --height 3 --traversal-cost nan", 2, "tracer render: --traversal-cost nan: expected a finite number"},
   {"EmptyBonusNan", "$B/tracer info ok.obj --empty-bonus nan", 2, "tracer info: --empty-bonus nan: expected a number from 0 to 1"},
   {"OutOfMemory", "ulimit -v 1000000; $B/tracer render ok.obj --width 8192 --height 8192 --image o.png", 1, "tracer render: out of memory"},
-  {"FrameRecordsZero", "$B/tracetool convert t.din out.din.zst --tags-are-levels --frame-records 0", 2, "--frame-records: Value 0 not in range 1 to 16777216"},
-  {"FrameRecordsHuge", "$B/tracetool convert t.din out.din.zst --tags-are-levels --frame-records 100000000000", 2, "--frame-records: Value 100000000000 not in range 1 to 16777216"},
+  {"FrameRecordsZero", "$B/tracetool convert t.din out.din.zst --tags-are-levels --frame-records 0", 2, "tracetool convert: --frame-records: Value 0 not in range 1 to 16777216"},
+  {"FrameRecordsHuge", "$B/tracetool convert t.din out.din.zst --tags-are-levels --frame-records 100000000000", 2, "tracetool convert: --frame-records: Value 100000000000 not in range 1 to 16777216"},
+  // Usage messages name the program and subcommand first (issue 22, items 4, 7, 8, 10, 16).
+  // One behaviour for a missing or unknown subcommand in every program (item 6).
+  {"TracetoolBogus", "$B/tracetool bogus", 2, "tracetool: unknown subcommand 'bogus'"},
+  {"TracerBogus", "$B/tracer bogus", 2, "tracer: unknown subcommand 'bogus'"},
+  {"CachesimBogus", "$B/cachesim bogus", 2, "cachesim: unknown subcommand 'bogus'"},
+  {"DineroWrapBogus", "$B/dinero-wrap bogus", 2, "dinero-wrap: unknown subcommand 'bogus'"},
+  {"TracetoolBare", "$B/tracetool", 2, "tracetool: inspect, print, verify and convert"},
+  {"TracerBare", "$B/tracer", 2, "tracer: render scenes"},
+  {"CachesimBare", "$B/cachesim", 2, "cachesim: simulate node caches"},
+  {"CachesimStdinTwice", "cat t.din | $B/cachesim run - - --tags-are-levels", 2, "cachesim run: traces: standard input (-) is named more than once"},
+  {"CachesimEmptyZst", ": > empty.din.zst; $B/cachesim run empty.din.zst", 1, "cachesim run: empty.din.zst: 0 bytes: not a zstd stream"},
+  {"VerifyEmptyZst", ": > empty.din.zst; $B/tracetool verify empty.din.zst", 1, "tracetool verify: empty.din.zst: 0 bytes: not a zstd stream"},
+  {"CachesimFormatXml", "$B/cachesim run t.din --format xml", 2, "cachesim run: --format: xml not in {table,csv,json}"},
+  {"CachesimNoTraces", "$B/cachesim run", 2, "cachesim run: traces is required"},
+  {"CachesimPolicyLfu", "$B/cachesim run t.din --policy lfu", 2, "cachesim run: --policy: 'lfu' is not one of lru, fifo, random"},
+  {"CachesimSchemeBad", "$B/cachesim run t.din --scheme both", 2, "cachesim run: --scheme: 'both' is not one of single, split"},
+  {"TracetoolInfoFormatXml", "$B/tracetool info t.din --format xml", 2, "tracetool info: --format: xml not in {table,json,csv}"},
   // Threads.
   {"TracerThreads", "$B/tracer render ok.obj --width 4 --height 3 --threads 100000", 2, "tracer render: --threads 100000: at most"},
-  {"ConvertThreads", "$B/tracetool convert t.din out.din.zst --tags-are-levels --threads 100000", 2, "tracetool: --threads 100000: at most"},
+  {"ConvertThreads", "$B/tracetool convert t.din out.din.zst --tags-are-levels --threads 100000", 2, "tracetool convert: --threads 100000: at most"},
   {"CachesimThreads", "$B/cachesim run t.din --threads 100000", 2, "cachesim run: --threads 100000: at most"},
   {"WrapThreads", "$B/dinero-wrap run t.din --threads 100000 --dinero '$B/cachesim dinero'", 2, "dinero-wrap run: --threads 100000: at most"},
   {"WrapJobs", "$B/dinero-wrap run t.din --jobs 100000 --dinero '$B/cachesim dinero'", 2, "dinero-wrap run: --jobs 100000: at most"},
   // Threads that cannot start (their stacks do not fit the address space).
   {"TracerThreadsFail", "ulimit -v 250000; $B/tracer render ok.obj --width 256 --height 256 --threads 64 -q", 1, "tracer render: cannot start 64 threads"},
-  {"ConvertThreadsFail", "ulimit -v 250000; $B/tracetool convert t.din out.din.zst --tags-are-levels --threads 64", 1, "tracetool: cannot start 64 threads"},
+  {"ConvertThreadsFail", "ulimit -v 250000; $B/tracetool convert t.din out.din.zst --tags-are-levels --threads 64", 1, "tracetool convert: cannot start 64 threads"},
   {"CachesimThreadsFail", "ulimit -v 250000; $B/cachesim run t.din --threads 64", 1, "cachesim run: cannot start 64 threads"},
   // Cache sizes: a stated limit instead of an allocation of the size asked.
   {"CacheSizeHuge", "$LIMIT $B/cachesim run t.din --size 1024g", 2, "cachesim run: --size 1024g: at most 256m"},
@@ -144,25 +161,25 @@ const HostileCase kCases[] = {
   {"WrapCacheSize", "$LIMIT $B/dinero-wrap run t.din --size 16g --dinero '$B/cachesim dinero'", 2, "dinero-wrap run: --size 16g: at most 256m"},
   // Trace data.
   {"XdinSize16Bits", "$B/cachesim run big_size.xdin", 1, "cachesim run: big_size.xdin: record 1: size 0x10000"},
-  {"XdinSize16BitsInfo", "$B/tracetool verify big_size.xdin", 1, "tracetool: big_size.xdin: record 1: size 0x10000"},
-  {"TagWithCarriageReturn", "$B/tracetool verify tag_cr.din --tags-are-levels", 1, "tracetool: tag_cr.din: record 1: tag '07\\r'"},
+  {"XdinSize16BitsInfo", "$B/tracetool verify big_size.xdin", 1, "tracetool verify: big_size.xdin: record 1: size 0x10000"},
+  {"TagWithCarriageReturn", "$B/tracetool verify tag_cr.din --tags-are-levels", 1, "tracetool verify: tag_cr.din: record 1: tag '07\\r'"},
   {"MarkerErrorNamesTheKey", "$B/tracer render sphereflake:1 --width 8 --height 6 -q -o m.din.zst && "
       "sed 's/\"leaves\":\\([0-9]\\)\\([0-9]*\\)\\([0-9]\\)/\"leaves\":\"\\2\"/' m.din.zst > bad.din.zst && "
-      "$B/tracetool verify bad.din.zst", 1, "tracetool: bad.din.zst: at byte *: animation frame marker: \"leaves\" is \""},
+      "$B/tracetool verify bad.din.zst", 1, "tracetool verify: bad.din.zst: at byte *: animation frame marker: \"leaves\" is \""},
   {"PlainZstdDamageNamesItsFrame", "zstd -q t.din -o t.zst && dd if=/dev/zero of=t.zst bs=1 seek=1000 count=16 conv=notrunc 2>/dev/null && "
-      "$B/tracetool verify t.zst", 1, "tracetool: t.zst: damaged zstd data in the zstd frame that starts at byte 0"},
+      "$B/tracetool verify t.zst", 1, "tracetool verify: t.zst: damaged zstd data in the zstd frame that starts at byte 0"},
   {"PlainZstdDamageInALaterFrame", "head -c 100000 t.din | zstd -q > t.zst && tail -c +100001 t.din | zstd -q > tail.zst && "
       "wc -c < t.zst > first_size && dd if=/dev/zero of=tail.zst bs=1 seek=200 count=16 conv=notrunc 2>/dev/null && "
       "cat tail.zst >> t.zst && $B/tracetool verify t.zst 2>&1 >/dev/null | grep -q \"frame that starts at byte $(cat first_size) \" && "
-      "$B/tracetool verify t.zst", 1, "tracetool: t.zst: damaged zstd data in the zstd frame that starts at byte "},
+      "$B/tracetool verify t.zst", 1, "tracetool verify: t.zst: damaged zstd data in the zstd frame that starts at byte "},
   {"VerifyCountsAnimationFrames", "$B/tracer render animated.aff --frames 0-2 --width 4 --height 3 -q -o a.din.zst && "
       "$B/tracetool verify a.din.zst", 0, "", "OK: * records, 3 animation frames, "},
   {"VerifyNamesBinaryInput", "$B/tracetool convert t.din t.bin --to binary --tags-are-levels && "
       "$B/tracetool verify t.bin --informat binary", 0, "", "OK: 15000 records, 1 animation frame (a plain Dinero binary trace"},
   // Option names and scripts.
   // --informat everywhere (Dinero IV's own -informat); tracetool's --form stays as an alias.
-  {"TracetoolInformat", "$B/tracetool info t.din --informat xdin", 1, "tracetool: t.din: record 1: unknown access type '0'"},
-  {"TracetoolFormAlias", "$B/tracetool info t.din --form xdin", 1, "tracetool: t.din: record 1: unknown access type '0'"},
+  {"TracetoolInformat", "$B/tracetool info t.din --informat xdin", 1, "tracetool info: t.din: record 1: unknown access type '0'"},
+  {"TracetoolFormAlias", "$B/tracetool info t.din --form xdin", 1, "tracetool info: t.din: record 1: unknown access type '0'"},
   {"CachesimInformat", "$B/cachesim run t.din --informat xdin", 1, "cachesim run: t.din: record 1: unknown access type '0'"},
   {"TestScriptHelp", "$SRC/scripts/test.sh --help", 0, ""},
 };

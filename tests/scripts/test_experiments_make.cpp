@@ -198,6 +198,29 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
         "interpretations/interpretations-cells.csv", "interpretations/interpretations.png"}) {
     EXPECT_TRUE(std::filesystem::exists(out / file)) << file;
   }
+  // Every CSV the targets write (their tables and the runs behind them,
+  // per-level tables included) is one table of equal-width rows (issue 22).
+  int tables = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(out)) {
+    if (entry.path().extension() != ".csv") continue;
+    const std::string text = read_file(entry.path());
+    const std::string name = entry.path().filename().string();
+    const bool level_table = name.ends_with(".levels.csv");
+    const std::string wrong = one_csv_table(text);
+    EXPECT_EQ(wrong, "") << entry.path();
+    if (entry.path().parent_path().filename() == "runs" && !level_table && text.starts_with("trace,")) {
+      EXPECT_TRUE(text.starts_with("trace,scheme,size,block,assoc,policy,high_policy,high_size,low_size,split_level,"
+                                   "refs,fetches,misses,miss_ratio,"))
+          << entry.path();
+    }
+    if (level_table) {
+      EXPECT_TRUE(text.starts_with("trace,scheme,size,block,assoc,policy,high_policy,high_size,low_size,split_level,"
+                                   "level,refs,misses\n"))
+          << entry.path();
+    }
+    ++tables;
+  }
+  EXPECT_GT(tables, 20);
   const auto frames = read_file(out / "frames" / "frames.csv");
   EXPECT_EQ(count_lines_with(frames, "robot,"), 2) << frames;
   EXPECT_EQ(count_lines_with(frames, "kitchen,"), 2) << frames;

@@ -53,6 +53,14 @@ CommandResult run_command(const std::string& command, const std::string& input =
 std::string read_file(const std::filesystem::path& path);
 void write_file(const std::filesystem::path& path, const std::string& bytes);
 
+// The rows of CSV text as a loader sees them (RFC 4180: quoted fields, doubled
+// quotes); an empty line is a row of no cells, as Python's csv.reader gives it.
+std::vector<std::vector<std::string>> csv_rows(const std::string& text);
+
+// Empty when `text` is exactly one table: the header `columns` (or, when
+// `columns` is empty, any header), then rows of its width; else what is wrong.
+std::string one_csv_table(const std::string& text, const std::vector<std::string>& columns = {});
+
 }  // namespace nodetrace::testing
 
 // Binds `var` to the shared directory; skips the test with a message when it

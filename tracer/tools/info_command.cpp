@@ -40,12 +40,11 @@ void InfoCommand::add_options(CLI::App& app) {
   app.add_option("--node-size", node_size, "bytes per node, for the split levels shown (at most 65535)")
       ->check(CLI::Range(1, kMaxNodeSize))
       ->capture_default_str();
-  add_scene_options(app, scene_options);
+  add_scene_options(app, scene_options, /*frame_runs=*/false);
 }
 
 int InfoCommand::run() const {
   return cli::exit_status_of("tracer info", [&] {
-    if (!scene_options.frames.empty()) throw base::UsageError("--frames: info describes one frame; use --frame");
     // Options first, before a scene is loaded.
     if (scene_options.time) cli::check_finite(*scene_options.time, "--time");
     const KdBuildOptions build_options = make_build_options(scene_options);

@@ -5,7 +5,10 @@
 #include <fmt/core.h>
 #include <unistd.h>
 
+#include <bit>
 #include <chrono>
+#include <filesystem>
+#include <utility>
 #include <cstdio>
 #include <new>
 #include <optional>
@@ -75,6 +78,8 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
 // The options of `tracer render` and what it does with them.
 struct RenderCommand {
   std::string scene_spec, output, records_name, image, streams = "nodes";
+  CLI::Option* output_option = nullptr;
+  CLI::Option* image_option = nullptr;
   bool quiet = false;
   // The container's default level 3: on the default scene level 1 writes the
   // trace only about 10% faster for 6% more bytes, and at 3 a trace is no
@@ -87,18 +92,57 @@ struct RenderCommand {
 
   void add_options(CLI::App& app);
   int run() const;
+
+ private:
+  void check_outputs() const;
 };
+
+// An empty name is no output, and an output whose folder is missing would
+// fail only after the whole render: both are refused before it starts.
+void RenderCommand::check_outputs() const {
+  for (const auto& [option, path] : {std::pair{output_option, &output}, std::pair{image_option, &image}}) {
+    if (option->count() == 0) continue;
+    if (path->empty()) {
+      throw base::UsageError(fmt::format("{}: an empty name: give a file name{}", option->get_name(),
+                                         option == output_option ? ", or - for standard output" : ""));
+    }
+    if (*path == "-") continue;
+    const std::filesystem::path folder = std::filesystem::path(*path).parent_path();
+    if (!folder.empty() && !std::filesystem::is_directory(folder)) {
+      throw base::IoError(fmt::format("{}: cannot write: folder '{}' does not exist (checked before rendering)",
+                                      *path, folder.string()));
+    }
+  }
+}
+
+// Din has no size field: Dinero IV and cachesim read every din record as 4
+// bytes, so a larger node that straddles a block boundary counts one fetch,
+// not the two its bytes need.
+void warn_of_din_node_size(const TraceJobOptions& options) {
+  const std::uint32_t node_size = options.render.addresses.node_size;
+  if (options.output.empty() || options.form != formats::RecordForm::Din || node_size <= 4) return;
+  // Aligned power-of-two nodes of at most 8 bytes stay whole in blocks of 8
+  // bytes and more (cachesim's default block): nothing is lost there.
+  const bool whole_in_blocks = std::has_single_bit(node_size) && node_size <= 8 &&
+                               options.render.addresses.node_base % node_size == 0;
+  if (whole_in_blocks) return;
+  std::fprintf(stderr,
+               "tracer render: warning: din records carry no size, so Dinero IV and cachesim read each %u-byte node "
+               "as 4 bytes: where a cache block splits a node, its second block is not fetched; xdin records "
+               "(--records xdin, or a .xdin.zst name) keep the size\n",
+               node_size);
+}
 
 void RenderCommand::add_options(CLI::App& app) {
   app.add_option("scene", scene_spec,
                  "an .obj or .aff file, or a built-in scene's name (NAME or NAME:SIZE); "
                  "default: the default built-in scene");
-  app.add_option("-o,--output", output,
+  output_option = app.add_option("-o,--output", output,
                  "trace file (.din.zst, .xdin.zst, .din, .xdin, .bin) or - for standard output; "
                  "without it nothing is written (render only)");
   app.add_option("--records", records_name, "record form: din, xdin or binary (default: from the file name)")
       ->check(CLI::IsMember({"din", "xdin", "binary"}));
-  app.add_option("--image", image, "also write the first frame as a PNG");
+  image_option = app.add_option("--image", image, "also write the first frame as a PNG");
   app.add_option("--streams", streams,
                  "records to write, comma-separated: nodes, lists (leaf primitive lists, tag p), "
                  "triangles (tag t)")
@@ -118,6 +162,7 @@ void RenderCommand::add_options(CLI::App& app) {
 
 int RenderCommand::run() const {
   return cli::exit_status_of("tracer render", [&] {
+    check_outputs();
     TraceJobOptions options = make_job_options(render_options, scene_options);
     options.output = output;
     options.image = image;
@@ -131,6 +176,7 @@ int RenderCommand::run() const {
     if (output == "-" && isatty(STDOUT_FILENO)) {
       throw base::UsageError("refusing to write a trace to a terminal; redirect standard output");
     }
+    warn_of_din_node_size(options);
     const std::string spec = scene_spec.empty() ? default_scene_name() : scene_spec;
     const auto source = open_scene(spec);
     for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer render: warning: %s\n", warning.c_str());
@@ -138,8 +184,12 @@ int RenderCommand::run() const {
     cli::ProgressLine progress_line(!quiet);
     Renderer::Progress progress;
     if (progress_line.shown()) {
-      progress = [&](double fraction) {
-        progress_line.update(fmt::format("rendering {}: {:3d}%", source->name(), static_cast<int>(fraction * 100)));
+      // The renderer reports the fraction done of every frame's pixels.
+      const std::uint64_t pixels = static_cast<std::uint64_t>(options.render.width) *
+                                   static_cast<std::uint64_t>(options.render.height) * options.frames.count();
+      progress = [&, pixels](double fraction) {
+        progress_line.update_count("rendering " + source->name(), static_cast<std::uint64_t>(fraction * double(pixels)),
+                                   pixels, "pixels");
       };
     }
     const TraceJobResult result = run_trace_job(*source, options, progress);

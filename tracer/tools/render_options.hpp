@@ -79,12 +79,17 @@ struct SceneCommandOptions {
   std::uint32_t leaf_size = 0;
 };
 
-inline void add_scene_options(CLI::App& app, SceneCommandOptions& o) {
+// `frame_runs`: --frames (tracer render only: `tracer info` describes one frame).
+inline void add_scene_options(CLI::App& app, SceneCommandOptions& o, bool frame_runs = true) {
   auto* frame = app.add_option("--frame", o.frame, "animation frame to render (default 0)");
   auto* time = app.add_option("--time", o.time, "scene time to render instead of a frame");
-  auto* frames = app.add_option("--frames", o.frames, "a run of animation frames A-B, or every STEP-th of them A-B:STEP, one trace");
-  frame->excludes(time)->excludes(frames);
-  time->excludes(frames);
+  frame->excludes(time);
+  if (frame_runs) {
+    auto* frames = app.add_option("--frames", o.frames,
+                                  "a run of animation frames A-B, or every STEP-th of them A-B:STEP, one trace");
+    frame->excludes(frames);
+    time->excludes(frames);
+  }
   app.add_option("--traversal-cost", o.traversal_cost, "SAH cost of a traversal step")->capture_default_str();
   app.add_option("--intersection-cost", o.intersection_cost, "SAH cost of a triangle test")->capture_default_str();
   app.add_option("--empty-bonus", o.empty_bonus, "SAH bonus for cutting off empty space (0..1)")

@@ -24,8 +24,11 @@ const std::vector<std::string>& report_columns() {
 }
 
 const std::vector<std::string>& level_report_columns() {
-  static const std::vector<std::string> columns{"trace", "scheme", "size", "level", "refs",
-                                                "misses"};
+  static const std::vector<std::string> columns = [] {
+    std::vector<std::string> all(report_columns().begin(), report_columns().begin() + kConfigurationColumns);
+    all.insert(all.end(), {"level", "refs", "misses"});
+    return all;
+  }();
   return columns;
 }
 
@@ -39,7 +42,7 @@ const std::vector<std::string>& animation_frame_report_columns() {
 }
 
 std::string miss_ratio_text(std::uint64_t misses, std::uint64_t fetches) {
-  if (fetches == 0) return "0.000000";
+  if (fetches == 0) return {};
   // Rounded half up: floor((2 * 10^6 * misses + fetches) / (2 * fetches)).
   const unsigned __int128 scaled =
       (static_cast<unsigned __int128>(misses) * 2000000u + fetches) /
@@ -56,6 +59,10 @@ bool is_text_column(std::size_t column) {
   return column == 0 || column == 1 || column == 5 || column == 6;
 }
 
+bool is_number(const std::string& cell) {
+  return !cell.empty() && cell.find_first_not_of("0123456789.-") == std::string::npos;
+}
+
 std::string csv_field(const std::string& cell) {
   if (cell.find_first_of(",\"\n\r") == std::string::npos) return cell;
   std::string quoted = "\"";
@@ -66,6 +73,8 @@ std::string csv_field(const std::string& cell) {
   quoted += '"';
   return quoted;
 }
+
+}  // namespace
 
 std::string format_cells(const std::vector<std::string>& columns,
                          const std::vector<std::vector<std::string>>& rows, ReportFormat format,
@@ -88,7 +97,13 @@ std::string format_cells(const std::vector<std::string>& columns,
       return out;
     }
     case ReportFormat::Json: {
-      out += "[";
+      // One shape whatever the options: {"columns": [...], "rows": [{...}, ...]}.
+      out += "{\"columns\": [";
+      for (std::size_t c = 0; c < columns.size(); ++c) {
+        if (c) out += ", ";
+        out += nlohmann::json(columns[c]).dump();
+      }
+      out += "],\n \"rows\": [";
       for (std::size_t r = 0; r < rows.size(); ++r) {
         out += r ? ",\n  {" : "\n  {";
         for (std::size_t c = 0; c < columns.size(); ++c) {
@@ -98,7 +113,7 @@ std::string format_cells(const std::vector<std::string>& columns,
           const std::string& cell = rows[r][c];
           if (cell.empty() && c != 0) {
             out += "null";
-          } else if (text_column(c)) {
+          } else if (text_column(c) || !is_number(cell)) {  // assoc may read `full`
             out += nlohmann::json(cell).dump();
           } else {
             out += cell;
@@ -106,7 +121,7 @@ std::string format_cells(const std::vector<std::string>& columns,
         }
         out += "}";
       }
-      out += rows.empty() ? "]\n" : "\n]\n";
+      out += rows.empty() ? "]}\n" : "\n]}\n";
       return out;
     }
     case ReportFormat::Table: {
@@ -142,31 +157,13 @@ std::string format_cells(const std::vector<std::string>& columns,
   return out;
 }
 
-bool is_level_text_column(std::size_t column) { return column == 0 || column == 1; }
+namespace {
+
+bool is_level_text_column(std::size_t column) { return is_text_column(column); }
 
 // The main table's text columns, one place further after `frame`.
 bool is_frame_text_column(std::size_t column) {
   return column == 0 || (column > 1 && is_text_column(column - 1));
-}
-
-// {"key": table, ...} of JSON arrays, each indented one level.
-std::string format_json_object(const std::vector<std::pair<std::string, std::string>>& tables) {
-  auto indent = [](const std::string& text) {
-    std::string out;
-    for (std::size_t i = 0; i < text.size(); ++i) {
-      out += text[i];
-      if (text[i] == '\n' && i + 1 < text.size()) out += "  ";
-    }
-    return out;
-  };
-  std::string out = "{";
-  for (std::size_t t = 0; t < tables.size(); ++t) {
-    std::string part = indent(tables[t].second);
-    part.pop_back();
-    out += t ? ",\n  \"" : "\n  \"";
-    out += tables[t].first + "\": " + part;
-  }
-  return out + "\n}\n";
 }
 
 }  // namespace
@@ -181,7 +178,7 @@ std::vector<std::string> report_cells(const ResultRow& row) {
       std::string(scheme_name(config.scheme)),
       number(config.size),
       number(config.block),
-      number(config.assoc),
+      assoc_text(config),
       std::string(policy_name(config.policy)),
       split ? std::string(high_policy_name(config.high_policy)) : std::string(),
       split_number(config.high_size),
@@ -199,13 +196,23 @@ std::vector<std::string> report_cells(const ResultRow& row) {
   };
 }
 
+std::string assoc_text(const Configuration& config) {
+  const std::uint64_t cache = config.scheme == Scheme::Split ? config.low_size : config.size;
+  const std::uint64_t blocks = config.block ? cache / config.block : 0;
+  return blocks > 1 && config.assoc == blocks ? std::string("full") : std::to_string(config.assoc);
+}
+
 std::vector<std::string> level_report_cells(const LevelRow& row) {
-  return {row.trace,
-          std::string(scheme_name(row.scheme)),
-          std::to_string(row.size),
-          std::to_string(row.level),
-          std::to_string(row.refs),
-          std::to_string(row.misses)};
+  ResultRow totals;
+  totals.trace = row.trace;
+  totals.config = row.config;
+  totals.split_level = row.split_level;
+  std::vector<std::string> cells = report_cells(totals);
+  cells.resize(kConfigurationColumns);
+  cells.push_back(std::to_string(row.level));
+  cells.push_back(std::to_string(row.refs));
+  cells.push_back(std::to_string(row.misses));
+  return cells;
 }
 
 std::vector<std::string> animation_frame_report_cells(const AnimationFrameRow& row) {
@@ -233,23 +240,6 @@ std::string format_animation_frame_rows(const std::vector<AnimationFrameRow>& ro
   cells.reserve(rows.size());
   for (const AnimationFrameRow& row : rows) cells.push_back(animation_frame_report_cells(row));
   return format_cells(animation_frame_report_columns(), cells, format, is_frame_text_column);
-}
-
-std::string format_report(const std::vector<ResultRow>& rows,
-                          const std::vector<LevelRow>& level_rows, bool per_level,
-                          ReportFormat format, const std::vector<AnimationFrameRow>& animation_frame_rows,
-                          bool per_animation_frame) {
-  std::vector<std::pair<std::string, std::string>> tables{{"results", format_rows(rows, format)}};
-  if (per_level) tables.emplace_back("levels", format_level_rows(level_rows, format));
-  if (per_animation_frame) tables.emplace_back("frames", format_animation_frame_rows(animation_frame_rows, format));
-  if (tables.size() == 1) return tables[0].second;
-  if (format == ReportFormat::Json) return format_json_object(tables);
-  std::string out;
-  for (std::size_t t = 0; t < tables.size(); ++t) {
-    if (t) out += "\n";
-    out += tables[t].second;
-  }
-  return out;
 }
 
 const std::vector<std::string>& sampling_columns() {

@@ -207,6 +207,20 @@ void SplitLevelPlan::begin_animation_frame(const formats::AnimationFrameMarker* 
     layout_level = marker->layout_split_level();
     where = "in the animation-frame markers";
   }
+  const std::string& layout_name = context_.layout.name;
+  // DFL scatters every level but the root's through the tree's memory (BFL
+  // and the hybrid layout's top keep the high levels together).
+  if (!started_ && layout_name == "dfl") {
+    for (const Configuration& config : configs_) {
+      if (config.scheme != Scheme::Split) continue;
+      layout_notes_.push_back(fmt::format(
+          "{}: layout {}: the split scheme routes levels < K to the high cache, but this layout scatters "
+          "those levels through the tree's memory, so the high cache holds them among other nodes' bytes; for "
+          "the split the paper measures, render with tracer render --layout hybrid --high-size SIZE",
+          context_.trace, layout_name));
+      break;
+    }
+  }
   for (std::size_t i = 0; i < configs_.size(); ++i) {
     const Configuration& config = configs_[i];
     if (config.scheme != Scheme::Split) continue;
@@ -220,7 +234,10 @@ void SplitLevelPlan::begin_animation_frame(const formats::AnimationFrameMarker* 
     }
     if (layout_level && *layout_level != k) {
       std::string note = fmt::format(
-          "{}: {}-byte high cache: split level {} ({}) differs from the layout's split_level {} {}",
+          "{}: {}-byte high cache: split level {} ({}) differs from the layout's split_level {} {}: "
+          "the high-level nodes are not where this layout put them together, so the split is not the "
+          "scheme the layout was made for; render one trace per high-cache size (tracer render --layout "
+          "hybrid --high-size SIZE, as scripts/table1.mk does)",
           context_.trace, config.high_size, k, config.split_level ? "given" : "auto",
           *layout_level, where);
       if (std::find(layout_notes_.begin(), layout_notes_.end(), note) == layout_notes_.end()) {
@@ -238,8 +255,8 @@ std::vector<std::string> SplitLevelPlan::notes() const {
     if (lowest_[i] == highest_[i]) continue;
     std::string note = fmt::format(
         "{}: {}-byte high cache: split level (auto) from {} to {} over {} animation frames, each "
-        "frame's from its own tree; the split_level column is the first frame's (--per-frame "
-        "shows each)",
+        "frame's from its own tree; the split_level column is the first frame's (--per-frame FILE "
+        "writes each)",
         context_.trace, configs_[i].high_size, lowest_[i], highest_[i], frames_);
     if (std::find(notes.begin(), notes.end(), note) == notes.end()) notes.push_back(std::move(note));
   }

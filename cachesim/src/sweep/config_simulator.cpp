@@ -160,7 +160,7 @@ class Simulator final : public ConfigSimulator {
   void append_level_rows(std::vector<LevelRow>& rows) const override {
     for (std::size_t level = 0; level < levels_.refs.size(); ++level) {
       if (levels_.refs[level] == 0) continue;
-      rows.push_back(LevelRow{context_.trace, config_.scheme, config_.size,
+      rows.push_back(LevelRow{context_.trace, config_, 0,
                               static_cast<std::uint32_t>(level), levels_.refs[level],
                               levels_.misses[level]});
     }

@@ -172,18 +172,24 @@ std::vector<CurvePoint> run_curve(formats::TraceReader& reader, const CurveOptio
   return points;
 }
 
-std::string format_curve(const std::vector<CurvePoint>& points, ReplacementPolicy policy) {
-  std::string out = "trace,scheme,block,assoc,policy,split_level,size,fetches,misses,miss_ratio\n";
+std::string format_curve(const std::vector<CurvePoint>& points, ReplacementPolicy policy,
+                         ReportFormat format) {
+  static const std::vector<std::string> columns{"trace", "scheme", "block",   "assoc",  "policy",
+                                                "split_level", "size", "fetches", "misses", "miss_ratio"};
+  std::vector<std::vector<std::string>> rows;
+  rows.reserve(points.size());
   for (const CurvePoint& point : points) {
     const bool split = point.scheme == Scheme::Split;
-    out += fmt::format("{},{},{},{},{},{},{},{},{},{}\n", point.trace,
-                       split ? "split-low" : "single", point.block,
-                       point.assoc == 0 ? std::string("full") : std::to_string(point.assoc),
-                       policy_name(policy), split ? std::to_string(point.split_level) : "",
-                       point.size, point.fetches, point.misses,
-                       miss_ratio_text(point.misses, point.fetches));
+    // `full` as in the report: no ways given, or as many as the cache has blocks.
+    const bool full = point.assoc == 0 || (point.size / point.block > 1 && point.assoc == point.size / point.block);
+    rows.push_back({point.trace, split ? "split-low" : "single", std::to_string(point.block),
+                    full ? std::string("full") : std::to_string(point.assoc), std::string(policy_name(policy)),
+                    split ? std::to_string(point.split_level) : "", std::to_string(point.size),
+                    std::to_string(point.fetches), std::to_string(point.misses),
+                    miss_ratio_text(point.misses, point.fetches)});
   }
-  return out;
+  return format_cells(columns, rows, format,
+                      [](std::size_t column) { return column == 0 || column == 1 || column == 4; });
 }
 
 }  // namespace nodetrace::cachesim

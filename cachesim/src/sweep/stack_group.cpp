@@ -174,7 +174,7 @@ class StackGroup {
       } else if (split_) {
         misses += high_->misses(member.high_log2_sets, member.config.high_assoc, level);
       }
-      rows.push_back(LevelRow{context_.trace, member.config.scheme, member.config.size, level,
+      rows.push_back(LevelRow{context_.trace, member.config, 0, level,
                               refs_by_tag_[tag], misses});
     }
   }

@@ -374,7 +374,13 @@ TraceResult Sweep::finish() {
     ResultRow row = simulators_[s]->result();
     row.split_level = plan_->first(s);
     result.rows.push_back(std::move(row));
-    if (per_level_) simulators_[s]->append_level_rows(result.level_rows);
+    if (per_level_) {
+      const std::size_t first = result.level_rows.size();
+      simulators_[s]->append_level_rows(result.level_rows);
+      for (std::size_t r = first; r < result.level_rows.size(); ++r) {
+        result.level_rows[r].split_level = plan_->first(s);
+      }
+    }
   }
   if (per_animation_frame_) {
     for (std::size_t s = 0; s < simulators_.size(); ++s) {

@@ -3,6 +3,9 @@
 // a reader for each.
 #include "nodetrace/formats/read/trace_reader.hpp"
 
+#include <fmt/format.h>
+
+#include "nodetrace/base/error.hpp"
 #include "container/container.hpp"
 #include "container/container_footer.hpp"
 #include "read/reader_kinds.hpp"
@@ -16,7 +19,16 @@ std::unique_ptr<TraceReader> TraceReader::open(const std::string& path, const Re
   opened.name = path == "-" ? "<stdin>" : path;
   opened.input = std::make_unique<detail::Input>(path, opened.name);
   detail::Input& input = *opened.input;
-  if (!input.ensure(4)) return detail::open_plain_records_reader(std::move(opened), options);
+  if (!input.ensure(4)) {
+    // A *.zst name promises a zstd stream, and one too short for a frame's
+    // magic number is not one (zstd -t: unexpected end of file), however
+    // harmless an empty plain trace would be.
+    if (path.size() > 4 && path.ends_with(".zst")) {
+      throw base::FormatError(fmt::format("{}: {} bytes: not a zstd stream (too short for a zstd frame)",
+                                          opened.name, input.available()));
+    }
+    return detail::open_plain_records_reader(std::move(opened), options);
+  }
   const std::uint32_t magic = detail::load_le32(input.data());
   std::string first_bytes(input.data(), 4);
   if (magic != detail::kHeaderMagic && input.seekable() && detail::ends_with_container_footer(input)) {

@@ -362,7 +362,8 @@ void expect_results_equal(const TraceResult& parted, const TraceResult& one) {
   }
   ASSERT_EQ(parted.level_rows.size(), one.level_rows.size());
   for (std::size_t i = 0; i < one.level_rows.size(); ++i) {
-    EXPECT_EQ(parted.level_rows[i].size, one.level_rows[i].size) << i;
+    EXPECT_EQ(parted.level_rows[i].config.size, one.level_rows[i].config.size) << i;
+    EXPECT_EQ(parted.level_rows[i].split_level, one.level_rows[i].split_level) << i;
     EXPECT_EQ(parted.level_rows[i].level, one.level_rows[i].level) << i;
     EXPECT_EQ(parted.level_rows[i].refs, one.level_rows[i].refs) << i;
     EXPECT_EQ(parted.level_rows[i].misses, one.level_rows[i].misses) << i;

@@ -45,7 +45,7 @@ TEST(Report, MissRatioHasSixDecimalsFromIntegerCounts) {
   EXPECT_EQ(miss_ratio_text(2, 3), "0.666667");
   EXPECT_EQ(miss_ratio_text(1, 2000000), "0.000001");  // half rounds up
   EXPECT_EQ(miss_ratio_text(5, 5), "1.000000");
-  EXPECT_EQ(miss_ratio_text(0, 0), "0.000000");
+  EXPECT_EQ(miss_ratio_text(0, 0), "");  // a ratio of no fetches is empty (null in JSON), never 0
   EXPECT_EQ(miss_ratio_text(~std::uint64_t{0} / 3, ~std::uint64_t{0}), "0.333333");
 }
 
@@ -64,7 +64,11 @@ TEST(Report, JsonExactText) {
   const std::vector<ResultRow> all = sample_rows();
   const std::vector<ResultRow> rows(all.begin(), all.begin() + 2);
   EXPECT_EQ(format_rows(rows, ReportFormat::Json),
-            "[\n"
+            "{\"columns\": [\"trace\", \"scheme\", \"size\", \"block\", \"assoc\", \"policy\", "
+            "\"high_policy\", \"high_size\", \"low_size\", \"split_level\", \"refs\", \"fetches\", "
+            "\"misses\", \"miss_ratio\", \"high_refs\", \"high_misses\", \"high_loads\", \"low_refs\", "
+            "\"low_misses\"],\n"
+            " \"rows\": [\n"
             "  {\"trace\": \"kd.din.zst\", \"scheme\": \"single\", \"size\": 8192, \"block\": 8, "
             "\"assoc\": 1, \"policy\": \"lru\", \"high_policy\": null, \"high_size\": null, "
             "\"low_size\": null, \"split_level\": null, \"refs\": 200000, \"fetches\": 200000, "
@@ -77,8 +81,29 @@ TEST(Report, JsonExactText) {
             "\"misses\": 30001, \"miss_ratio\": 0.150005, \"high_refs\": 120000, "
             "\"high_misses\": 0, \"high_loads\": 511, \"low_refs\": 80000, "
             "\"low_misses\": 30001}\n"
-            "]\n");
-  EXPECT_EQ(format_rows({}, ReportFormat::Json), "[]\n");
+            "]}\n");
+  const std::string empty = format_rows({}, ReportFormat::Json);
+  EXPECT_EQ(empty.substr(0, 12), "{\"columns\": ");
+  EXPECT_EQ(empty.substr(empty.size() - 13), " \"rows\": []}\n");
+}
+
+TEST(Report, NoFetchesGiveAnEmptyMissRatioNotZero) {
+  ResultRow none;
+  none.trace = "empty.din";
+  const std::string csv = format_rows({none}, ReportFormat::Csv);
+  EXPECT_NE(csv.find("\nempty.din,single,8192,8,1,lru,,,,,0,0,0,,,,,,\n"), std::string::npos) << csv;
+  EXPECT_NE(format_rows({none}, ReportFormat::Json).find("\"miss_ratio\": null"), std::string::npos);
+}
+
+TEST(Report, FullyAssociativeCachesReadFull) {
+  ResultRow full = sample_rows().front();
+  full.config.assoc = 1024;  // 8192 / 8: one set
+  ResultRow split = sample_rows()[1];
+  split.config.assoc = 512;  // the low cache's 4096 / 8
+  const std::string csv = format_rows({full, split}, ReportFormat::Csv);
+  EXPECT_NE(csv.find("kd.din.zst,single,8192,8,full,lru,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("kd.din.zst,split,8192,8,full,lru,"), std::string::npos) << csv;
+  EXPECT_NE(format_rows({full}, ReportFormat::Json).find("\"assoc\": \"full\""), std::string::npos);
 }
 
 TEST(Report, TableAlignsColumns) {
@@ -99,16 +124,20 @@ TEST(Report, TableAlignsColumns) {
   EXPECT_NE(lines[1].find(" - "), std::string::npos);  // empty columns shown as -
 }
 
-TEST(Report, PerLevelTableFollowsTheMainOne) {
-  LevelRow level{"kd.din.zst", Scheme::Split, 8192, 3, 100, 7};
-  const std::vector<ResultRow> rows{sample_rows().front()};
-  const std::string csv = format_report(rows, {level}, true, ReportFormat::Csv);
-  EXPECT_EQ(csv.substr(csv.find("\n\n") + 2),
-            "trace,scheme,size,level,refs,misses\nkd.din.zst,split,8192,3,100,7\n");
-  const std::string json = format_report(rows, {level}, true, ReportFormat::Json);
-  EXPECT_EQ(json.substr(0, 16), "{\n  \"results\": [");
-  EXPECT_NE(json.find("\"levels\": [\n    {\"trace\": \"kd.din.zst\", \"scheme\": \"split\", "
-                      "\"size\": 8192, \"level\": 3, \"refs\": 100, \"misses\": 7}\n  ]\n}\n"),
+TEST(Report, PerLevelRowsCarryEveryConfigurationColumn) {
+  LevelRow direct{"kd.din.zst", sample_rows()[1].config, 9, 3, 100, 7};
+  LevelRow cache = direct;
+  cache.config.assoc = 4;
+  cache.config.high_policy = HighPolicy::Cache;
+  cache.misses = 2;
+  EXPECT_EQ(format_level_rows({direct, cache}, ReportFormat::Csv),
+            "trace,scheme,size,block,assoc,policy,high_policy,high_size,low_size,split_level,level,refs,misses\n"
+            "kd.din.zst,split,8192,8,1,lru,retain,4096,4096,9,3,100,7\n"
+            "kd.din.zst,split,8192,8,4,lru,cache,4096,4096,9,3,100,2\n");
+  const std::string json = format_level_rows({direct}, ReportFormat::Json);
+  EXPECT_NE(json.find("{\"trace\": \"kd.din.zst\", \"scheme\": \"split\", \"size\": 8192, \"block\": 8, "
+                      "\"assoc\": 1, \"policy\": \"lru\", \"high_policy\": \"retain\", \"high_size\": 4096, "
+                      "\"low_size\": 4096, \"split_level\": 9, \"level\": 3, \"refs\": 100, \"misses\": 7}"),
             std::string::npos)
       << json;
 }

@@ -162,7 +162,7 @@ TEST_F(SamplingCommand, RowSampledTraceGetsTheSamplingColumnsWithoutOptions) {
   EXPECT_EQ(two.rows[0][19], "1.000000");
   EXPECT_EQ(two.rows[0][20], "0.000000");
   const auto per_level = run_command(cachesim() + " run " + shell_quoted(dir_ / "rows.din.zst") +
-                                     " --scheme split --per-level");
+                                     " --scheme split --per-level -");
   EXPECT_EQ(per_level.exit_code, 2);
   EXPECT_NE(per_level.err.find("is row-sampled"), std::string::npos) << per_level.err;
   const auto windows = run_command(cachesim() + " run " + shell_quoted(dir_ / "rows.din.zst") +
@@ -213,7 +213,8 @@ TEST_F(SamplingCommand, SamplingColumnsInTableAndJsonOnlyWhenSampling) {
   const std::string plain = run(" --format json");
   EXPECT_EQ(plain.find("sampled_fraction"), std::string::npos);
   const auto json = nlohmann::json::parse(run(kConfigs.substr(0, kConfigs.find(" --format")) +
-                                              " --sample-windows 1/2 --window-records 1024 --format json"));
+                                              " --sample-windows 1/2 --window-records 1024 --format json"))
+                        .at("rows");
   ASSERT_EQ(json.size(), 6u);
   EXPECT_EQ(json[4]["scheme"], "gain");
   EXPECT_TRUE(json[4]["misses"].is_null());
@@ -224,7 +225,7 @@ TEST_F(SamplingCommand, SamplingColumnsInTableAndJsonOnlyWhenSampling) {
 }
 
 TEST_F(SamplingCommand, SamplingRefusesPerLevelPerFrameAndCurve) {
-  for (const std::string option : {"--per-level", "--per-frame", "--curve"}) {
+  for (const std::string option : {"--per-level out.csv", "--per-frame out.csv", "--curve"}) {
     const auto result = run_command(cachesim() + " run " + shell_quoted(trace_) +
                                     " --sample-windows 1/2 " + option);
     EXPECT_EQ(result.exit_code, 2) << option;

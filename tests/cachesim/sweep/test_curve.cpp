@@ -1,6 +1,7 @@
 // --curve: the Mattson LRU stack against the Dinero-IV-exact engine, and the
 // curve's points against `cachesim run` of each size on its own.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <fmt/format.h>
 
@@ -118,7 +119,7 @@ TEST(CurveCommand, PointsEqualCachesimRunOfEachSize) {
   const std::string cachesim = quoted(program("cachesim"));
   const auto curve = run_command(cachesim + " run " + quoted(trace) +
                                  " --curve --assoc 1,2,full --scheme single,split "
-                                 "--split-level 4");
+                                 "--split-level 4 --format csv");
   ASSERT_EQ(curve.exit_code, 0) << curve.err;
   std::size_t checked = 0;
   std::size_t at = curve.out.find('\n') + 1;
@@ -152,6 +153,29 @@ TEST(CurveCommand, PointsEqualCachesimRunOfEachSize) {
   }
   EXPECT_EQ(largest, std::size_t{64} << 20);
   EXPECT_GT(checked, 40u);
+}
+
+TEST(CurveCommand, HonoursFormatAndRefusesOptionsThatDoNotApply) {
+  testing::TempDir dir;
+  const auto trace = dir / "tree.din.zst";
+  write_tree_trace(trace);
+  const std::string cachesim = quoted(program("cachesim"));
+  const auto json = run_command(cachesim + " run " + quoted(trace) + " --curve --assoc 1,full --format json");
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  const auto parsed = nlohmann::json::parse(json.out);
+  EXPECT_EQ(parsed["columns"][0], "trace");
+  ASSERT_FALSE(parsed["rows"].empty());
+  EXPECT_TRUE(parsed["rows"][0]["size"].is_number());
+  bool full = false;
+  for (const auto& row : parsed["rows"]) full = full || row["assoc"] == "full";
+  EXPECT_TRUE(full);
+  for (const std::string option : {"--size 4k", "--per-level x.csv", "--low-size 4k", "--count-loads"}) {
+    const auto refused = run_command(cachesim + " run " + quoted(trace) + " --curve " + option);
+    EXPECT_EQ(refused.exit_code, 2) << option;
+    EXPECT_NE(refused.err.find("cachesim run: " + option.substr(0, option.find(' ')) + " does not apply to --curve"),
+              std::string::npos)
+        << refused.err;
+  }
 }
 
 }  // namespace

@@ -311,7 +311,7 @@ TEST(Sweep, PerLevelCounts) {
     EXPECT_EQ(result.level_rows[i].level, i % 3);
     EXPECT_EQ(result.level_rows[i].refs, 3u);
     EXPECT_EQ(result.level_rows[i].misses, misses[i]) << i;
-    EXPECT_EQ(result.level_rows[i].scheme, i < 3 ? Scheme::Single : Scheme::Split);
+    EXPECT_EQ(result.level_rows[i].config.scheme, i < 3 ? Scheme::Single : Scheme::Split);
   }
 }
 

@@ -102,12 +102,13 @@ TEST(SweepCommand, PerFrameRowsSumToTheTotalsAndUseEachFramesK) {
   write_two_frame_container(dir / "tree.din.zst", 3, {{1, 2, 4, 8}, {1, 2, 8, 8}});
   const auto result = run_command(cachesim() + " run " + quoted(dir / "tree.din.zst") +
                                   " --size 64,128 --scheme single,split --split-level auto "
-                                  "--high-policy retain,cache --per-frame --format csv");
+                                  "--high-policy retain,cache --per-frame " + quoted(dir / "frames.csv") +
+                                  " --format csv");
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  const std::size_t blank = result.out.find("\n\n");
-  ASSERT_NE(blank, std::string::npos) << result.out;
-  const auto totals = csv_table(result.out.substr(0, blank + 1));
-  const auto frames = csv_table(result.out.substr(blank + 2));
+  // Two outputs, one table each: the totals on standard output, the frames in their file.
+  EXPECT_EQ(result.out.find("\n\n"), std::string::npos) << result.out;
+  const auto totals = csv_table(result.out);
+  const auto frames = csv_table(testing::read_file(dir / "frames.csv"));
   ASSERT_EQ(totals.size(), 1u + 6u);
   ASSERT_EQ(frames.size(), 1u + 2u * 6u);
   std::vector<std::string> frame_header = totals[0];
@@ -148,15 +149,18 @@ TEST(SweepCommand, PerFrameRowsSumToTheTotalsAndUseEachFramesK) {
   EXPECT_NE(result.err.find("split level (auto) from 2 to 3 over 2 animation frames"),
             std::string::npos)
       << result.err;
-  // JSON holds the same table under "frames".
+  // JSON: each output the same object shape, {"columns", "rows"}; `-` puts the frames alone on stdout.
   const auto json_run = run_command(cachesim() + " run " + quoted(dir / "tree.din.zst") +
-                                    " --size 128 --scheme split --per-frame --format json");
+                                    " --size 128 --scheme split --per-frame - --format json");
   ASSERT_EQ(json_run.exit_code, 0) << json_run.err;
   const auto json = nlohmann::json::parse(json_run.out);
-  ASSERT_EQ(json["frames"].size(), 2u);
-  EXPECT_EQ(json["frames"][1]["frame"], 1);
-  EXPECT_EQ(json["frames"][1]["split_level"], 2);
-  EXPECT_EQ(json["results"][0]["split_level"], 3);
+  ASSERT_EQ(json["rows"].size(), 2u);
+  EXPECT_EQ(json["columns"][1], "frame");
+  EXPECT_EQ(json["rows"][1]["frame"], 1);
+  EXPECT_EQ(json["rows"][1]["split_level"], 2);
+  const auto totals_run = run_command(cachesim() + " run " + quoted(dir / "tree.din.zst") +
+                                      " --size 128 --scheme split --format json");
+  EXPECT_EQ(nlohmann::json::parse(totals_run.out)["rows"][0]["split_level"], 3);
 }
 
 // A DFL layout scatters the top levels: with 16-byte blocks (two nodes)
@@ -281,19 +285,32 @@ TEST(SweepCommand, JsonAndPerLevelTables) {
   testing::TempDir dir;
   write_two_frame_container(dir / "tree.din.zst", 2);
   const auto result = run_command(cachesim() + " run " + quoted(dir / "tree.din.zst") +
-                                  " --size 64 --scheme split --split-level 2 --per-level "
-                                  "--format json");
+                                  " --size 64 --scheme split --split-level 2 --per-level " +
+                                  quoted(dir / "levels.json") + " --format json");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const auto json = nlohmann::json::parse(result.out);
-  ASSERT_EQ(json["results"].size(), 1u);
-  EXPECT_EQ(json["results"][0]["split_level"], 2);
-  EXPECT_EQ(json["results"][0]["high_loads"], 6);
-  EXPECT_TRUE(json["results"][0]["miss_ratio"].is_number());
-  ASSERT_EQ(json["levels"].size(), 5u);  // levels 0, 1, 2, 3, 5
-  EXPECT_EQ(json["levels"][0]["refs"], 400);
-  EXPECT_EQ(json["levels"][0]["misses"], 0);
-  EXPECT_EQ(json["levels"][4]["level"], 5);
+  ASSERT_EQ(json.size(), 2u);  // columns, rows: the same keys with or without --per-level
+  ASSERT_EQ(json["rows"].size(), 1u);
+  EXPECT_EQ(json["rows"][0]["split_level"], 2);
+  EXPECT_EQ(json["rows"][0]["high_loads"], 6);
+  EXPECT_TRUE(json["rows"][0]["miss_ratio"].is_number());
+  const auto levels = nlohmann::json::parse(testing::read_file(dir / "levels.json"));
+  ASSERT_EQ(levels["rows"].size(), 5u);  // levels 0, 1, 2, 3, 5
+  EXPECT_EQ(levels["rows"][0]["refs"], 400);
+  EXPECT_EQ(levels["rows"][0]["misses"], 0);
+  EXPECT_EQ(levels["rows"][0]["high_policy"], "retain");
+  EXPECT_EQ(levels["rows"][0]["split_level"], 2);
+  EXPECT_EQ(levels["rows"][4]["level"], 5);
   EXPECT_TRUE(result.err.empty()) << result.err;  // layout says 2: no note
+}
+
+TEST(SweepCommand, PerLevelAndPerFrameCannotBothTakeStandardOutput) {
+  testing::TempDir dir;
+  write_two_frame_container(dir / "tree.din.zst", 2);
+  const auto result = run_command(cachesim() + " run " + quoted(dir / "tree.din.zst") +
+                                  " --scheme split --per-level - --per-frame - --format csv");
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("one table per output"), std::string::npos) << result.err;
 }
 
 TEST(SweepCommand, BadUsageExitsTwo) {

@@ -113,15 +113,19 @@ TEST(WrapCommand, NoDineroIsAClearUsageError) {
   EXPECT_NE(result.err.find("Dinero IV not found"), std::string::npos) << result.err;
 }
 
-TEST(WrapCommand, PerLevelIsAnErrorThatSaysWhy) {
-  NODETRACE_SHARED_OR_SKIP(shared);
-  const auto result = run_command(
-      quoted(program("dinero-wrap")) + " run " +
-      quoted(shared / "dinero-golden" / "kd-bfl-s1.din.zst") +
-      " --tags-are-levels --per-level " + stand_in());
-  EXPECT_EQ(result.exit_code, 2);
-  EXPECT_NE(result.err.find("Dinero IV reports no counts per node level"), std::string::npos)
-      << result.err;
+// Dinero IV reports totals only: dinero-wrap run does not offer the per-level
+// and per-frame tables it could never write.
+TEST(WrapCommand, PerLevelAndPerFrameAreNotOffered) {
+  const auto help = run_command(quoted(program("dinero-wrap")) + " run --help");
+  ASSERT_EQ(help.exit_code, 0);
+  EXPECT_EQ(help.out.find("--per-level"), std::string::npos) << help.out;
+  EXPECT_EQ(help.out.find("--per-frame"), std::string::npos) << help.out;
+  for (const std::string option : {"--per-level", "--per-frame"}) {
+    const auto result = run_command(quoted(program("dinero-wrap")) + " run x.din " + option + " out.csv " +
+                                    stand_in());
+    EXPECT_EQ(result.exit_code, 2) << option;
+    EXPECT_NE(result.err.find(option), std::string::npos) << result.err;
+  }
 }
 
 // `dinero-wrap run` and `cachesim run` with the same options print the same CSV.
@@ -214,17 +218,6 @@ TEST(WrapRun, EqualsCachesimRunWhenKChangesPerAnimationFrame) {
   const auto wrapped = run_command(quoted(program("dinero-wrap")) + " run " + arguments + " " +
                                    stand_in());
   EXPECT_EQ(wrapped.err, ours.err);
-}
-
-TEST(WrapRun, PerFrameIsAskedOfCachesimRun) {
-  testing::TempDir dir;
-  write_frames(dir / "frames.xdin.zst");
-  const auto result =
-      run_command(quoted(program("dinero-wrap")) + " run " + quoted(dir / "frames.xdin.zst") +
-                  " --per-frame " + stand_in());
-  EXPECT_EQ(result.exit_code, 2);
-  EXPECT_NE(result.err.find("use cachesim run for the per-frame table"), std::string::npos)
-      << result.err;
 }
 
 TEST(WrapRun, HighLevelsThatDoNotFitAreAnError) {

@@ -205,5 +205,62 @@ TEST(RenderCliTest, InfoReportsTreeAndRayKinds) {
   EXPECT_TRUE(j["kdtree"]["split_level_for_high_size"].contains("4096"));
 }
 
+// Issue 22 items 8-11, 13: outputs checked before the render, one-frame info,
+// the depth limit used recorded.
+TEST(RenderCliTest, EmptyOutputNameIsAUsageError) {
+  for (const std::string option : {"-o ''", "--image ''"}) {
+    const auto r = run_command(tracer() + " render " + kScene + " --width 4 --height 3 " + option);
+    EXPECT_EQ(r.exit_code, 2) << option;
+    EXPECT_NE(r.err.find("tracer render: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(": an empty name: give a file name"), std::string::npos) << r.err;
+  }
+}
+
+TEST(RenderCliTest, MissingOutputFolderFailsBeforeRendering) {
+  TempDir dir;
+  const auto r = run_command(tracer() + " render " + kScene + " --width 4 --height 3 -o " +
+                             (dir / "t.din.zst").string() + " --image " + (dir / "nodir" / "x.png").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("tracer render: " + (dir / "nodir" / "x.png").string() +
+                       ": cannot write: folder '" + (dir / "nodir").string() + "' does not exist (checked before rendering)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "t.din.zst"));  // nothing rendered, nothing written
+}
+
+TEST(RenderCliTest, DirectoryAsSceneSaysItIsADirectory) {
+  TempDir dir;
+  const auto r = run_command(tracer() + " render " + dir.path().string() + "/");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find(": is a directory, not a scene file"), std::string::npos) << r.err;
+}
+
+TEST(RenderCliTest, InfoDoesNotOfferFrames) {
+  const auto help = run_command(tracer() + " info --help");
+  ASSERT_EQ(help.exit_code, 0);
+  EXPECT_EQ(help.out.find("--frames"), std::string::npos) << help.out;
+  EXPECT_NE(help.out.find("--frame"), std::string::npos) << help.out;
+}
+
+TEST(RenderCliTest, HeaderRecordsTheDepthLimitUsed) {
+  TempDir dir;
+  const auto trace = dir / "t.din.zst";
+  ASSERT_EQ(run_command(tracer() + " render " + kScene + " --width 4 --height 3 --quiet -o " + trace.string()).exit_code,
+            0);
+  auto reader = formats::TraceReader::open(trace.string());
+  const nlohmann::json kdtree = reader->header().json.at("kdtree");
+  const auto info = nlohmann::json::parse(run_command(tracer() + " info " + kScene + " --format json").out);
+  EXPECT_GT(kdtree.at("max_depth").get<int>(), 0);
+  EXPECT_EQ(kdtree.at("max_depth"), info["kdtree"]["depth_limit"]) << info["kdtree"].dump();
+  EXPECT_TRUE(kdtree.contains("max_depth_default"));
+  const auto given = dir / "given.din.zst";
+  ASSERT_EQ(run_command(tracer() + " render " + kScene + " --width 4 --height 3 --quiet --tree-depth 12 -o " +
+                        given.string()).exit_code,
+            0);
+  const nlohmann::json fixed = formats::TraceReader::open(given.string())->header().json.at("kdtree");
+  EXPECT_EQ(fixed.at("max_depth"), 12);
+  EXPECT_FALSE(fixed.contains("max_depth_default"));
+}
+
 }  // namespace
 }  // namespace nodetrace::tracer

@@ -26,7 +26,7 @@ double shortest(float value) {
 
 nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
                            const TraceJobOptions& options, std::uint32_t split_level,
-                           const RayKindPlan& plan, std::uint64_t frame_count) {
+                           const RayKindPlan& plan, std::uint64_t frame_count, int depth_limit) {
   const RenderOptions& r = options.render;
   nlohmann::json header;
   header["producer"] = {{"tool", "tracer"}, {"version", NODETRACE_VERSION}};
@@ -67,7 +67,10 @@ nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
   header["kdtree"] = {{"traversal_cost", shortest(options.build.traversal_cost)},
                       {"intersection_cost", shortest(options.build.intersection_cost)},
                       {"empty_bonus", shortest(options.build.empty_bonus)},
-                      {"max_depth", options.build.max_depth}};
+                      {"max_depth", depth_limit}};
+  // The default limit depends on each frame's triangle count: say so, since
+  // max_depth is then the first frame's.
+  if (options.build.max_depth == 0) header["kdtree"]["max_depth_default"] = "8 + 1.3 log2 triangles, per frame";
   if (options.build.leaf_size) header["kdtree"]["leaf_size"] = options.build.leaf_size;
   nlohmann::json cast = nlohmann::json::array();
   nlohmann::json left_out = nlohmann::json::object();
@@ -213,7 +216,8 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
 
     if (i == 0) {
       result.plan = renderer.ray_plan();
-      result.header = make_header(source, scene, options, report.split_level, result.plan, frames.size());
+      result.header = make_header(source, scene, options, report.split_level, result.plan, frames.size(),
+                                  tree.stats().depth_limit);
       if (!options.output.empty()) {
         formats::WriterOptions writer_options;
         writer_options.form = options.form;

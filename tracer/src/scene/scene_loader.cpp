@@ -69,6 +69,10 @@ std::unique_ptr<SceneSource> open_scene(const std::string& spec, const SceneLoad
     }
   }
   if (detail::is_builtin_name(name)) return detail::open_builtin(name, size);
+  if (std::filesystem::is_directory(spec)) {
+    throw SceneError(spec + ": is a directory, not a scene file (expected an .obj or .aff file, or a built-in "
+                     "scene: " + detail::builtin_names() + ")");
+  }
   if (std::filesystem::exists(spec)) {
     throw SceneError(spec + ": unsupported scene file type '" + extension +
                      "' (expected .obj or .aff)");

@@ -1,6 +1,6 @@
 // Parsing one command's options with CLI11, the same way in every program:
-// --help and --version print and exit 0, a parse error prints CLI11's
-// message and exits 2 (CLI11's own codes are not ours).
+// --help and --version print and exit 0, a parse error prints "NAME: " and
+// CLI11's message and exits 2 (CLI11's own codes are not ours).
 #pragma once
 
 #include <CLI/CLI.hpp>

@@ -4,9 +4,18 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
+#include <optional>
 #include <string>
+#include <string_view>
 
 namespace nodetrace::cli {
+
+// "WHAT: DONE of TOTAL UNIT (P%), RATE UNIT/s, T left" when the total is
+// known, else "WHAT: DONE UNIT, RATE UNIT/s"; counts of a million and more in
+// M with one decimal; no rate or time left before any time has passed.
+std::string progress_text(std::string_view what, std::uint64_t done, std::optional<std::uint64_t> total,
+                          std::string_view unit, double elapsed_seconds);
 
 class ProgressLine {
  public:
@@ -19,6 +28,11 @@ class ProgressLine {
   bool shown() const { return shown_; }
   // Replaces the line with `text` unless it was rewritten less than 250 ms ago.
   void update(const std::string& text);
+  // progress_text of a count, timed from the last restart() (or construction).
+  void update_count(std::string_view what, std::uint64_t done, std::optional<std::uint64_t> total,
+                    std::string_view unit);
+  // Starts timing a new run of counts (the next trace, say).
+  void restart() { start_ = std::chrono::steady_clock::now(); }
   // Erases the line (also done on destruction).
   void clear();
 
@@ -26,6 +40,7 @@ class ProgressLine {
   bool shown_ = false;
   bool written_ = false;
   std::chrono::steady_clock::time_point last_{};
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
 }  // namespace nodetrace::cli

@@ -1,7 +1,11 @@
 // The report of `cachesim run` and `dinero-wrap run`: one row per trace and
-// configuration, columns of docs/ARCHITECTURE.md "Cache model", as an aligned table (for
-// people), CSV with a header line, or JSON (an array of objects; numbers as
-// numbers, empty columns as null).
+// configuration, columns of docs/ARCHITECTURE.md "Report columns", as an
+// aligned table (for people), CSV with a header line, or JSON. Every output is
+// one table: CSV one header and rows of its width; JSON always the object
+// {"columns": [names], "rows": [{column: value}, ...]} (numbers as numbers,
+// empty columns as null). The per-level and per-frame tables are outputs of
+// their own (`--per-level FILE`, `--per-frame FILE`), never appended to the
+// main one.
 #pragma once
 
 #include <optional>
@@ -19,17 +23,29 @@ std::optional<ReportFormat> parse_report_format(std::string_view name);
 
 // The column names, in order.
 const std::vector<std::string>& report_columns();
+// The configuration columns (trace .. split_level) lead every table.
+inline constexpr std::size_t kConfigurationColumns = 10;
+// Per-level: the configuration columns, then level, refs, misses.
 const std::vector<std::string>& level_report_columns();
 const std::vector<std::string>& animation_frame_report_columns();  // the main ones, `frame` after `trace`
 
 // misses / fetches with six decimals, rounded half up, from integer counts
-// ("0.000000" when there are no fetches).
+// (empty when there are no fetches: a ratio of nothing is not 0).
 std::string miss_ratio_text(std::uint64_t misses, std::uint64_t fetches);
+
+// The assoc column: the ways, or `full` when the (low) cache is one set.
+std::string assoc_text(const Configuration& config);
 
 // The cells of one row (empty strings for empty columns).
 std::vector<std::string> report_cells(const ResultRow& row);
 std::vector<std::string> level_report_cells(const LevelRow& row);
 std::vector<std::string> animation_frame_report_cells(const AnimationFrameRow& row);
+
+// Any table of text cells in `format` (the shapes above); `text_column(c)`
+// says which columns JSON quotes (others are numbers unless a cell is not one).
+std::string format_cells(const std::vector<std::string>& columns,
+                         const std::vector<std::vector<std::string>>& rows, ReportFormat format,
+                         bool (*text_column)(std::size_t));
 
 // The main table alone.
 std::string format_rows(const std::vector<ResultRow>& rows, ReportFormat format);
@@ -37,17 +53,6 @@ std::string format_rows(const std::vector<ResultRow>& rows, ReportFormat format)
 std::string format_level_rows(const std::vector<LevelRow>& rows, ReportFormat format);
 // The per-frame table alone.
 std::string format_animation_frame_rows(const std::vector<AnimationFrameRow>& rows, ReportFormat format);
-
-// The whole report: the main table, then (when `per_level`) the per-level
-// table, then (when `per_animation_frame`) the per-frame table, separated by a blank
-// line in table and CSV form; in JSON an object {"results": [...], "levels":
-// [...], "frames": [...]} of the tables asked for, or the main array alone.
-// Notes are not included (front ends print them: under the table, or on
-// standard error for CSV and JSON so that those stay machine-readable).
-std::string format_report(const std::vector<ResultRow>& rows,
-                          const std::vector<LevelRow>& level_rows, bool per_level,
-                          ReportFormat format, const std::vector<AnimationFrameRow>& animation_frame_rows = {},
-                          bool per_animation_frame = false);
 
 // Sampled runs (docs/ARCHITECTURE.md "Report columns", cachesim/SAMPLING.md): the main
 // columns, then these, in every row; then one `gain` row per split

@@ -28,11 +28,13 @@ struct ResultRow {
   std::uint64_t low_misses = 0;
 };
 
-// `--per-level`: references and misses of one node level in one configuration.
+// `--per-level`: references and misses of one node level in one configuration
+// (every configuration column, so rows of configurations of the same scheme
+// and size stay apart).
 struct LevelRow {
   std::string trace;
-  Scheme scheme = Scheme::Single;
-  std::uint64_t size = 0;
+  Configuration config;
+  std::uint32_t split_level = 0;  // resolved K (split only): the sweep sets it as its row's
   std::uint32_t level = 0;
   std::uint64_t refs = 0;
   std::uint64_t misses = 0;

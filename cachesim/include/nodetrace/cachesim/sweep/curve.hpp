@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "nodetrace/cachesim/report/report.hpp"
 #include "nodetrace/cachesim/sweep/config.hpp"
 #include "nodetrace/formats/read/trace_reader.hpp"
 
@@ -43,7 +44,9 @@ struct CurvePoint {
 std::vector<CurvePoint> run_curve(formats::TraceReader& reader, const CurveOptions& options,
                                   const std::string& trace_column);
 
-// CSV: trace,scheme,block,assoc,policy,split_level,size,fetches,misses,miss_ratio
-std::string format_curve(const std::vector<CurvePoint>& points, ReplacementPolicy policy);
+// Columns trace,scheme,block,assoc,policy,split_level,size,fetches,misses,miss_ratio
+// as a table, CSV or JSON (report.hpp's shapes).
+std::string format_curve(const std::vector<CurvePoint>& points, ReplacementPolicy policy,
+                         ReportFormat format);
 
 }  // namespace nodetrace::cachesim
