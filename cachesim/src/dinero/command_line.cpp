@@ -382,6 +382,7 @@ DineroOptions parse_dinero_options(const std::vector<std::string>& args) {
       const std::string& arg = value();
       if (arg.size() != 1) usage(bad_option(opt, arg));
       o.informat = arg[0];
+      o.informat_given = true;
       continue;
     }
     if (opt == "-on-trigger" || opt == "-off-trigger") {

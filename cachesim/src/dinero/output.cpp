@@ -8,6 +8,7 @@
 #include <ostream>
 #include <string>
 
+#include "nodetrace/base/error.hpp"
 #include "nodetrace/cachesim/dinero/command_line.hpp"
 
 namespace nodetrace::cachesim {
@@ -208,9 +209,13 @@ void run_dinero(const DineroOptions& options, formats::TraceReader& reader, std:
   bool stopped = false;
   // A container's header names its record form, which decides din's rounding.
   const formats::RecordForm form = reader.form();
-  while (!stopped && reader.next(batch)) {
-    const std::size_t consumed = hierarchy.access_batch(batch.records, form);
-    stopped = consumed < batch.records.size();
+  try {
+    while (!stopped && reader.next(batch)) {
+      const std::size_t consumed = hierarchy.access_batch(batch.records, form);
+      stopped = consumed < batch.records.size();
+    }
+  } catch (const base::FormatError& error) {
+    throw base::FormatError(with_informat_hint(options, error.what()));
   }
   if (hierarchy.max_count_exceeded()) {
     out << "---Maximum address count exceeded.\n";

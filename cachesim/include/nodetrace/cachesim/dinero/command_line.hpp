@@ -21,6 +21,7 @@ struct DineroOptions {
 
   HierarchyConfig hierarchy;
   char informat = 'D';  // Dinero's default; d, D or b are supported
+  bool informat_given = false;  // -informat was on the command line
   formats::RecordForm form = formats::RecordForm::ExtendedDin;
   bool stat_idcombine = false;
   std::string trace_path = "-";  // an extra positional argument; "-" is stdin
@@ -42,6 +43,15 @@ struct DineroOptions {
 // where Dinero has one; unsupported options (other fetch policies, -custom,
 // other input formats) are errors that name them.
 DineroOptions parse_dinero_options(const std::vector<std::string>& args);
+
+// A container names its own record form: without -informat, `options`
+// takes it (and the summary prints its letter); with a -informat naming
+// another form, throws formats::UsageError. Plain input is left as it is.
+void match_trace_form(DineroOptions& options, const formats::TraceReader& reader);
+
+// `message` (a trace error) with Dinero IV's advice to try -informat d when
+// extended din input had an unknown access type.
+std::string with_informat_hint(const DineroOptions& options, const std::string& message);
 
 // The banner and "---Summary of options" block, exactly as dineroIV prints it.
 std::string dinero_preamble(const DineroOptions& options);
