@@ -10,11 +10,11 @@
 #pragma once
 
 #include <cstdint>
-#include <random>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
+#include "libc_random.hpp"
 #include "nodetrace/cachesim/dinero/engine.hpp"
 #include "nodetrace/formats/record/record.hpp"
 
@@ -38,11 +38,13 @@ struct Ref {
   std::uint16_t size = 0;  // 0 with copy-back / invalidate: the whole cache
   std::uint8_t type = kRead;
   bool multi_block_rest = false;  // the remainder of a split reference
+  bool prefetch = false;          // made by this cache's fetch policy
 };
 
 class Cache {
  public:
-  explicit Cache(const CacheConfig& config);
+  // `random`: the hierarchy's one generator (random replacement, -pfabort).
+  Cache(const CacheConfig& config, LibcRandom& random);
 
   void ref(const Ref& m) {
     if (m.type < kCopyBack) {
@@ -65,6 +67,7 @@ class Cache {
     std::uint64_t block = 0;
     std::uint32_t valid = 0;  // one bit per sub-block
     std::uint32_t dirty = 0;
+    std::uint32_t referenced = 0;  // sub-blocks a demand reference touched (tagged prefetch)
     std::uint32_t up = 0;    // towards the top (more recent); top->up is the bottom
     std::uint32_t down = 0;  // towards the bottom
   };
@@ -76,6 +79,9 @@ class Cache {
   };
 
   void demand_ref(Ref m);
+  // The fetch policy's prefetch for demand reference `m` (queued, unless
+  // -pfabort throws it away); `node` is where m's block was found, if it was.
+  void prefetch_for(const Ref& m, bool miss, std::uint32_t node);
   void copy_back(const Ref& m);
   void invalidate(const Ref& m);
   void drain_pending();
@@ -122,7 +128,7 @@ class Cache {
   std::unordered_map<std::uint64_t, std::uint32_t> seen_;  // infinite cache: block -> sub-block bits
   std::vector<Ref> pending_;
   bool draining_ = false;
-  std::mt19937_64 random_;
+  LibcRandom& random_;
 };
 
 }  // namespace nodetrace::cachesim::detail

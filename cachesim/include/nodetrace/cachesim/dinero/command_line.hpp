@@ -1,5 +1,5 @@
 // Dinero IV's command line and output layout on top of the engine, so that
-// `cachesim dinero` is a drop-in replacement for dineroIV (demand fetch).
+// `cachesim dinero` is a drop-in replacement for dineroIV.
 #pragma once
 
 #include <array>
@@ -40,8 +40,8 @@ struct DineroOptions {
 
 // Parses dineroIV arguments (without the program name). Throws
 // base::UsageError naming the offending option, with Dinero's wording
-// where Dinero has one; unsupported options (other fetch policies, -custom,
-// other input formats) are errors that name them.
+// where Dinero has one; unsupported options (-custom, input formats other
+// than d, D, b) are errors that name them.
 DineroOptions parse_dinero_options(const std::vector<std::string>& args);
 
 // A container names its own record form: without -informat, `options`
