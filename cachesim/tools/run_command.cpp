@@ -148,6 +148,10 @@ int run_command(int argc, char** argv) {
   return nodetrace::cli::exit_status_of("cachesim run", [&] {
     const SweepOptions options = sweep_options(line);
     const SamplingOptions sampling = sampling_options(sampling_line, line);
+    if (options.fetch != FetchPolicy::Demand && (line.curve || sampling.sampling())) {
+      throw formats::UsageError(fmt::format("--fetch {}: not with --curve or sampling, which are demand-fetch",
+                                            line.fetch));
+    }
     if (line.curve) return curve_command(line, options);
     const std::vector<Configuration> configs = expand_configurations(options);
     const Readers readers = open_traces(line, sampling);
@@ -159,6 +163,10 @@ int run_command(int argc, char** argv) {
       }
     }
     if (sampling.sampling() || row_sampled(readers)) {
+      if (options.fetch != FetchPolicy::Demand) {
+        throw formats::UsageError(fmt::format("--fetch {}: not on a row-sampled trace (demand-fetch only)",
+                                              line.fetch));
+      }
       return sampled_command(line, configs, sampling, readers);
     }
     std::vector<ResultRow> rows;

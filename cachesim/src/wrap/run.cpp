@@ -110,7 +110,8 @@ class RunningJob {
   void start() {
     std::vector<std::string> argv = options_.dinero;
     CacheGeometry geometry = job_.geometry;
-    for (auto& argument : dinero_cache_arguments(context_.form, geometry)) {
+    for (auto& argument :
+         dinero_cache_arguments(context_.form, geometry, config_.fetch, config_.prefetch_distance)) {
       argv.push_back(std::move(argument));
     }
     process_ = std::make_unique<ChildProcess>(argv, ChildProcess::Output::Captured);

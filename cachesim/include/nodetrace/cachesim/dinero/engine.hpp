@@ -20,6 +20,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "nodetrace/cachesim/models/cache_geometry.hpp"
@@ -44,6 +45,12 @@ enum class WriteBack : std::uint8_t { Always, Never, NoFetch };
 // prefetched sub-block (tagged); always but never into the next block (load
 // forward); always, wrapping round within the block (sub-block).
 enum class FetchPolicy : std::uint8_t { Demand, Always, Miss, Tagged, LoadForward, SubBlock };
+
+// Command-line names (demand, always, miss, tagged, load-forward, subblock)
+// and Dinero IV's -lN-Tfetch letters (d, a, m, t, l, s).
+std::string_view fetch_policy_name(FetchPolicy policy);
+std::optional<FetchPolicy> parse_fetch_policy_name(std::string_view name);
+char dinero_fetch_letter(FetchPolicy policy);
 
 struct CacheConfig {
   std::uint64_t size = 0;            // bytes; power of two

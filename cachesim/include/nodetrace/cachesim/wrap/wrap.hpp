@@ -86,9 +86,11 @@ struct WrapOptions {
 };
 
 // The Dinero IV arguments of a cache: -informat, -l1-usize, -l1-ubsize,
-// -l1-uassoc, -l1-urepl.
+// -l1-uassoc, -l1-urepl, and -l1-ufetch, -l1-upfdist unless demand fetch.
 std::vector<std::string> dinero_cache_arguments(formats::RecordForm form,
-                                                const CacheGeometry& geometry);
+                                                const CacheGeometry& geometry,
+                                                FetchPolicy fetch = FetchPolicy::Demand,
+                                                std::uint32_t prefetch_distance = 1);
 
 // `cachesim run` answered by Dinero IV for the trace at `path`: read once per
 // group of at most `jobs` processes ("-", standard input, is read once, so
