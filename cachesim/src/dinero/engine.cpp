@@ -143,7 +143,7 @@ struct Hierarchy::Impl {
 
   void simulate(const formats::Record& record) {
     detail::Ref ref;
-    ref.address = record.address;
+    ref.address = record.address & detail::kAddressMask;
     ref.size = static_cast<std::uint16_t>(record.size);  // Dinero's sizes are 16 bits
     ref.type = static_cast<std::uint8_t>(record.type);
     switch (record.type) {
@@ -215,9 +215,10 @@ bool Hierarchy::access(const formats::Record& record) {
     return true;
   }
   if (s.exceeded) return false;
-  if (record.address != 0 && (c.on_trigger != 0 || c.off_trigger != 0)) {
-    if ((s.discard && c.on_trigger == record.address) ||
-        (!s.discard && c.off_trigger == record.address)) {
+  // Dinero IV compares its 32-bit address with the triggers' 64 bits.
+  const std::uint64_t address = record.address & detail::kAddressMask;
+  if (address != 0 && (c.on_trigger != 0 || c.off_trigger != 0)) {
+    if ((s.discard && c.on_trigger == address) || (!s.discard && c.off_trigger == address)) {
       s.discard = !s.discard;
       s.toggled = true;
       return true;

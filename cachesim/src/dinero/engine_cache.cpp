@@ -48,8 +48,14 @@ Cache::Cache(const CacheConfig& config, LibcRandom& random)
 }
 
 std::uint32_t Cache::sub_block_bits(const Ref& m) const {
-  // Dinero's D4ADDR2SBMASK, computed in 64 bits and kept to 32 as its
-  // `unsigned int` valid bits are.
+  // ((d4addr)1 << n) - 1 in 32 bits: x86 shifts by n mod 32, so 32 makes 0.
+  const std::uint64_t count = sub_blocks_touched(m);
+  const std::uint32_t mask = (std::uint32_t{1} << (count & 31)) - 1;
+  const std::uint64_t shift = (m.address - block_of(m.address)) >> lg2_sub_block_;
+  return static_cast<std::uint32_t>(shift >= 32 ? 0 : mask << shift);
+}
+
+std::uint32_t Cache::touched_bits(const Ref& m) const {
   const std::uint64_t count = sub_blocks_touched(m);
   const std::uint64_t mask = count >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << count) - 1;
   const std::uint64_t shift = (m.address - block_of(m.address)) >> lg2_sub_block_;
@@ -165,12 +171,13 @@ void Cache::write_back_block(std::uint32_t node) {
     Ref w;
     w.type = kWrite;
     for (; (bits & bit) == 0; bit <<= 1) address += sub_block;
-    w.address = address;
+    const std::uint64_t start = address;
+    w.address = start & kAddressMask;
     for (; bit != 0 && (bits & bit) != 0; bit <<= 1) {
       address += sub_block;
       bits &= ~bit;
     }
-    w.size = static_cast<std::uint16_t>(address - w.address);
+    w.size = static_cast<std::uint16_t>(address - start);
     pending_.push_back(w);
   } while (bits != 0);
   p.dirty = 0;
@@ -181,7 +188,7 @@ void Cache::write_back_block(std::uint32_t node) {
 // the block (or, when the reference covers all the block or there is one
 // sub-block per block, nothing of what it touches) was seen, else -1.
 int Cache::infinite_cache(const Ref& m) {
-  const std::uint32_t touched = sub_block_bits(m);
+  const std::uint32_t touched = touched_bits(m);
   const std::uint64_t touched_count = sub_blocks_touched(m);
   const std::uint32_t per_block = 1u << (lg2_block_ - lg2_sub_block_);
   auto [it, inserted] = seen_.try_emplace(block_of(m.address), 0u);
@@ -304,7 +311,7 @@ void Cache::demand_ref(Ref m) {
   // now and queue the rest, as a new reference to this same cache.
   if (block != block_of(m.address + m.size - 1)) {
     Ref rest;
-    rest.address = block + (block_mask_ + 1);
+    rest.address = block_of(block + (block_mask_ + 1));
     rest.type = m.type;
     rest.multi_block_rest = true;
     const auto first_size = static_cast<std::uint16_t>((block_mask_ + 1) - (m.address & block_mask_));
@@ -452,7 +459,7 @@ void Cache::prefetch_for(const Ref& m, bool miss, std::uint32_t node) {
   pf.type = m.type;
   pf.prefetch = true;
   if (config_.fetch == FetchPolicy::SubBlock && block_of(pf.address) != block_of(m.address)) {
-    pf.address -= block_mask_ + 1;  // wrap round within the block
+    pf.address = (pf.address - (block_mask_ + 1)) & kAddressMask;  // wrap round within the block
   }
   // Dinero IV's test: random() / (INT_MAX / 100) < percentage.
   if (config_.prefetch_abort > 0 && random_.next() / (INT_MAX / 100) < config_.prefetch_abort) return;

@@ -32,6 +32,11 @@ inline constexpr std::uint8_t kMisc = access_index(formats::AccessType::Misc);
 inline constexpr std::uint8_t kCopyBack = access_index(formats::AccessType::CopyBack);
 inline constexpr std::uint8_t kInvalidate = access_index(formats::AccessType::Invalidate);
 
+// Dinero IV's d4addr as its configure script makes it on LP64 hosts:
+// `unsigned int`, since the script defines SIZEOF_INT but never SIZEOF_VOIDP.
+// Addresses, and all arithmetic on them, are kept to 32 bits, as there.
+inline constexpr std::uint64_t kAddressMask = 0xFFFFFFFFu;
+
 // A memory reference as Dinero IV's d4memref: its size is 16 bits wide.
 struct Ref {
   std::uint64_t address = 0;
@@ -101,15 +106,22 @@ class Cache {
   int infinite_cache(const Ref& m);
   void invalidate_infinite_cache(const Ref& m);
 
-  std::uint64_t block_of(std::uint64_t address) const { return address & ~block_mask_; }
-  std::uint64_t sub_block_of(std::uint64_t address) const { return address & ~sub_block_mask_; }
+  std::uint64_t block_of(std::uint64_t address) const { return address & kAddressMask & ~block_mask_; }
+  std::uint64_t sub_block_of(std::uint64_t address) const {
+    return address & kAddressMask & ~sub_block_mask_;
+  }
   std::uint32_t set_of(std::uint64_t address) const {
     return static_cast<std::uint32_t>((address >> lg2_block_) & set_mask_);
   }
   std::uint64_t sub_blocks_touched(const Ref& m) const {
     return ((m.address + m.size - 1) >> lg2_sub_block_) - (m.address >> lg2_sub_block_) + 1;
   }
+  // Dinero's D4ADDR2SBMASK, with its 32-bit shift: touching all 32
+  // sub-blocks of a block gives no bits at all.
   std::uint32_t sub_block_bits(const Ref& m) const;
+  // The bits of the sub-blocks touched, for the infinite cache (which
+  // counts them one by one in Dinero IV, without that mask).
+  std::uint32_t touched_bits(const Ref& m) const;
 
   CacheConfig config_;
   int lg2_block_;
