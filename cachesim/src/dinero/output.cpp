@@ -184,22 +184,33 @@ std::string dinero_preamble(const DineroOptions& o) {
   out += "\n---Summary of options (-help option gives usage information).\n\n";
 
   // Each -lN-T option in Dinero's table order, then by u, i, d, then level.
-  auto numbers = [&](const char* name, const auto& values) {
+  // Dinero's loop runs one level past the last (lev <= maxlevel): that level
+  // is unset below 5 levels; with 5 it reads past each row of its [3][5]
+  // table into the next kind's level 1, and past the d row out of the table:
+  // there d4-7 as built finds the level count after the block sizes and
+  // zeros after the others, and prints "-l6-d..." lines accordingly.
+  auto value = [&](const auto& values, int idu, int lev, std::uint32_t past_table) -> std::uint32_t {
+    if (lev < kMaxLevels) return static_cast<std::uint32_t>(values[idu][lev]);
+    return idu < 2 ? static_cast<std::uint32_t>(values[idu + 1][0]) : past_table;
+  };
+  auto numbers = [&](const char* name, const auto& values, std::uint32_t past_table = 0) {
     for (int idu = 0; idu < 3; ++idu) {
-      for (int lev = 0; lev < o.max_level; ++lev) {
-        if (values[idu][lev] != 0) append(out, "-l%d-%c%s %u\n", lev + 1, kKindLetters[idu], name, values[idu][lev]);
+      for (int lev = 0; lev <= o.max_level; ++lev) {
+        const std::uint32_t v = value(values, idu, lev, past_table);
+        if (v != 0) append(out, "-l%d-%c%s %u\n", lev + 1, kKindLetters[idu], name, v);
       }
     }
   };
   auto letters = [&](const char* name, const auto& values) {
     for (int idu = 0; idu < 3; ++idu) {
-      for (int lev = 0; lev < o.max_level; ++lev) {
-        if (values[idu][lev] != 0) append(out, "-l%d-%c%s %c\n", lev + 1, kKindLetters[idu], name, values[idu][lev]);
+      for (int lev = 0; lev <= o.max_level; ++lev) {
+        const auto v = static_cast<char>(value(values, idu, lev, 0));
+        if (v != 0) append(out, "-l%d-%c%s %c\n", lev + 1, kKindLetters[idu], name, v);
       }
     }
   };
   numbers("size", o.size);
-  numbers("bsize", o.block_size);
+  numbers("bsize", o.block_size, static_cast<std::uint32_t>(o.max_level));
   numbers("sbsize", o.sub_block_size);
   numbers("assoc", o.assoc);
   letters("repl", o.replacement);
@@ -209,8 +220,8 @@ std::string dinero_preamble(const DineroOptions& o) {
   letters("walloc", o.write_allocate);
   letters("wback", o.write_back);
   for (int idu = 0; idu < 3; ++idu) {
-    for (int lev = 0; lev < o.max_level; ++lev) {
-      if (o.ccc[idu][lev]) append(out, "-l%d-%cccc\n", lev + 1, kKindLetters[idu]);
+    for (int lev = 0; lev <= o.max_level; ++lev) {
+      if (value(o.ccc, idu, lev, 0) != 0) append(out, "-l%d-%cccc\n", lev + 1, kKindLetters[idu]);
     }
   }
   append(out, "-skipcount %.0f\n", d(o.skip_count));
