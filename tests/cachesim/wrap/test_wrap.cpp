@@ -326,5 +326,26 @@ TEST(WrapRun, RealDineroIVGivesTheSameRows) {
                       "--split-level 6 --high-policy retain,cache --tags-are-levels --format csv");
 }
 
+TEST(WrapRun, EveryFetchPolicyGivesDinerosDemandMisses) {
+  NODETRACE_SHARED_OR_SKIP(shared);
+  NODETRACE_DINERO_OR_SKIP(dinero);
+  for (const char* fetch : {"always", "miss", "tagged", "load-forward", "subblock"}) {
+    SCOPED_TRACE(fetch);
+    // Random replacement too: the Dinero engine draws Dinero IV's sequence.
+    expect_same_csv("--dinero " + quoted(dinero),
+                    quoted(shared / "dinero-golden" / "kd-bfl-s1.din.zst") +
+                        " --size 4k,16k --assoc 1,4,full --policy lru,fifo,random --fetch " + fetch +
+                        (std::string(fetch) == "always" ? " --prefetch-distance 3" : "") + " --format csv");
+  }
+}
+
+TEST(WrapRun, PrefetchingIsRefusedWithTheSplitScheme) {
+  const auto result = run_command(quoted(program("cachesim")) +
+                                  " run - --scheme single,split --fetch tagged --tags-are-levels",
+                                  "0 100 3\n");
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("--scheme single only"), std::string::npos) << result.err;
+}
+
 }  // namespace
 }  // namespace nodetrace::cachesim::wrap
