@@ -1,7 +1,7 @@
 // The names of Dinero IV's fetch policies, on our command lines and on its.
 #include <array>
 
-#include "nodetrace/cachesim/engine.hpp"
+#include "nodetrace/cachesim/dinero/engine.hpp"
 
 namespace nodetrace::cachesim {
 

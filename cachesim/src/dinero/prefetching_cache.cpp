@@ -2,20 +2,20 @@
 
 #include <bit>
 
-#include "../engine_cache.hpp"
-#include "libc_random.hpp"
+#include "dinero/engine_cache.hpp"
+#include "dinero/libc_random.hpp"
 
 namespace nodetrace::cachesim {
 
 PrefetchingCache::PrefetchingCache(const CacheGeometry& geometry, FetchPolicy fetch,
                                    std::uint32_t distance)
     : random_(std::make_unique<detail::LibcRandom>()),
-      shift_(static_cast<unsigned>(std::countr_zero(geometry.block))) {
+      shift_(static_cast<unsigned>(std::countr_zero(geometry.block_size))) {
   CacheConfig config;
   config.size = geometry.size;
-  config.block_size = geometry.block;
+  config.block_size = geometry.block_size;
   config.assoc = geometry.assoc;
-  config.replacement = geometry.policy;
+  config.replacement = geometry.replacement;
   config.fetch = fetch;
   config.prefetch_distance = distance;
   cache_ = std::make_unique<detail::Cache>(config, *random_);

@@ -8,9 +8,9 @@
 #include <cstdint>
 #include <memory>
 
-#include "nodetrace/cachesim/cache_geometry.hpp"
-#include "nodetrace/cachesim/engine.hpp"
-#include "nodetrace/formats/record.hpp"
+#include "nodetrace/cachesim/dinero/engine.hpp"
+#include "nodetrace/cachesim/models/cache_geometry.hpp"
+#include "nodetrace/formats/record/record.hpp"
 
 namespace nodetrace::cachesim {
 

@@ -8,8 +8,8 @@
 
 #include <vector>
 
-#include "nodetrace/cachesim/dinero.hpp"
-#include "nodetrace/cachesim/engine.hpp"
+#include "nodetrace/cachesim/dinero/command_line.hpp"
+#include "nodetrace/cachesim/dinero/engine.hpp"
 #include "test_support.hpp"
 
 namespace nodetrace::cachesim {
