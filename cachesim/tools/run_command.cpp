@@ -149,7 +149,7 @@ int run_command(int argc, char** argv) {
     const SweepOptions options = sweep_options(line);
     const SamplingOptions sampling = sampling_options(sampling_line, line);
     if (options.fetch != FetchPolicy::Demand && (line.curve || sampling.sampling())) {
-      throw formats::UsageError(fmt::format("--fetch {}: not with --curve or sampling, which are demand-fetch",
+      throw base::UsageError(fmt::format("--fetch {}: not with --curve or sampling, which are demand-fetch",
                                             line.fetch));
     }
     if (line.curve) return curve_command(line, options);
@@ -164,7 +164,7 @@ int run_command(int argc, char** argv) {
     }
     if (sampling.sampling() || row_sampled(readers)) {
       if (options.fetch != FetchPolicy::Demand) {
-        throw formats::UsageError(fmt::format("--fetch {}: not on a row-sampled trace (demand-fetch only)",
+        throw base::UsageError(fmt::format("--fetch {}: not on a row-sampled trace (demand-fetch only)",
                                               line.fetch));
       }
       return sampled_command(line, configs, sampling, readers);

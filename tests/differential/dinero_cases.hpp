@@ -29,9 +29,8 @@ struct DineroComparison {
   // them too (same == true then means it did).
   bool valid = false;
   // Dinero IV crashed (a signal) or ran past its time limit (5 s): its own
-  // faults, seen with 32 sub-blocks per block, where its 32-bit mask of a
-  // whole block is 0 and leaves invalid blocks among the valid ones. Not a
-  // configuration it answers, so not compared.
+  // faults (the generator leaves out the configurations known to cause them,
+  // caches of 32 sub-blocks per block). Not compared.
   bool dinero_broke = false;
   bool same = false;  // standard output byte for byte, and the warnings
   int dinero_status = -1, cachesim_status = -1;

@@ -46,7 +46,7 @@ DineroOptions parse_dinero_options(const std::vector<std::string>& args);
 
 // A container names its own record form: without -informat, `options`
 // takes it (and the summary prints its letter); with a -informat naming
-// another form, throws formats::UsageError. Plain input is left as it is.
+// another form, throws base::UsageError. Plain input is left as it is.
 void match_trace_form(DineroOptions& options, const formats::TraceReader& reader);
 
 // `message` (a trace error) with Dinero IV's advice to try -informat d when
