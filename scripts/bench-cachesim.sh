@@ -6,18 +6,23 @@
 #     4 KB high cache; rendered from ../shared/scenes when it is there): wall,
 #     CPU (user + sys) and peak RSS of both, measured alternately in the same
 #     run, and their ratios (goals: CPU at most 1.3 x, wall at most 1.0 x on an
-#     idle machine, RSS at most 32 MiB); where dineroIV is on PATH, the ratio
-#     against `zstd -dcq | dineroIV` for the same configuration (goal 8 x)
+#     idle machine, RSS at most 32 MiB); with Dinero IV (below), the ratio
+#     against `zstd -dcq | dineroIV` for the same configuration (goal 10 x in
+#     CPU), and `zstd -dcq | cachesim dinero` against `zstd -dcq | dineroIV`
+#     with the same options (goal 3 x in CPU)
 #   - zstd -dc FILE >/dev/null                      (the reference)
 #   - one configuration (8k, block 8, direct mapped, single)
 #   - the Table 1 grid (4k,8k,16k x single,split) in one pass; ratio grid / one
 #     (goal: at most 1.3)
 #   - a 36-configuration sweep (1k..256k x assoc 1,2,4,8, single, LRU; goal: at
 #     most 2 x one configuration) and the same with split added (72; goal: 3 x);
-#     CPU time (user + sys) beside the wall clock; where dineroIV is on PATH,
+#     CPU time (user + sys) beside the wall clock; with Dinero IV,
 #     36 Dinero IV runs (one per configuration) against the one pass
 #   - peak RSS for 50 M records and for 500 M records (a pipe from a generator)
-#   - where dineroIV is on PATH, the same configuration by Dinero IV
+#   - with Dinero IV, the same configuration by Dinero IV
+#
+# Dinero IV is $DINEROIV (a program), else dineroIV on PATH, else the one
+# scripts/build-dinero.sh builds from ../shared (built when it can be).
 #
 #   scripts/bench-cachesim.sh [--build-dir DIR] [--repeat N] [--trace FILE]
 #                             [--split-level K|auto] [--no-500m] [--one-only]
@@ -63,6 +68,14 @@ for program in "$cachesim" "$tracetool" "$tracer"; do
   fi
 done
 golden=../shared/dinero-golden/kd-bfl-s1.din.zst
+dinero=
+if [ -n "${DINEROIV:-}" ] && [ -x "$DINEROIV" ]; then
+  dinero=$DINEROIV
+elif command -v dineroIV >/dev/null; then
+  dinero=$(command -v dineroIV)
+elif [ -f ../shared/dinero-iv/d4-7.tar.gz ]; then
+  dinero=$(scripts/build-dinero.sh) || dinero=
+fi
 if [ -z "$trace" ]; then
   trace=$build_dir/bench/render75m.din.zst
   if [ ! -s "$trace" ]; then
@@ -102,7 +115,7 @@ rate() { awk -v n="$records" -v t="$1" 'BEGIN { printf "%.1f\n", n / t / 1e6 }';
 compare_one_config() {
   local file=$1 name=$2 n
   n=$("$tracetool" info "$file" | awk '$1 == "records" && $2 ~ /^[0-9]+$/ { print $2; exit }')
-  local zw=() zc=() zr=() cw=() cc=() cr=() dw=() dc=()
+  local zw=() zc=() zr=() cw=() cc=() cr=() dw=() dc=() ew=() ec=()
   local load0 load1 wall cpu rss
   load0=$(cut -d' ' -f1 /proc/loadavg)
   for _ in $(seq "$repeat"); do
@@ -110,10 +123,13 @@ compare_one_config() {
     zw+=("$wall") zc+=("$cpu") zr+=("$rss")
     read -r wall cpu rss < <(wall_cpu_rss "$cachesim" run "$file" --size 8k --block 8 --assoc 1 --scheme single --format csv)
     cw+=("$wall") cc+=("$cpu") cr+=("$rss")
-    if command -v dineroIV >/dev/null; then
-      read -r wall cpu rss < <(wall_cpu_rss bash -c "zstd -q -dc '$file' | dineroIV -informat d -l1-usize 8k \
+    if [ -n "$dinero" ]; then
+      read -r wall cpu rss < <(wall_cpu_rss bash -c "zstd -q -dc '$file' | '$dinero' -informat d -l1-usize 8k \
         -l1-ubsize 8 -l1-uassoc 1")
       dw+=("$wall") dc+=("$cpu")
+      read -r wall cpu rss < <(wall_cpu_rss bash -c "zstd -q -dc '$file' | '$cachesim' dinero -informat d \
+        -l1-usize 8k -l1-ubsize 8 -l1-uassoc 1")
+      ew+=("$wall") ec+=("$cpu")
     fi
   done
   load1=$(cut -d' ' -f1 /proc/loadavg)
@@ -133,10 +149,14 @@ compare_one_config() {
   if [ "${#dw[@]}" -gt 0 ]; then
     local dwm dcm
     dwm=$(printf '%s\n' "${dw[@]}" | median) dcm=$(printf '%s\n' "${dc[@]}" | median)
-    printf '  %-26s wall %6s s  cpu %6s s  (cachesim is %s x faster in wall, %s x in cpu; goal 8)\n' \
+    printf '  %-26s wall %6s s  cpu %6s s  (cachesim run is %s x faster in wall, %s x in cpu; goal 10 in cpu)\n' \
       "zstd -dc | dineroIV" "$dwm" "$dcm" "$(ratio "$dwm" "$cwm")" "$(ratio "$dcm" "$ccm")"
+    local ewm ecm
+    ewm=$(printf '%s\n' "${ew[@]}" | median) ecm=$(printf '%s\n' "${ec[@]}" | median)
+    printf '  %-26s wall %6s s  cpu %6s s  (dineroIV / cachesim dinero: %s x in wall, %s x in cpu; goal 3 in cpu)\n' \
+      "zstd -dc | cachesim dinero" "$ewm" "$ecm" "$(ratio "$dwm" "$ewm")" "$(ratio "$dcm" "$ecm")"
   else
-    echo "  dineroIV is not on PATH: no comparison with Dinero IV (goal: 8 x faster)"
+    echo "  no Dinero IV (\$DINEROIV, PATH, or ../shared for scripts/build-dinero.sh): no comparison with it"
   fi
 }
 
@@ -227,10 +247,10 @@ if [ "$big" = 1 ] && [ -r "$golden" ]; then
   done
   rm -f "$one"
 fi
-if command -v dineroIV >/dev/null; then
+if [ -n "$dinero" ]; then
   dinero_times=()
   for _ in $(seq "$repeat"); do
-    dinero_times+=("$(seconds bash -c "zstd -q -dc '$trace' | dineroIV -informat d -l1-usize 8k \
+    dinero_times+=("$(seconds bash -c "zstd -q -dc '$trace' | '$dinero' -informat d -l1-usize 8k \
       -l1-ubsize 8 -l1-uassoc 1")")
   done
   dinero_median=$(printf '%s\n' "${dinero_times[@]}" | median)
@@ -241,5 +261,5 @@ if command -v dineroIV >/dev/null; then
     "36 x (zstd -dc | dineroIV), estimated" "$(awk -v t="$dinero_median" 'BEGIN { printf "%.3f", 36 * t }')" \
     "$(ratio "$(awk -v t="$dinero_median" 'BEGIN { print 36 * t }')" "$s36_median")"
 else
-  echo "dineroIV is not on PATH: no comparison with Dinero IV"
+  echo "no Dinero IV (\$DINEROIV, PATH, or ../shared for scripts/build-dinero.sh): no comparison with it"
 fi

@@ -100,8 +100,11 @@ int exec_subcommand(int argc, char** argv) {
     options.dinero = wrap::find_dinero(dinero.empty() ? std::nullopt
                                                       : std::optional<std::string>(dinero));
     if (!informat.empty()) options.reader.form = formats::parse_form_name(informat);
-    std::fflush(stdout);
-    return wrap::wrap_exec(trace, dinero_arguments, options);
+    const wrap::ExecResult result = wrap::wrap_exec(trace, dinero_arguments, options);
+    // Written here rather than by Dinero IV into our output, so that an output
+    // that cannot be written is seen (finish_standard_output: exit 1).
+    std::fwrite(result.output.data(), 1, result.output.size(), stdout);
+    return result.status;
   }, tools::kTooLarge);
 }
 

@@ -173,6 +173,10 @@ int run_command(int argc, char** argv) {
   return nodetrace::cli::exit_status_of("cachesim run", [&] {
     const SweepOptions options = sweep_options(line);
     const SamplingOptions sampling = sampling_options(sampling_line, line);
+    if (options.fetch != FetchPolicy::Demand && (line.curve || sampling.sampling())) {
+      throw base::UsageError(fmt::format("--fetch {}: not with --curve or sampling, which are demand-fetch",
+                                            line.fetch));
+    }
     if (line.curve) {
       check_curve_options(app);
       return curve_command(line, options);
@@ -187,6 +191,10 @@ int run_command(int argc, char** argv) {
       }
     }
     if (sampling.sampling() || row_sampled(readers)) {
+      if (options.fetch != FetchPolicy::Demand) {
+        throw base::UsageError(fmt::format("--fetch {}: not on a row-sampled trace (demand-fetch only)",
+                                              line.fetch));
+      }
       return sampled_command(line, configs, sampling, readers);
     }
     std::vector<ResultRow> rows;

@@ -48,6 +48,8 @@ struct RunCommandLine {
   std::string low_size;
   std::string high_assoc;
   bool count_loads = false;
+  std::string fetch = "demand";
+  unsigned prefetch_distance = 1;
   bool tags_are_levels = false;
   std::string per_level;            // --per-level FILE: the per-level table's output ("" = none, "-" = stdout)
   std::string per_animation_frame;  // --per-frame FILE: likewise
@@ -92,6 +94,16 @@ inline void add_run_options(CLI::App& app, RunCommandLine& line, bool side_table
                  "High-level cache associativity under 'cache' (default: --assoc)");
   app.add_flag("--count-loads", line.count_loads,
                "retain: count the high-level loads as misses");
+  app.add_option("--fetch", line.fetch,
+                 "Fetch policy, Dinero IV's: demand, always, miss, tagged, load-forward, subblock. "
+                 "Other than demand: --scheme single only, each configuration simulated by itself "
+                 "(the stack groups that answer many configurations in one pass are demand-only); "
+                 "misses are demand misses, as Dinero IV counts them")
+      ->check(CLI::IsMember({"demand", "always", "miss", "tagged", "load-forward", "subblock"}))
+      ->capture_default_str();
+  app.add_option("--prefetch-distance", line.prefetch_distance,
+                 "Blocks ahead that a prefetch goes (Dinero IV's -pfdist; load-forward and subblock: 1)")
+      ->capture_default_str();
   app.add_flag("--tags-are-levels", line.tags_are_levels,
                "Read the tag field of a plain trace as the node level");
   if (side_tables) {
@@ -177,6 +189,8 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
   if (!line.low_size.empty()) options.low_size = cache_size(line.low_size, "--low-size");
   if (!line.high_assoc.empty()) options.high_assoc = parse_assoc(line.high_assoc);
   options.count_loads = line.count_loads;
+  options.fetch = parse_fetch_policy_name(line.fetch).value_or(FetchPolicy::Demand);
+  options.prefetch_distance = line.prefetch_distance;
   options.per_level = !line.per_level.empty();
   options.per_animation_frame = !line.per_animation_frame.empty();
   if (line.per_level == "-" && line.per_animation_frame == "-") {
@@ -241,7 +255,13 @@ inline void print_report(const std::vector<ResultRow>& rows, const std::vector<L
     const std::string report = format_rows(rows, format);
     std::fwrite(report.data(), 1, report.size(), stdout);
   }
-  print_notes(notes, format);
+  std::vector<std::string> all_notes = notes;
+  if (line.fetch != "demand") {
+    all_notes.push_back(fmt::format("fetch policy {}, prefetch distance {}: fetches and misses are demand "
+                                    "ones, as Dinero IV counts them (prefetches are not counted)",
+                                    line.fetch, line.prefetch_distance));
+  }
+  print_notes(all_notes, format);
 }
 
 }  // namespace nodetrace::cachesim::tools

@@ -9,6 +9,7 @@
 #include <random>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 namespace nodetrace::testing {
 
@@ -26,6 +27,28 @@ bool shared_data_required() {
 
 std::filesystem::path program(const std::string& name) {
   return std::filesystem::path(NODETRACE_BIN_DIR) / name;
+}
+
+std::optional<std::filesystem::path> real_dinero() {
+  namespace fs = std::filesystem;
+  auto runnable = [](const fs::path& path) { return ::access(path.c_str(), X_OK) == 0 && fs::is_regular_file(path); };
+  if (const char* env = std::getenv("DINEROIV"); env && *env) {
+    if (runnable(env)) return fs::path(env);
+  }
+  if (const char* path = std::getenv("PATH")) {
+    std::string_view rest = path;
+    while (true) {
+      const auto colon = rest.find(':');
+      const std::string dir(rest.substr(0, colon));
+      const fs::path candidate = fs::path(dir.empty() ? "." : dir) / "dineroIV";
+      if (runnable(candidate)) return candidate;
+      if (colon == std::string_view::npos) break;
+      rest.remove_prefix(colon + 1);
+    }
+  }
+  const fs::path built = fs::path(NODETRACE_SOURCE_DIR) / "build" / "dinero" / "dineroIV";
+  if (runnable(built)) return built;
+  return std::nullopt;
 }
 
 TempDir::TempDir() {

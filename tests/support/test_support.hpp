@@ -50,6 +50,11 @@ std::vector<std::string> temporaries(const std::filesystem::path& folder);
 // Runs `command` with /bin/sh, optionally feeding `input` on stdin.
 CommandResult run_command(const std::string& command, const std::string& input = {});
 
+// The real Dinero IV to compare against: $DINEROIV (a program path), else
+// dineroIV on PATH, else the one scripts/build-dinero.sh built into
+// build/dinero/. nullopt when there is none.
+std::optional<std::filesystem::path> real_dinero();
+
 std::string read_file(const std::filesystem::path& path);
 void write_file(const std::filesystem::path& path, const std::string& bytes);
 
@@ -73,4 +78,19 @@ std::string one_csv_table(const std::string& text, const std::vector<std::string
     }                                                                              \
     GTEST_SKIP() << "../shared not found beside the checkout: golden test skipped"; \
   }                                                                                \
+  const std::filesystem::path var = *var##_optional
+
+// Binds `var` to the real Dinero IV (real_dinero()); skips the test with a
+// message when there is none, or fails it when shared data is required (CI
+// builds it from ../shared with scripts/build-dinero.sh).
+#define NODETRACE_DINERO_OR_SKIP(var)                                                     \
+  const auto var##_optional = ::nodetrace::testing::real_dinero();                        \
+  if (!var##_optional) {                                                                  \
+    if (::nodetrace::testing::shared_data_required()) {                                   \
+      FAIL() << "no Dinero IV ($DINEROIV, PATH, build/dinero/dineroIV) but "               \
+                "NODETRACE_REQUIRE_SHARED=1: run scripts/build-dinero.sh";                \
+    }                                                                                     \
+    GTEST_SKIP() << "no Dinero IV ($DINEROIV, PATH or build/dinero/dineroIV; "             \
+                    "scripts/build-dinero.sh builds it): comparison skipped";             \
+  }                                                                                       \
   const std::filesystem::path var = *var##_optional

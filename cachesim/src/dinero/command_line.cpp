@@ -175,17 +175,21 @@ void verify(DineroOptions& o) {
   for (int lev = 0; lev < o.max_level; ++lev) {
     for (int idu = 0; idu < 3; ++idu) {
       const char f = o.fetch[idu][lev];
-      if (f == 0) continue;
-      if (f == 'a' || f == 'm' || f == 't' || f == 'l' || f == 's') {
-        usage(fmt::format("-l{}-{}fetch {}: only demand fetch (d) is supported", lev + 1,
-                          kind_letter(idu), f));
-      }
-      if (f != 'd') {
+      if (f != 0 && f != 'd' && f != 'a' && f != 'm' && f != 't' && f != 'l' && f != 's') {
         usage(fmt::format("level {} {}cache fetch policy unrecognized", lev + 1, kind_letter(idu)));
       }
-      if (o.prefetch_abort[idu][lev] != 0) {
+      const std::uint32_t block = o.block_size[idu][lev];
+      const std::uint32_t sub = o.sub_block_size[idu][lev] != 0 ? o.sub_block_size[idu][lev] : block;
+      if ((f == 'l' || f == 's') && sub != 0 && o.prefetch_distance[idu][lev] > block / sub) {
+        usage(fmt::format("level {} {}cache prefetch distance > block size", lev + 1, kind_letter(idu)));
+      }
+      if (f == 'd' && o.prefetch_abort[idu][lev] != 0) {
         usage(fmt::format("level {} {}cache abort % not allowed with demand fetch policy", lev + 1,
                           kind_letter(idu)));
+      }
+      // Dinero IV holds the percentage in an int: above INT_MAX is negative.
+      if (o.prefetch_abort[idu][lev] > 100) {
+        usage(fmt::format("level {} {}cache abort % out of range", lev + 1, kind_letter(idu)));
       }
     }
   }
@@ -289,7 +293,16 @@ CacheConfig cache_config(const DineroOptions& o, int idu, int lev) {
     default: c.write_back = WriteBack::Always; break;
   }
   c.classify_misses = o.ccc[idu][lev];
-  c.random_seed = 1 + static_cast<std::uint64_t>(lev * 3 + idu);
+  switch (o.fetch[idu][lev]) {
+    case 'a': c.fetch = FetchPolicy::Always; break;
+    case 'm': c.fetch = FetchPolicy::Miss; break;
+    case 't': c.fetch = FetchPolicy::Tagged; break;
+    case 'l': c.fetch = FetchPolicy::LoadForward; break;
+    case 's': c.fetch = FetchPolicy::SubBlock; break;
+    default: c.fetch = FetchPolicy::Demand; break;
+  }
+  c.prefetch_distance = o.prefetch_distance[idu][lev];
+  c.prefetch_abort = o.prefetch_abort[idu][lev];
   return c;
 }
 
@@ -382,6 +395,7 @@ DineroOptions parse_dinero_options(const std::vector<std::string>& args) {
       const std::string& arg = value();
       if (arg.size() != 1) usage(bad_option(opt, arg));
       o.informat = arg[0];
+      o.informat_given = true;
       continue;
     }
     if (opt == "-on-trigger" || opt == "-off-trigger") {

@@ -43,6 +43,12 @@ void validate_cache(const CacheConfig& c, const std::string& name) {
     fail(fmt::format("{} sub-blocks per block; at most 32 are allowed", c.block_size / sub));
   }
   if (sub > 32768) fail(fmt::format("sub-block size {} is above 32768", sub));
+  if (c.prefetch_abort > 100) fail(fmt::format("prefetch abort percentage {} is above 100", c.prefetch_abort));
+  if ((c.fetch == FetchPolicy::LoadForward || c.fetch == FetchPolicy::SubBlock) &&
+      c.prefetch_distance > c.block_size / sub) {
+    fail(fmt::format("prefetch distance {} sub-blocks is more than the {} of a block", c.prefetch_distance,
+                     c.block_size / sub));
+  }
   // Each block costs a few dozen bytes of simulator memory (twice with ccc).
   constexpr std::uint64_t kMaxBlocks = std::uint64_t{1} << 26;
   const std::uint64_t blocks = c.size / c.block_size;
@@ -53,7 +59,7 @@ void validate_cache(const CacheConfig& c, const std::string& name) {
 
 }  // namespace
 
-Stats& Stats::operator+=(const Stats& other) {
+FetchCounts& FetchCounts::operator+=(const FetchCounts& other) {
   auto add = [](PerType& a, const PerType& b) {
     for (std::size_t i = 0; i < a.size(); ++i) a[i] += b[i];
   };
@@ -66,6 +72,12 @@ Stats& Stats::operator+=(const Stats& other) {
   add(compulsory_block, other.compulsory_block);
   add(capacity_block, other.capacity_block);
   add(conflict_block, other.conflict_block);
+  return *this;
+}
+
+Stats& Stats::operator+=(const Stats& other) {
+  FetchCounts::operator+=(other);
+  prefetch += other.prefetch;
   multi_block_refs += other.multi_block_refs;
   bytes_from_memory += other.bytes_from_memory;
   bytes_to_memory += other.bytes_to_memory;
@@ -112,6 +124,7 @@ HierarchyConfig single_level(const CacheConfig& cache, CacheKind kind) {
 
 struct Hierarchy::Impl {
   HierarchyConfig config;
+  detail::LibcRandom random;  // Dinero IV's one random() sequence, for every cache
   std::vector<std::unique_ptr<detail::Cache>> storage;
   std::array<std::array<detail::Cache*, 3>, kMaxLevels> caches{};
   detail::Cache* instruction_side = nullptr;  // where instruction fetches go; nullptr: memory
@@ -130,7 +143,7 @@ struct Hierarchy::Impl {
 
   void simulate(const formats::Record& record) {
     detail::Ref ref;
-    ref.address = record.address;
+    ref.address = record.address & detail::kAddressMask;
     ref.size = static_cast<std::uint16_t>(record.size);  // Dinero's sizes are 16 bits
     ref.type = static_cast<std::uint8_t>(record.type);
     switch (record.type) {
@@ -167,7 +180,7 @@ Hierarchy::Hierarchy(const HierarchyConfig& config) : impl_(std::make_unique<Imp
     for (int kind = 0; kind < 3; ++kind) {
       const auto& cache_config = level_cache(config.levels[i], kind);
       if (!cache_config) continue;
-      auto cache = std::make_unique<detail::Cache>(*cache_config);
+      auto cache = std::make_unique<detail::Cache>(*cache_config, impl_->random);
       detail::Cache* c = cache.get();
       impl_->storage.push_back(std::move(cache));
       impl_->caches[i][kind] = c;
@@ -202,9 +215,10 @@ bool Hierarchy::access(const formats::Record& record) {
     return true;
   }
   if (s.exceeded) return false;
-  if (record.address != 0 && (c.on_trigger != 0 || c.off_trigger != 0)) {
-    if ((s.discard && c.on_trigger == record.address) ||
-        (!s.discard && c.off_trigger == record.address)) {
+  // Dinero IV compares its 32-bit address with the triggers' 64 bits.
+  const std::uint64_t address = record.address & detail::kAddressMask;
+  if (address != 0 && (c.on_trigger != 0 || c.off_trigger != 0)) {
+    if ((s.discard && c.on_trigger == address) || (!s.discard && c.off_trigger == address)) {
       s.discard = !s.discard;
       s.toggled = true;
       return true;

@@ -4,6 +4,7 @@
 
 #include <bit>
 #include <cassert>
+#include <climits>
 
 namespace nodetrace::cachesim::detail {
 
@@ -13,14 +14,14 @@ int log2_exact(std::uint64_t power_of_two) { return std::countr_zero(power_of_tw
 
 }  // namespace
 
-Cache::Cache(const CacheConfig& config)
+Cache::Cache(const CacheConfig& config, LibcRandom& random)
     : config_(config),
       lg2_block_(log2_exact(config.block_size)),
       lg2_sub_block_(log2_exact(config.effective_sub_block_size())),
       block_mask_((std::uint64_t{1} << lg2_block_) - 1),
       sub_block_mask_((std::uint64_t{1} << lg2_sub_block_) - 1),
       whole_blocks_(lg2_sub_block_ == lg2_block_),
-      random_(config.random_seed) {
+      random_(random) {
   const std::uint64_t sets = config.size / (std::uint64_t{config.block_size} * config.assoc);
   sets_ = static_cast<std::uint32_t>(sets);
   set_mask_ = sets - 1;
@@ -47,8 +48,14 @@ Cache::Cache(const CacheConfig& config)
 }
 
 std::uint32_t Cache::sub_block_bits(const Ref& m) const {
-  // Dinero's D4ADDR2SBMASK, computed in 64 bits and kept to 32 as its
-  // `unsigned int` valid bits are.
+  // ((d4addr)1 << n) - 1 in 32 bits: x86 shifts by n mod 32, so 32 makes 0.
+  const std::uint64_t count = sub_blocks_touched(m);
+  const std::uint32_t mask = (std::uint32_t{1} << (count & 31)) - 1;
+  const std::uint64_t shift = (m.address - block_of(m.address)) >> lg2_sub_block_;
+  return static_cast<std::uint32_t>(shift >= 32 ? 0 : mask << shift);
+}
+
+std::uint32_t Cache::touched_bits(const Ref& m) const {
   const std::uint64_t count = sub_blocks_touched(m);
   const std::uint64_t mask = count >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << count) - 1;
   const std::uint64_t shift = (m.address - block_of(m.address)) >> lg2_sub_block_;
@@ -141,7 +148,7 @@ std::uint32_t Cache::replace(std::uint32_t stack, std::uint64_t block, std::uint
   s.top = node;
   if (config_.replacement == ReplacementPolicy::Random && nodes_[nodes_[node].up].valid != 0) {
     const std::uint32_t older = s.size - 1;
-    move_to_bottom(stack, nth_from_top(stack, 2 + static_cast<std::uint32_t>(random_() % older)));
+    move_to_bottom(stack, nth_from_top(stack, 2 + static_cast<std::uint32_t>(random_.next() % older)));
   }
   return node;
 }
@@ -164,12 +171,13 @@ void Cache::write_back_block(std::uint32_t node) {
     Ref w;
     w.type = kWrite;
     for (; (bits & bit) == 0; bit <<= 1) address += sub_block;
-    w.address = address;
+    const std::uint64_t start = address;
+    w.address = start & kAddressMask;
     for (; bit != 0 && (bits & bit) != 0; bit <<= 1) {
       address += sub_block;
       bits &= ~bit;
     }
-    w.size = static_cast<std::uint16_t>(address - w.address);
+    w.size = static_cast<std::uint16_t>(address - start);
     pending_.push_back(w);
   } while (bits != 0);
   p.dirty = 0;
@@ -180,7 +188,7 @@ void Cache::write_back_block(std::uint32_t node) {
 // the block (or, when the reference covers all the block or there is one
 // sub-block per block, nothing of what it touches) was seen, else -1.
 int Cache::infinite_cache(const Ref& m) {
-  const std::uint32_t touched = sub_block_bits(m);
+  const std::uint32_t touched = touched_bits(m);
   const std::uint64_t touched_count = sub_blocks_touched(m);
   const std::uint32_t per_block = 1u << (lg2_block_ - lg2_sub_block_);
   auto [it, inserted] = seen_.try_emplace(block_of(m.address), 0u);
@@ -260,7 +268,8 @@ void Cache::drain_pending() {
   while (!pending_.empty()) {
     Ref m = pending_.back();
     pending_.pop_back();
-    if (m.multi_block_rest) {
+    if (m.multi_block_rest || m.prefetch) {
+      // Both are references to this same cache; a prefetch stays one.
       m.multi_block_rest = false;
       ref(m);
       continue;
@@ -286,7 +295,8 @@ void Cache::demand_ref(Ref m) {
   const std::uint64_t block = block_of(m.address);
   // Fast path: a read, instruction fetch or misc reference within one block
   // that hits the most recent block of its set changes nothing but a count.
-  if (m.type != kWrite && !config_.classify_misses && m.size != 0 &&
+  if (m.type != kWrite && !config_.classify_misses && config_.fetch == FetchPolicy::Demand &&
+      m.size != 0 &&
       block == block_of(m.address + m.size - 1)) {
     const Node& top = nodes_[stacks_[set_of(m.address)].top];
     if (top.block == block && top.valid != 0) {
@@ -301,7 +311,7 @@ void Cache::demand_ref(Ref m) {
   // now and queue the rest, as a new reference to this same cache.
   if (block != block_of(m.address + m.size - 1)) {
     Ref rest;
-    rest.address = block + (block_mask_ + 1);
+    rest.address = block_of(block + (block_mask_ + 1));
     rest.type = m.type;
     rest.multi_block_rest = true;
     const auto first_size = static_cast<std::uint16_t>((block_mask_ + 1) - (m.address & block_mask_));
@@ -312,6 +322,7 @@ void Cache::demand_ref(Ref m) {
   }
   const std::uint8_t type = m.type;
   const bool is_write = type == kWrite;
+  FetchCounts& counts = m.prefetch ? static_cast<FetchCounts&>(stats.prefetch) : stats;
   const std::uint32_t set = set_of(m.address);
   const std::uint32_t sub_bits = sub_block_bits(m);
   const std::uint64_t touched_bytes = sub_blocks_touched(m) << lg2_sub_block_;
@@ -331,12 +342,21 @@ void Cache::demand_ref(Ref m) {
   const bool block_miss = node == kNone;
   const bool miss = block_miss || (sub_bits & nodes_[node].valid) != sub_bits;
 
+  // Only demand reads and instruction fetches prefetch (not misc references).
+  if (config_.fetch != FetchPolicy::Demand && !m.prefetch && (type == kRead || type == kInstructionFetch)) {
+    prefetch_for(m, miss, node);
+  }
+
   bool write_back = false;
   if (!is_write || !block_miss || allocate) {
     node = replace(set, block, block_miss ? kNone : node);
     Node& p = nodes_[node];
-    if (block_miss) p.dirty = 0;
+    if (block_miss) {
+      p.dirty = 0;
+      p.referenced = 0;
+    }
     p.valid |= sub_bits;
+    if (!m.prefetch) p.referenced |= sub_bits;
     if (is_write) {
       switch (config_.write_back) {
         case WriteBack::Always: write_back = true; break;
@@ -381,22 +401,22 @@ void Cache::demand_ref(Ref m) {
     if (miss) {
       int infinite_miss = 0;
       if (!full_miss) {
-        ++stats.conflict[type];
+        ++counts.conflict[type];
       } else {
         infinite_miss = infinite_cache(m);
         if (infinite_miss != 0) {
-          ++stats.compulsory[type];
+          ++counts.compulsory[type];
         } else {
-          ++stats.capacity[type];
+          ++counts.capacity[type];
         }
       }
       if (block_miss) {
         if (!full_block_miss) {
-          ++stats.conflict_block[type];
+          ++counts.conflict_block[type];
         } else if (infinite_miss == 1) {
-          ++stats.compulsory_block[type];
+          ++counts.compulsory_block[type];
         } else {
-          ++stats.capacity_block[type];
+          ++counts.capacity_block[type];
         }
       }
     }
@@ -409,12 +429,41 @@ void Cache::demand_ref(Ref m) {
     }
   }
 
-  ++stats.fetches[type];
+  ++counts.fetches[type];
   if (miss) {
-    ++stats.misses[type];
-    if (block_miss) ++stats.block_misses[type];
+    ++counts.misses[type];
+    if (block_miss) ++counts.block_misses[type];
   }
   if (!pending_.empty()) drain_pending();
+}
+
+void Cache::prefetch_for(const Ref& m, bool miss, std::uint32_t node) {
+  switch (config_.fetch) {
+    case FetchPolicy::Miss:
+      if (!miss) return;
+      break;
+    case FetchPolicy::Tagged:
+      // Also on the first demand reference to a sub-block a prefetch brought.
+      if (!miss && (sub_block_bits(m) & nodes_[node].referenced) != 0) return;
+      break;
+    default:
+      break;
+  }
+  // Dinero IV keeps the distance in bytes in an int: the same wrap-around.
+  const auto distance = static_cast<std::int32_t>(config_.prefetch_distance << lg2_sub_block_);
+  const std::uint64_t target = m.address + static_cast<std::uint64_t>(std::int64_t{distance});
+  if (config_.fetch == FetchPolicy::LoadForward && block_of(target) != block_of(m.address)) return;
+  Ref pf;
+  pf.address = sub_block_of(target);
+  pf.size = static_cast<std::uint16_t>(sub_block_mask_ + 1);
+  pf.type = m.type;
+  pf.prefetch = true;
+  if (config_.fetch == FetchPolicy::SubBlock && block_of(pf.address) != block_of(m.address)) {
+    pf.address = (pf.address - (block_mask_ + 1)) & kAddressMask;  // wrap round within the block
+  }
+  // Dinero IV's test: random() / (INT_MAX / 100) < percentage.
+  if (config_.prefetch_abort > 0 && random_.next() / (INT_MAX / 100) < config_.prefetch_abort) return;
+  pending_.push_back(pf);
 }
 
 }  // namespace nodetrace::cachesim::detail

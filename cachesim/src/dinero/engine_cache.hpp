@@ -10,11 +10,11 @@
 #pragma once
 
 #include <cstdint>
-#include <random>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
+#include "libc_random.hpp"
 #include "nodetrace/cachesim/dinero/engine.hpp"
 #include "nodetrace/formats/record/record.hpp"
 
@@ -32,17 +32,24 @@ inline constexpr std::uint8_t kMisc = access_index(formats::AccessType::Misc);
 inline constexpr std::uint8_t kCopyBack = access_index(formats::AccessType::CopyBack);
 inline constexpr std::uint8_t kInvalidate = access_index(formats::AccessType::Invalidate);
 
+// Dinero IV's d4addr as its configure script makes it on LP64 hosts:
+// `unsigned int`, since the script defines SIZEOF_INT but never SIZEOF_VOIDP.
+// Addresses, and all arithmetic on them, are kept to 32 bits, as there.
+inline constexpr std::uint64_t kAddressMask = 0xFFFFFFFFu;
+
 // A memory reference as Dinero IV's d4memref: its size is 16 bits wide.
 struct Ref {
   std::uint64_t address = 0;
   std::uint16_t size = 0;  // 0 with copy-back / invalidate: the whole cache
   std::uint8_t type = kRead;
   bool multi_block_rest = false;  // the remainder of a split reference
+  bool prefetch = false;          // made by this cache's fetch policy
 };
 
 class Cache {
  public:
-  explicit Cache(const CacheConfig& config);
+  // `random`: the hierarchy's one generator (random replacement, -pfabort).
+  Cache(const CacheConfig& config, LibcRandom& random);
 
   void ref(const Ref& m) {
     if (m.type < kCopyBack) {
@@ -65,6 +72,7 @@ class Cache {
     std::uint64_t block = 0;
     std::uint32_t valid = 0;  // one bit per sub-block
     std::uint32_t dirty = 0;
+    std::uint32_t referenced = 0;  // sub-blocks a demand reference touched (tagged prefetch)
     std::uint32_t up = 0;    // towards the top (more recent); top->up is the bottom
     std::uint32_t down = 0;  // towards the bottom
   };
@@ -76,6 +84,9 @@ class Cache {
   };
 
   void demand_ref(Ref m);
+  // The fetch policy's prefetch for demand reference `m` (queued, unless
+  // -pfabort throws it away); `node` is where m's block was found, if it was.
+  void prefetch_for(const Ref& m, bool miss, std::uint32_t node);
   void copy_back(const Ref& m);
   void invalidate(const Ref& m);
   void drain_pending();
@@ -95,15 +106,22 @@ class Cache {
   int infinite_cache(const Ref& m);
   void invalidate_infinite_cache(const Ref& m);
 
-  std::uint64_t block_of(std::uint64_t address) const { return address & ~block_mask_; }
-  std::uint64_t sub_block_of(std::uint64_t address) const { return address & ~sub_block_mask_; }
+  std::uint64_t block_of(std::uint64_t address) const { return address & kAddressMask & ~block_mask_; }
+  std::uint64_t sub_block_of(std::uint64_t address) const {
+    return address & kAddressMask & ~sub_block_mask_;
+  }
   std::uint32_t set_of(std::uint64_t address) const {
     return static_cast<std::uint32_t>((address >> lg2_block_) & set_mask_);
   }
   std::uint64_t sub_blocks_touched(const Ref& m) const {
     return ((m.address + m.size - 1) >> lg2_sub_block_) - (m.address >> lg2_sub_block_) + 1;
   }
+  // Dinero's D4ADDR2SBMASK, with its 32-bit shift: touching all 32
+  // sub-blocks of a block gives no bits at all.
   std::uint32_t sub_block_bits(const Ref& m) const;
+  // The bits of the sub-blocks touched, for the infinite cache (which
+  // counts them one by one in Dinero IV, without that mask).
+  std::uint32_t touched_bits(const Ref& m) const;
 
   CacheConfig config_;
   int lg2_block_;
@@ -122,7 +140,7 @@ class Cache {
   std::unordered_map<std::uint64_t, std::uint32_t> seen_;  // infinite cache: block -> sub-block bits
   std::vector<Ref> pending_;
   bool draining_ = false;
-  std::mt19937_64 random_;
+  LibcRandom& random_;
 };
 
 }  // namespace nodetrace::cachesim::detail

@@ -8,6 +8,7 @@
 #include <ostream>
 #include <string>
 
+#include "nodetrace/base/error.hpp"
 #include "nodetrace/cachesim/dinero/command_line.hpp"
 
 namespace nodetrace::cachesim {
@@ -35,6 +36,7 @@ struct Printed {
   Stats stats;
   bool ccc = false;
   bool sub_blocked = false;
+  bool prefetching = false;  // Dinero prints the prefetch rows
 };
 
 using PerType = Stats::PerType;
@@ -45,6 +47,20 @@ double d(std::uint64_t x) { return static_cast<double>(x); }
 void count_row(std::string& out, const char* label, const PerType& v) {
   append(out, "%s%12.0f\t%12.0f\t%12.0f\t%12.0f\t%12.0f\t%12.0f\n", label, d(Stats::total(v)), d(v[kInstr]),
          d(Stats::data(v)), d(v[kRead]), d(v[kWrite]), d(v[kMisc]));
+}
+
+PerType sum(const PerType& a, const PerType& b) {
+  PerType total{};
+  for (std::size_t i = 0; i < total.size(); ++i) total[i] = a[i] + b[i];
+  return total;
+}
+
+// A row of every column divided by the Total column of `of`.
+void fraction_row(std::string& out, const char* label, const PerType& v, const PerType& of) {
+  const double total = nonzero(d(Stats::total(of)));
+  append(out, "%s%12.4f\t%12.4f\t%12.4f\t%12.4f\t%12.4f\t%12.4f\n", label, d(Stats::total(v)) / total,
+         d(v[kInstr]) / total, d(Stats::data(v)) / total, d(v[kRead]) / total, d(v[kWrite]) / total,
+         d(v[kMisc]) / total);
 }
 
 // A row of ratios numerator / denominator per column.
@@ -60,13 +76,15 @@ void cache_table(std::string& out, const Printed& c) {
   append(out, "%s\n", c.name.c_str());
   out += " Metrics\t\t      Total\t      Instrn\t       Data\t       Read\t      Write\t       Misc\n";
   out += " -----------------\t      ------\t      ------\t      ------\t      ------\t      ------\t      ------\n";
+  const FetchCounts& pf = s.prefetch;
   count_row(out, " Demand Fetches\t\t", s.fetches);
-  // "Fraction of total" divides every column by the total fetches.
-  {
-    const double total = nonzero(d(Stats::total(s.fetches)));
-    append(out, "  Fraction of total\t%12.4f\t%12.4f\t%12.4f\t%12.4f\t%12.4f\t%12.4f\n",
-           d(Stats::total(s.fetches)) / total, d(s.fetches[kInstr]) / total, d(Stats::data(s.fetches)) / total,
-           d(s.fetches[kRead]) / total, d(s.fetches[kWrite]) / total, d(s.fetches[kMisc]) / total);
+  fraction_row(out, "  Fraction of total\t", s.fetches, s.fetches);
+  if (c.prefetching) {
+    count_row(out, " Prefetch Fetches\t", pf.fetches);
+    fraction_row(out, "  Fraction\t\t", pf.fetches, pf.fetches);
+    const PerType all = sum(s.fetches, pf.fetches);
+    count_row(out, " Total Fetches\t\t", all);
+    fraction_row(out, "  Fraction\t\t", all, all);
   }
   out += "\n";
 
@@ -79,6 +97,20 @@ void cache_table(std::string& out, const Printed& c) {
     ratio_row(out, "   Compulsory fraction\t", s.compulsory, s.misses);
     ratio_row(out, "   Capacity fraction\t", s.capacity, s.misses);
     ratio_row(out, "   Conflict fraction\t", s.conflict, s.misses);
+  }
+  if (c.prefetching) {
+    count_row(out, " Prefetch Misses\t", pf.misses);
+    ratio_row(out, "  PF miss rate\t\t", pf.misses, pf.fetches);
+    if (c.ccc) {
+      count_row(out, "   PF compulsory misses\t", pf.compulsory);
+      count_row(out, "   PF capacity misses\t", pf.capacity);
+      count_row(out, "   PF conflict misses\t", pf.conflict);
+      ratio_row(out, "   PF compulsory fract\t", pf.compulsory, pf.misses);
+      ratio_row(out, "   PF capacity fract\t", pf.capacity, pf.misses);
+      ratio_row(out, "   PF conflict fract\t", pf.conflict, pf.misses);
+    }
+    count_row(out, " Total Misses\t\t", sum(s.misses, pf.misses));
+    ratio_row(out, "  Total miss rate\t", sum(s.misses, pf.misses), sum(s.fetches, pf.fetches));
   }
   out += "\n";
 
@@ -99,6 +131,20 @@ void cache_table(std::string& out, const Printed& c) {
              d(num[kWrite]) / nonzero(d(den[kWrite])), d(num[kMisc]));
       ratio_row(out, "   DB capacity fract\t", s.capacity_block, s.block_misses);
       ratio_row(out, "   DB conflict fract\t", s.conflict_block, s.block_misses);
+    }
+    if (c.prefetching) {
+      count_row(out, " Prefetch Block Misses\t", pf.block_misses);
+      ratio_row(out, "  PFB miss rate\t\t", pf.block_misses, pf.fetches);
+      if (c.ccc) {
+        count_row(out, "   PFB comp misses\t", pf.compulsory_block);
+        count_row(out, "   PFB cap misses\t", pf.capacity_block);
+        count_row(out, "   PFB conf misses\t", pf.conflict_block);
+        ratio_row(out, "   PFB comp fract\t", pf.compulsory_block, pf.block_misses);
+        ratio_row(out, "   PFB cap fract\t", pf.capacity_block, pf.block_misses);
+        ratio_row(out, "   PFB conf fract\t", pf.conflict_block, pf.block_misses);
+      }
+      count_row(out, " Total Block Misses\t", sum(s.block_misses, pf.block_misses));
+      ratio_row(out, "  Tot blk miss rate\t", sum(s.block_misses, pf.block_misses), sum(s.fetches, pf.fetches));
     }
     out += "\n";
   }
@@ -121,6 +167,7 @@ Printed printed_cache(const Hierarchy& h, int level, CacheKind kind) {
   p.stats = h.stats(level, kind);
   p.ccc = config.classify_misses;
   p.sub_blocked = config.effective_sub_block_size() != config.block_size;
+  p.prefetching = config.fetch != FetchPolicy::Demand;
   return p;
 }
 
@@ -137,22 +184,33 @@ std::string dinero_preamble(const DineroOptions& o) {
   out += "\n---Summary of options (-help option gives usage information).\n\n";
 
   // Each -lN-T option in Dinero's table order, then by u, i, d, then level.
-  auto numbers = [&](const char* name, const auto& values) {
+  // Dinero's loop runs one level past the last (lev <= maxlevel): that level
+  // is unset below 5 levels; with 5 it reads past each row of its [3][5]
+  // table into the next kind's level 1, and past the d row out of the table:
+  // there d4-7 as built finds the level count after the block sizes and
+  // zeros after the others, and prints "-l6-d..." lines accordingly.
+  auto value = [&](const auto& values, int idu, int lev, std::uint32_t past_table) -> std::uint32_t {
+    if (lev < kMaxLevels) return static_cast<std::uint32_t>(values[idu][lev]);
+    return idu < 2 ? static_cast<std::uint32_t>(values[idu + 1][0]) : past_table;
+  };
+  auto numbers = [&](const char* name, const auto& values, std::uint32_t past_table = 0) {
     for (int idu = 0; idu < 3; ++idu) {
-      for (int lev = 0; lev < o.max_level; ++lev) {
-        if (values[idu][lev] != 0) append(out, "-l%d-%c%s %u\n", lev + 1, kKindLetters[idu], name, values[idu][lev]);
+      for (int lev = 0; lev <= o.max_level; ++lev) {
+        const std::uint32_t v = value(values, idu, lev, past_table);
+        if (v != 0) append(out, "-l%d-%c%s %u\n", lev + 1, kKindLetters[idu], name, v);
       }
     }
   };
   auto letters = [&](const char* name, const auto& values) {
     for (int idu = 0; idu < 3; ++idu) {
-      for (int lev = 0; lev < o.max_level; ++lev) {
-        if (values[idu][lev] != 0) append(out, "-l%d-%c%s %c\n", lev + 1, kKindLetters[idu], name, values[idu][lev]);
+      for (int lev = 0; lev <= o.max_level; ++lev) {
+        const auto v = static_cast<char>(value(values, idu, lev, 0));
+        if (v != 0) append(out, "-l%d-%c%s %c\n", lev + 1, kKindLetters[idu], name, v);
       }
     }
   };
   numbers("size", o.size);
-  numbers("bsize", o.block_size);
+  numbers("bsize", o.block_size, static_cast<std::uint32_t>(o.max_level));
   numbers("sbsize", o.sub_block_size);
   numbers("assoc", o.assoc);
   letters("repl", o.replacement);
@@ -162,8 +220,8 @@ std::string dinero_preamble(const DineroOptions& o) {
   letters("walloc", o.write_allocate);
   letters("wback", o.write_back);
   for (int idu = 0; idu < 3; ++idu) {
-    for (int lev = 0; lev < o.max_level; ++lev) {
-      if (o.ccc[idu][lev]) append(out, "-l%d-%cccc\n", lev + 1, kKindLetters[idu]);
+    for (int lev = 0; lev <= o.max_level; ++lev) {
+      if (value(o.ccc, idu, lev, 0) != 0) append(out, "-l%d-%cccc\n", lev + 1, kKindLetters[idu]);
     }
   }
   append(out, "-skipcount %.0f\n", d(o.skip_count));
@@ -186,6 +244,7 @@ std::string dinero_statistics(const Hierarchy& h, const DineroOptions& o) {
       combined.name = fmt::format("l{}-I/Dcaches", level);
       combined.stats += data.stats;
       combined.ccc = combined.ccc || data.ccc;
+      combined.prefetching = combined.prefetching || data.prefetching;
       cache_table(out, combined);
       continue;
     }
@@ -208,9 +267,13 @@ void run_dinero(const DineroOptions& options, formats::TraceReader& reader, std:
   bool stopped = false;
   // A container's header names its record form, which decides din's rounding.
   const formats::RecordForm form = reader.form();
-  while (!stopped && reader.next(batch)) {
-    const std::size_t consumed = hierarchy.access_batch(batch.records, form);
-    stopped = consumed < batch.records.size();
+  try {
+    while (!stopped && reader.next(batch)) {
+      const std::size_t consumed = hierarchy.access_batch(batch.records, form);
+      stopped = consumed < batch.records.size();
+    }
+  } catch (const base::FormatError& error) {
+    throw base::FormatError(with_informat_hint(options, error.what()));
   }
   if (hierarchy.max_count_exceeded()) {
     out << "---Maximum address count exceeded.\n";
@@ -232,8 +295,8 @@ void run_dinero(const DineroOptions& options, formats::TraceReader& reader, std:
 std::string dinero_help() {
   return R"(Usage: cachesim dinero [Dinero IV options] [TRACE]
 
-A drop-in replacement for dineroIV (Dinero IV, d4-7) for demand-fetch caches:
-takes dineroIV's own options and prints its output layout, number for number.
+A drop-in replacement for dineroIV (Dinero IV, d4-7): takes dineroIV's own
+options and prints its output layout, number for number.
 The trace is read from TRACE, or from standard input when TRACE is absent or
 "-"; plain or zstd-compressed text, and nodetrace containers, are detected.
 
@@ -243,9 +306,12 @@ Options (N = cache level 1..5, T = u unified, i instruction, d data):
  -lN-Tsbsize P    Sub-block size (default: block size)
  -lN-Tassoc U     Associativity (default 1)
  -lN-Trepl C      Replacement policy: l=LRU, f=FIFO, r=random (default l;
-                  random is deterministic but not Dinero's sequence)
- -lN-Tfetch C     Fetch policy: d=demand only (the only one supported)
- -lN-Tpfdist U    Prefetch distance (accepted, shown in the summary)
+                  random draws the sequence Dinero IV draws from glibc)
+ -lN-Tfetch C     Fetch policy: d=demand only, a=always prefetch, m=miss
+                  prefetch, t=tagged prefetch, l=load forward, s=subblock
+                  (default d)
+ -lN-Tpfdist U    Prefetch distance in sub-blocks (default 1)
+ -lN-Tpfabort U   Prefetch abort percentage, 0-100 (default 0)
  -lN-Twalloc C    Write allocate: a=always, n=never, f=nofetch (default a)
  -lN-Twback C     Write back: a=always, n=never (write through), f=nofetch
  -lN-Tccc         Compulsory/capacity/conflict miss statistics
@@ -260,8 +326,9 @@ Options (N = cache level 1..5, T = u unified, i instruction, d data):
  -help, --help    This message
 
 Exit status: 0 success, 1 bad trace data (the record is named), 2 bad usage
-(the option is named; -custom, prefetch fetch policies and input formats
-other than d, D and b are not supported).
+(the option is named; -custom and input formats other than d, D and b are
+not supported). A din label above 5 is an error (exit 1) where Dinero IV
+would accept it silently; the message says what Dinero IV would do with it.
 )";
 }
 

@@ -53,6 +53,21 @@ std::uint32_t resolve_ways(std::uint32_t assoc, std::uint64_t size, std::uint32_
 }  // namespace
 
 std::vector<Configuration> expand_configurations(const SweepOptions& options) {
+  if (options.fetch != FetchPolicy::Demand) {
+    if (std::find(options.schemes.begin(), options.schemes.end(), Scheme::Split) != options.schemes.end()) {
+      throw UsageError(fmt::format("--fetch {}: prefetching is simulated for --scheme single only (the "
+                                   "split scheme's caches are demand-fetch)",
+                                   fetch_policy_name(options.fetch)));
+    }
+    if (options.prefetch_distance == 0) throw UsageError("--prefetch-distance 0: the distance is at least 1 block");
+    // Dinero IV's rule; a block is one sub-block here.
+    if ((options.fetch == FetchPolicy::LoadForward || options.fetch == FetchPolicy::SubBlock) &&
+        options.prefetch_distance > 1) {
+      throw UsageError(fmt::format("--fetch {} --prefetch-distance {}: the distance cannot exceed the "
+                                   "block (1), as Dinero IV requires",
+                                   fetch_policy_name(options.fetch), options.prefetch_distance));
+    }
+  }
   std::vector<Configuration> configs;
   for (const std::uint64_t size : options.sizes) {
     for (const std::uint32_t block : options.blocks) {
@@ -65,6 +80,8 @@ std::vector<Configuration> expand_configurations(const SweepOptions& options) {
             base.block = block;
             base.policy = policy;
             base.count_loads = options.count_loads;
+            base.fetch = options.fetch;
+            base.prefetch_distance = options.prefetch_distance;
             if (scheme == Scheme::Single) {
               base.assoc = resolve_ways(assoc, size, block);
               validate_geometry({size, block, base.assoc, policy}, fmt::format("{}-byte cache", size));

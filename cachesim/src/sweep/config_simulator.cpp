@@ -13,6 +13,7 @@
 
 #include "models/cache_models.hpp"
 #include "models/record_blocks.hpp"
+#include "dinero/prefetching_cache.hpp"
 
 namespace nodetrace::cachesim {
 
@@ -68,6 +69,9 @@ struct Counters {
 
 template <typename Model>
 constexpr bool kTable = std::is_same_v<Model, DirectMappedTable>;
+// A model that prefetches needs each fetch's access type.
+template <typename Model>
+constexpr bool kTyped = std::is_same_v<Model, PrefetchingCache>;
 
 // The slot of `block` in the low or the high table (`high` 0 or 1) by
 // arithmetic: a branch on the level would mispredict at every change.
@@ -169,7 +173,7 @@ class Simulator final : public ConfigSimulator {
  private:
   void feed_own(const Record* records, std::size_t count, std::uint64_t first_record,
                 const PreparedBatch& prepared) {
-    if (!Levels::kCounting && prepared.demand_only && prepared.span_bits < config_.block) {
+    if (!Levels::kCounting && !kTyped<Low> && prepared.demand_only && prepared.span_bits < config_.block) {
       if constexpr (kFlat) {
         feed_flat(records, count, first_record);
       } else {
@@ -358,7 +362,11 @@ class Simulator final : public ConfigSimulator {
             miss = high_access(block, first_record + i + 1);
             counters_.high_misses += miss;
           } else {
-            miss = low_.access(block);
+            if constexpr (kTyped<Low>) {
+              miss = low_.access(block, type);
+            } else {
+              miss = low_.access(block);
+            }
             counters_.low_misses += miss;
           }
           if (miss) levels_.count_miss(tag);
@@ -451,7 +459,10 @@ std::vector<std::unique_ptr<ConfigSimulator>> together(const std::vector<Configu
 }  // namespace
 
 std::string together_key(const Configuration& config, bool per_level) {
-  if (per_level || config.scheme != Scheme::Split || config.assoc != 1) return {};
+  if (per_level || config.scheme != Scheme::Split || config.assoc != 1 ||
+      config.fetch != FetchPolicy::Demand) {
+    return {};
+  }
   if (config.high_policy == HighPolicy::Cache && config.high_assoc != 1) return {};
   return fmt::format("{}/{}", config.block, high_policy_name(config.high_policy));
 }
@@ -471,6 +482,10 @@ std::unique_ptr<ConfigSimulator> make_simulator(const Configuration& config,
                                                 const TraceContext& context, bool per_level) {
   const CacheGeometry low{config.scheme == Scheme::Split ? config.low_size : config.size,
                           config.block, config.assoc, config.policy};
+  if (config.fetch != FetchPolicy::Demand) {
+    return with_high(config, split_level, context, per_level,
+                     PrefetchingCache(low, config.fetch, config.prefetch_distance));
+  }
   if (low.assoc == 1) {
     return with_high(config, split_level, context, per_level,
                      DirectMappedTable(low.size / low.block_size));

@@ -399,7 +399,8 @@ class StackMember final : public ConfigSimulator {
 }  // namespace
 
 std::string stack_group_key(const Configuration& config) {
-  if (!stackable(config.assoc, config.policy)) return {};
+  // Stacks answer demand fetches only: a prefetching cache is simulated alone.
+  if (config.fetch != FetchPolicy::Demand || !stackable(config.assoc, config.policy)) return {};
   if (config.scheme == Scheme::Single) return fmt::format("single/{}", config.block);
   if (config.high_policy == HighPolicy::Cache && !stackable(config.high_assoc, config.policy)) {
     return {};

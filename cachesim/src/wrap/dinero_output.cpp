@@ -144,14 +144,20 @@ std::vector<DineroCacheStats> parse_dinero_output(std::string_view output) {
 }
 
 std::vector<std::string> dinero_cache_arguments(formats::RecordForm form,
-                                                const CacheGeometry& geometry) {
+                                                const CacheGeometry& geometry, FetchPolicy fetch,
+                                                std::uint32_t prefetch_distance) {
   // Binary traces are fed as extended din text, which keeps address and size.
   const char informat = form == formats::RecordForm::Din ? 'd' : 'D';
-  return {"-informat", std::string(1, informat),
-          "-l1-usize", std::to_string(geometry.size),
-          "-l1-ubsize", std::to_string(geometry.block_size),
-          "-l1-uassoc", std::to_string(geometry.assoc),
-          "-l1-urepl", std::string(1, dinero_policy_letter(geometry.replacement))};
+  std::vector<std::string> arguments{"-informat", std::string(1, informat),
+                                     "-l1-usize", std::to_string(geometry.size),
+                                     "-l1-ubsize", std::to_string(geometry.block_size),
+                                     "-l1-uassoc", std::to_string(geometry.assoc),
+                                     "-l1-urepl", std::string(1, dinero_policy_letter(geometry.replacement))};
+  if (fetch != FetchPolicy::Demand) {
+    arguments.insert(arguments.end(), {"-l1-ufetch", std::string(1, dinero_fetch_letter(fetch)),
+                                       "-l1-upfdist", std::to_string(prefetch_distance)});
+  }
+  return arguments;
 }
 
 }  // namespace nodetrace::cachesim::wrap

@@ -50,7 +50,7 @@ void close_fd(int& fd) {
 
 }  // namespace
 
-ChildProcess::ChildProcess(const std::vector<std::string>& argv, bool inherit_output) {
+ChildProcess::ChildProcess(const std::vector<std::string>& argv, Output output) {
   if (argv.empty()) throw WrapError("empty Dinero IV command");
   for (const auto& word : argv) {
     if (!command_.empty()) command_ += ' ';
@@ -63,17 +63,13 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, bool inherit_ou
   stdin_fd_ = pipe_fds[1];
   // A larger pipe lets each child run ahead while we feed the others.
   ::fcntl(stdin_fd_, F_SETPIPE_SZ, 1 << 20);
-  if (!inherit_output) {
-    stdout_fd_ = temporary_file();
-    stderr_fd_ = temporary_file();
-  }
+  stdout_fd_ = temporary_file();
+  if (output == Output::Captured) stderr_fd_ = temporary_file();
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, pipe_fds[0], 0);
-  if (!inherit_output) {
-    posix_spawn_file_actions_adddup2(&actions, stdout_fd_, 1);
-    posix_spawn_file_actions_adddup2(&actions, stderr_fd_, 2);
-  }
+  posix_spawn_file_actions_adddup2(&actions, stdout_fd_, 1);
+  if (stderr_fd_ >= 0) posix_spawn_file_actions_adddup2(&actions, stderr_fd_, 2);
   // The child gets default SIGPIPE handling back even though we ignore it.
   posix_spawnattr_t attributes;
   posix_spawnattr_init(&attributes);
@@ -112,20 +108,20 @@ ChildProcess::~ChildProcess() {
   close_fd(stderr_fd_);
 }
 
-void ChildProcess::write(std::string_view bytes) {
+bool ChildProcess::write(std::string_view bytes) {
+  if (stdin_fd_ < 0) return false;
   while (!bytes.empty()) {
     const ssize_t written = ::write(stdin_fd_, bytes.data(), bytes.size());
     if (written < 0) {
       if (errno == EINTR) continue;
       const int error = errno;
       close_fd(stdin_fd_);
-      const int status = wait();
-      throw WrapError(fmt::format("Dinero IV ('{}') stopped reading its input ({}), exit status "
-                                  "{}: {}",
-                                  command_, std::strerror(error), status, errors_));
+      if (error == EPIPE) return false;
+      throw WrapError(fmt::format("cannot write to Dinero IV ('{}'): {}", command_, std::strerror(error)));
     }
     bytes.remove_prefix(static_cast<std::size_t>(written));
   }
+  return true;
 }
 
 int ChildProcess::wait() {

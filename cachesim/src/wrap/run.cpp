@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <iterator>
 #include <memory>
 #include <thread>
 
@@ -75,6 +76,11 @@ class RunningJob {
       throw WrapError(fmt::format("Dinero IV ('{}') failed with exit status {}: {}",
                                   process_->command(), status, process_->errors()));
     }
+    if (stopped_reading_) {
+      throw WrapError(fmt::format("Dinero IV ('{}') stopped reading its input before the end of "
+                                  "the trace, and exited with status 0: {}",
+                                  process_->command(), process_->errors()));
+    }
     std::vector<DineroCacheStats> caches;
     try {
       caches = parse_dinero_output(process_->output());
@@ -104,14 +110,16 @@ class RunningJob {
   void start() {
     std::vector<std::string> argv = options_.dinero;
     CacheGeometry geometry = job_.geometry;
-    for (auto& argument : dinero_cache_arguments(context_.form, geometry)) {
+    for (auto& argument :
+         dinero_cache_arguments(context_.form, geometry, config_.fetch, config_.prefetch_distance)) {
       argv.push_back(std::move(argument));
     }
-    process_ = std::make_unique<ChildProcess>(argv, false);
+    process_ = std::make_unique<ChildProcess>(argv, ChildProcess::Output::Captured);
+    stopped_reading_ = false;
   }
 
   void flush() {
-    if (process_ && !buffer_.empty()) process_->write(buffer_);
+    if (process_ && !buffer_.empty() && !stopped_reading_) stopped_reading_ = !process_->write(buffer_);
     buffer_.clear();
   }
 
@@ -120,6 +128,7 @@ class RunningJob {
   const TraceContext& context_;
   const Configuration& config_;
   std::unique_ptr<ChildProcess> process_;
+  bool stopped_reading_ = false;  // the process closed its input early
   std::string buffer_;
   std::uint64_t frame_ = 0;
 };
@@ -281,34 +290,45 @@ TraceResult wrap_run(const std::string& path, const std::vector<Configuration>& 
   return result;
 }
 
-int wrap_exec(const std::string& path, const std::vector<std::string>& arguments,
-              const WrapOptions& options) {
+ExecResult wrap_exec(const std::string& path, const std::vector<std::string>& arguments,
+                     const WrapOptions& options) {
   auto reader = formats::TraceReader::open(path, options.reader);
-  const RecordForm form =
-      reader->form() == RecordForm::Din ? RecordForm::Din : RecordForm::ExtendedDin;
+  RecordForm form = reader->form() == RecordForm::Din ? RecordForm::Din : RecordForm::ExtendedDin;
   std::vector<std::string> argv = options.dinero;
-  const bool has_informat =
-      std::find(arguments.begin(), arguments.end(), "-informat") != arguments.end();
-  if (!has_informat) {
+  // The records are written in the form Dinero IV is told to read (its
+  // last -informat wins, as in its own parser); an unknown letter is left to
+  // Dinero IV to reject.
+  const auto informat = std::find(arguments.rbegin(), arguments.rend(), "-informat");
+  if (informat == arguments.rend()) {
     argv.push_back("-informat");
     argv.push_back(form == RecordForm::Din ? "d" : "D");
+  } else if (informat != arguments.rbegin()) {
+    const std::string& letter = *std::prev(informat);
+    if (letter == "d") form = RecordForm::Din;
+    if (letter == "D") form = RecordForm::ExtendedDin;
+    if (letter == "b") form = RecordForm::Binary;
   }
   argv.insert(argv.end(), arguments.begin(), arguments.end());
-  ChildProcess process(argv, true);
+  ChildProcess process(argv, ChildProcess::Output::ErrorsInherited);
   RecordBatch batch;
   std::string buffer;
   char line[formats::kMaxFormattedRecord];
-  while (reader->next(batch)) {
+  bool reading = true;  // Dinero IV stops reading at -maxcount or on a bad option
+  while (reading && reader->next(batch)) {
     for (const Record& record : batch.records) {
       buffer.append(line, formats::format_record(record, form, formats::kDineroTextLayout, line));
       if (buffer.size() >= kFlushBytes) {
-        process.write(buffer);
+        reading = process.write(buffer);
         buffer.clear();
+        if (!reading) break;
       }
     }
   }
-  process.write(buffer);
-  return process.wait();
+  if (reading) process.write(buffer);
+  ExecResult result;
+  result.status = process.wait();
+  result.output = process.output();
+  return result;
 }
 
 }  // namespace nodetrace::cachesim::wrap

@@ -9,6 +9,20 @@
 namespace nodetrace::formats::detail {
 namespace {
 
+// What Dinero IV (d4-7) does with a din label that is no access type: it
+// keeps the label's low 8 bits as the type, where 8 marks the end of the
+// trace and 8, 16... are flags of its own; DESIGN.md makes every such label an
+// error here, and the message says what Dinero IV would have done instead.
+std::string dinero_label_fate(std::uint64_t label) {
+  const std::uint64_t kept = label & 0xFF;
+  if (kept < static_cast<std::uint64_t>(kAccessTypeCount)) {
+    return fmt::format("Dinero IV would accept it silently as label {} (it keeps the low 8 bits)", kept);
+  }
+  if (kept == 8) return "Dinero IV would accept it silently as the end of the trace";
+  if ((kept & 7) >= 6) return "Dinero IV would stop with an internal error (exit 9)";
+  return "Dinero IV would accept it silently, simulating a reference no demand count shows";
+}
+
 // One line (without its newline), any layout Dinero IV accepts.
 bool parse_din_line(const char* p, const char* end, const ParseSettings& settings, Record& record,
                     std::string& message, bool& ignored_fields) {
@@ -27,8 +41,9 @@ bool parse_din_line(const char* p, const char* end, const ParseSettings& setting
     case HexStatus::Ok: break;
   }
   if (label >= static_cast<std::uint64_t>(kAccessTypeCount)) {
-    message = fmt::format("label {} is not a Dinero IV access type (0-5)",
-                          shown_token(std::string_view(label_begin, static_cast<std::size_t>(p - label_begin))));
+    message = fmt::format("label {} is not a Dinero IV access type (0-5); {}",
+                          shown_token(std::string_view(label_begin, static_cast<std::size_t>(p - label_begin))),
+                          dinero_label_fate(label));
     return false;
   }
   record.type = static_cast<AccessType>(label);

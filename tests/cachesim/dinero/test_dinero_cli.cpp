@@ -59,7 +59,11 @@ TEST(DineroOptions, ErrorsNameTheOption) {
     return usage_error(args);
   };
   EXPECT_NE(with({"-frobnicate"}).find("\"-frobnicate\" option not recognized"), std::string::npos);
-  EXPECT_NE(with({"-l1-ufetch", "a"}).find("-l1-ufetch"), std::string::npos);
+  EXPECT_NE(with({"-l1-ufetch", "x"}).find("level 1 ucache fetch policy unrecognized"), std::string::npos);
+  EXPECT_NE(with({"-l1-ufetch", "l", "-l1-upfdist", "2"}).find("level 1 ucache prefetch distance > block size"),
+            std::string::npos);
+  EXPECT_NE(with({"-l1-ufetch", "a", "-l1-upfabort", "101"}).find("level 1 ucache abort % out of range"),
+            std::string::npos);
   EXPECT_NE(with({"-informat", "p"}).find("-informat"), std::string::npos);
   EXPECT_NE(with({"-custom", "x"}).find("-custom"), std::string::npos);
   EXPECT_NE(with({"-l1-uassoc"}).find("\"-l1-uassoc\" option requires additional argument"),
@@ -186,8 +190,8 @@ TEST(DineroOutput, StatIntervalPrintsIntermediateTablesAndCountsAreSummarised) {
 }
 
 TEST(DineroOutput, AContainersRecordFormDecidesDinRounding) {
-  // A din container read with -informat D: its header says din, so address 6
-  // is rounded to 4 and the reference stays in one 8-byte block.
+  // A din container read under the default -informat D: its header says din,
+  // so address 6 is rounded to 4 and the reference stays in one 8-byte block.
   testing::TempDir dir;
   const std::string path = (dir / "t.zst").string();
   formats::WriterOptions writer_options;
@@ -197,7 +201,7 @@ TEST(DineroOutput, AContainersRecordFormDecidesDinRounding) {
   writer->write(ref(formats::AccessType::Read, 6));
   writer->finish();
   writer.reset();
-  const DineroOptions o = parse_dinero_options({"-l1-usize", "1k", "-l1-ubsize", "8", "-informat", "D", path});
+  const DineroOptions o = parse_dinero_options({"-l1-usize", "1k", "-l1-ubsize", "8", path});
   auto reader = formats::TraceReader::open(o.trace_path, {});
   std::ostringstream out, warnings;
   run_dinero(o, *reader, out, warnings);
@@ -228,9 +232,9 @@ TEST(DineroProgram, UsageErrorsExitTwoAndNameTheOption) {
   const auto unknown = testing::run_command(cachesim() + " dinero -l1-usize 1k -l1-ubsize 16 -bogus", "");
   EXPECT_EQ(unknown.exit_code, 2);
   EXPECT_NE(unknown.err.find("-bogus"), std::string::npos) << unknown.err;
-  const auto prefetch = testing::run_command(cachesim() + " dinero -l1-usize 1k -l1-ubsize 16 -l1-ufetch a", "");
+  const auto prefetch = testing::run_command(cachesim() + " dinero -l1-usize 1k -l1-ubsize 16 -l1-ufetch q", "");
   EXPECT_EQ(prefetch.exit_code, 2);
-  EXPECT_NE(prefetch.err.find("-l1-ufetch"), std::string::npos) << prefetch.err;
+  EXPECT_NE(prefetch.err.find("fetch policy unrecognized"), std::string::npos) << prefetch.err;
   EXPECT_EQ(prefetch.out, "");  // refused before any output or input
 }
 
@@ -239,6 +243,59 @@ TEST(DineroProgram, BadTraceDataExitsOneAndNamesTheRecord) {
                                         "0 10\n0 1g\n");
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.err.find("record 2"), std::string::npos) << bad.err;
+}
+
+TEST(DineroProgram, DinTextUnderTheDefaultInformatSuggestsInformatD) {
+  const auto bad = testing::run_command(cachesim() + " dinero -l1-usize 8k -l1-ubsize 16", "2 130\n0 200\n");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("record 1: unknown access type '2'"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("consider -informat d for Dinero III input format"), std::string::npos) << bad.err;
+  // Not under -informat d, where the record is fine.
+  const auto din = testing::run_command(cachesim() + " dinero -informat d -l1-usize 8k -l1-ubsize 16", "2 130\n0 200\n");
+  EXPECT_EQ(din.exit_code, 0) << din.err;
+}
+
+TEST(DineroProgram, AContainerGivenAnotherInformatIsAUsageError) {
+  testing::TempDir dir;
+  const std::string path = (dir / "t.din.zst").string();
+  formats::WriterOptions writer_options;
+  writer_options.form = formats::RecordForm::Din;
+  writer_options.tags_are_levels = false;
+  auto writer = formats::TraceWriter::create(path, nlohmann::json::object(), writer_options);
+  writer->write(ref(formats::AccessType::Read, 0x40));
+  writer->finish();
+  writer.reset();
+  for (const char* informat : {"b", "D"}) {
+    const auto given = testing::run_command(cachesim() + " dinero -informat " + informat +
+                                            " -l1-usize 1k -l1-ubsize 16 '" + path + "'");
+    EXPECT_EQ(given.exit_code, 2) << informat;
+    EXPECT_NE(given.err.find(std::string("-informat ") + informat + ": "), std::string::npos) << given.err;
+    EXPECT_NE(given.err.find("din container"), std::string::npos) << given.err;
+    EXPECT_EQ(given.out, "");
+  }
+  const auto matching = testing::run_command(cachesim() + " dinero -informat d -l1-usize 1k -l1-ubsize 16 '" + path + "'");
+  EXPECT_EQ(matching.exit_code, 0) << matching.err;
+  // Without -informat the summary names the form the records were read in.
+  const auto unnamed = testing::run_command(cachesim() + " dinero -l1-usize 1k -l1-ubsize 16 '" + path + "'");
+  EXPECT_EQ(unnamed.exit_code, 0) << unnamed.err;
+  EXPECT_NE(unnamed.out.find("\n-informat d\n"), std::string::npos) << unnamed.out;
+  EXPECT_EQ(unnamed.out, matching.out);
+}
+
+TEST(DineroProgram, DinLabelNineIsAnErrorThatSaysDineroIVWouldAcceptIt) {
+  const auto bad = testing::run_command(cachesim() + " dinero -informat d -l1-usize 1k -l1-ubsize 16",
+                                        "0 100\n9 200\n");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("record 2: label 9 is not a Dinero IV access type (0-5); Dinero IV would accept "
+                         "it silently"),
+            std::string::npos)
+      << bad.err;
+  const auto eight = testing::run_command(cachesim() + " dinero -informat d -l1-usize 1k -l1-ubsize 16",
+                                          "8 100\n");
+  EXPECT_NE(eight.err.find("as the end of the trace"), std::string::npos) << eight.err;
+  const auto seven = testing::run_command(cachesim() + " dinero -informat d -l1-usize 1k -l1-ubsize 16",
+                                          "7 100\n");
+  EXPECT_NE(seven.err.find("internal error"), std::string::npos) << seven.err;
 }
 
 TEST(DineroProgram, HelpExitsZero) {

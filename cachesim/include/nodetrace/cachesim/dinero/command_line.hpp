@@ -1,5 +1,5 @@
 // Dinero IV's command line and output layout on top of the engine, so that
-// `cachesim dinero` is a drop-in replacement for dineroIV (demand fetch).
+// `cachesim dinero` is a drop-in replacement for dineroIV.
 #pragma once
 
 #include <array>
@@ -21,6 +21,7 @@ struct DineroOptions {
 
   HierarchyConfig hierarchy;
   char informat = 'D';  // Dinero's default; d, D or b are supported
+  bool informat_given = false;  // -informat was on the command line
   formats::RecordForm form = formats::RecordForm::ExtendedDin;
   bool stat_idcombine = false;
   std::string trace_path = "-";  // an extra positional argument; "-" is stdin
@@ -39,9 +40,18 @@ struct DineroOptions {
 
 // Parses dineroIV arguments (without the program name). Throws
 // base::UsageError naming the offending option, with Dinero's wording
-// where Dinero has one; unsupported options (other fetch policies, -custom,
-// other input formats) are errors that name them.
+// where Dinero has one; unsupported options (-custom, input formats other
+// than d, D, b) are errors that name them.
 DineroOptions parse_dinero_options(const std::vector<std::string>& args);
+
+// A container names its own record form: without -informat, `options`
+// takes it (and the summary prints its letter); with a -informat naming
+// another form, throws base::UsageError. Plain input is left as it is.
+void match_trace_form(DineroOptions& options, const formats::TraceReader& reader);
+
+// `message` (a trace error) with Dinero IV's advice to try -informat d when
+// extended din input had an unknown access type.
+std::string with_informat_hint(const DineroOptions& options, const std::string& message);
 
 // The banner and "---Summary of options" block, exactly as dineroIV prints it.
 std::string dinero_preamble(const DineroOptions& options);

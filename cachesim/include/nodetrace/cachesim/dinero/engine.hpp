@@ -1,6 +1,6 @@
 // The Dinero-IV-exact cache engine: a hierarchy of one to five levels of
-// demand-fetch caches that gives the numbers Dinero IV (d4-7) gives for the
-// same references and configuration.
+// caches, with any of Dinero IV's fetch (prefetch) policies, that gives the
+// numbers Dinero IV (d4-7) gives for the same references and configuration.
 //
 //   HierarchyConfig config;
 //   config.levels.push_back({.data = CacheConfig{.size = 8192, .block_size = 8}});
@@ -20,6 +20,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "nodetrace/cachesim/models/cache_geometry.hpp"
@@ -39,6 +40,18 @@ enum class WriteAllocate : std::uint8_t { Always, Never, NoFetch };
 // fetch is needed (affected sub-blocks valid or wholly written).
 enum class WriteBack : std::uint8_t { Always, Never, NoFetch };
 
+// -lN-Tfetch d|a|m|t|l|s: demand only; prefetch on every read / instruction
+// fetch; only on a miss; on a miss or the first demand reference to a
+// prefetched sub-block (tagged); always but never into the next block (load
+// forward); always, wrapping round within the block (sub-block).
+enum class FetchPolicy : std::uint8_t { Demand, Always, Miss, Tagged, LoadForward, SubBlock };
+
+// Command-line names (demand, always, miss, tagged, load-forward, subblock)
+// and Dinero IV's -lN-Tfetch letters (d, a, m, t, l, s).
+std::string_view fetch_policy_name(FetchPolicy policy);
+std::optional<FetchPolicy> parse_fetch_policy_name(std::string_view name);
+char dinero_fetch_letter(FetchPolicy policy);
+
 struct CacheConfig {
   std::uint64_t size = 0;            // bytes; power of two
   std::uint32_t block_size = 0;      // bytes; power of two
@@ -48,7 +61,11 @@ struct CacheConfig {
   WriteAllocate write_allocate = WriteAllocate::Always;  // ignored for instruction caches
   WriteBack write_back = WriteBack::Always;              // ignored for instruction caches
   bool classify_misses = false;  // -lN-Tccc: compulsory / capacity / conflict
-  std::uint64_t random_seed = 1;  // for ReplacementPolicy::Random
+  FetchPolicy fetch = FetchPolicy::Demand;
+  // -lN-Tpfdist: how far ahead a prefetch goes, in sub-blocks (not Demand).
+  std::uint32_t prefetch_distance = 1;
+  // -lN-Tpfabort: the percentage (0-100) of prefetches thrown away at random.
+  std::uint32_t prefetch_abort = 0;
 
   CacheGeometry geometry() const { return {size, block_size, assoc, replacement}; }
   std::uint32_t effective_sub_block_size() const {
@@ -91,12 +108,13 @@ struct HierarchyConfig {
 // A one-level hierarchy with `cache` as L1 of `kind`.
 HierarchyConfig single_level(const CacheConfig& cache, CacheKind kind = CacheKind::Unified);
 
-// Statistics of one cache, as Dinero IV keeps them. Per-type arrays are
-// indexed by access type: Read, Write, InstructionFetch, Misc (0..3); copy-back
-// and invalidate records are not demand fetches and are never counted.
-struct Stats {
+// Counts of one kind of fetch (demand, or prefetch), as Dinero IV keeps them.
+// Per-type arrays are indexed by access type: Read, Write, InstructionFetch,
+// Misc (0..3); copy-back and invalidate records are not fetches and are never
+// counted. Prefetches are only ever of the Read and InstructionFetch types.
+struct FetchCounts {
   using PerType = std::array<std::uint64_t, 4>;
-  PerType fetches{};       // demand fetches (a reference spanning k blocks counts k)
+  PerType fetches{};       // fetches (a reference spanning k blocks counts k)
   PerType misses{};        // a needed sub-block was absent
   PerType block_misses{};  // the whole block was absent
   // With classify_misses only:
@@ -106,6 +124,15 @@ struct Stats {
   PerType compulsory_block{};
   PerType capacity_block{};
   PerType conflict_block{};
+
+  FetchCounts& operator+=(const FetchCounts& other);
+  friend bool operator==(const FetchCounts&, const FetchCounts&) = default;
+};
+
+// Statistics of one cache: the demand counts, the prefetch counts (zero
+// under FetchPolicy::Demand) and the traffic.
+struct Stats : FetchCounts {
+  FetchCounts prefetch;
   std::uint64_t multi_block_refs = 0;   // references split at a block boundary
   std::uint64_t bytes_from_memory = 0;  // bytes read from the next level
   std::uint64_t bytes_to_memory = 0;    // bytes written to the next level

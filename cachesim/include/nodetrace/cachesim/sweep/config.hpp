@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "nodetrace/cachesim/dinero/engine.hpp"
 #include "nodetrace/cachesim/models/set_associative_cache.hpp"
 #include "nodetrace/formats/container/metadata.hpp"
 #include "nodetrace/base/split_level.hpp"
@@ -43,6 +44,10 @@ struct Configuration {
   std::uint32_t high_assoc = 1;          // ways of the high cache under `cache`
   std::optional<std::uint32_t> split_level;  // nullopt: auto
   bool count_loads = false;              // retain: loads count as misses
+  // Dinero IV's fetch policy (single scheme only; misses stay demand misses)
+  // and its prefetch distance in blocks.
+  FetchPolicy fetch = FetchPolicy::Demand;
+  std::uint32_t prefetch_distance = 1;
 };
 
 // The command-line lists of `cachesim run` / `dinero-wrap run`.
@@ -58,6 +63,8 @@ struct SweepOptions {
   std::optional<std::uint64_t> low_size;
   std::optional<std::uint32_t> high_assoc;  // 0 = full; default: assoc
   bool count_loads = false;
+  FetchPolicy fetch = FetchPolicy::Demand;  // other than demand: --scheme single only
+  std::uint32_t prefetch_distance = 1;
   bool per_level = false;
   bool per_animation_frame = false;
 };

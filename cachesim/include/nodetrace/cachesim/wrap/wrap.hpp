@@ -47,16 +47,22 @@ std::vector<DineroCacheStats> parse_dinero_output(std::string_view output);
 // A running child process with its standard input on a pipe.
 class ChildProcess {
  public:
-  // Starts argv (argv[0] searched on PATH) with stdin from a pipe; stdout and
-  // stderr are captured (readable after wait()) unless `inherit_output`.
-  ChildProcess(const std::vector<std::string>& argv, bool inherit_output);
+  // What becomes of the child's standard output and error: both captured
+  // (readable after wait()), or output captured and errors passed straight
+  // to ours (so Dinero IV's own messages reach the user as it prints them).
+  enum class Output { Captured, ErrorsInherited };
+
+  // Starts argv (argv[0] searched on PATH) with stdin from a pipe.
+  ChildProcess(const std::vector<std::string>& argv, Output output);
   ~ChildProcess();  // kills and reaps a child still running
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;
 
-  // Writes all of `bytes` to the child's stdin. Throws WrapError when the
-  // child has stopped reading (needs SIGPIPE ignored, as the front end does).
-  void write(std::string_view bytes);
+  // Writes all of `bytes` to the child's stdin. Returns false, writing no
+  // more, once the child has closed its input (it exited, or stopped reading
+  // as Dinero IV does at -maxcount): wait() then says how it ended. Needs
+  // SIGPIPE ignored, as the front end does. Throws WrapError on other errors.
+  bool write(std::string_view bytes);
   // Closes stdin and waits; returns the exit status (128 + signal if killed).
   int wait();
   const std::string& output() const { return output_; }
@@ -80,9 +86,11 @@ struct WrapOptions {
 };
 
 // The Dinero IV arguments of a cache: -informat, -l1-usize, -l1-ubsize,
-// -l1-uassoc, -l1-urepl.
+// -l1-uassoc, -l1-urepl, and -l1-ufetch, -l1-upfdist unless demand fetch.
 std::vector<std::string> dinero_cache_arguments(formats::RecordForm form,
-                                                const CacheGeometry& geometry);
+                                                const CacheGeometry& geometry,
+                                                FetchPolicy fetch = FetchPolicy::Demand,
+                                                std::uint32_t prefetch_distance = 1);
 
 // `cachesim run` answered by Dinero IV for the trace at `path`: read once per
 // group of at most `jobs` processes ("-", standard input, is read once, so
@@ -94,9 +102,16 @@ TraceResult wrap_run(const std::string& path, const std::vector<Configuration>& 
                      bool per_animation_frame = false);
 
 // Feeds the trace's records to one Dinero IV run with `arguments` (adding
-// -informat for the trace's form unless given), its output going to ours
-// unchanged. Returns Dinero IV's exit status.
-int wrap_exec(const std::string& path, const std::vector<std::string>& arguments,
-              const WrapOptions& options);
+// -informat for the trace's form unless given; when given, the records are
+// written in the form it names: din or extended din text, or binary
+// records). Dinero IV's errors go straight to our standard error; its
+// output and exit status are returned, also when it stopped reading early
+// (-maxcount, or an option it rejected), for the caller to print unchanged.
+struct ExecResult {
+  int status = 0;
+  std::string output;
+};
+ExecResult wrap_exec(const std::string& path, const std::vector<std::string>& arguments,
+                     const WrapOptions& options);
 
 }  // namespace nodetrace::cachesim::wrap
