@@ -15,7 +15,7 @@ while [ $# -gt 0 ]; do
   case "$1" in
     --skip-setup) skip_setup=1; shift ;;
     --build-dir) build_dir="$2"; shift 2 ;;
-    -h|--help) sed -n "2,7p" "$0"; exit 0 ;;
+    -h|--help) sed -n "2,8s/^# \\{0,1\\}//p" "$0"; exit 0 ;;
     *) echo "demo.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
