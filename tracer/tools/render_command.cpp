@@ -33,13 +33,18 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
                    const std::string& scene_name, double build_seconds) {
   const RenderStats& t = result.total;
   const auto& first = result.frames.front();
-  const std::string layout =
-      options.layout == LayoutKind::Hybrid
-          ? fmt::format("hybrid (split level {})", first.split_level)
-          : std::string(layout_name(options.layout));
-  std::fprintf(stderr, "tracer: %s, %dx%d, max depth %d, %zu frame(s), layout %s\n",
+  const auto describe = [](LayoutKind kind, std::uint32_t split_level) {
+    return kind == LayoutKind::Hybrid ? fmt::format("hybrid (split level {})", split_level)
+                                      : std::string(layout_name(kind));
+  };
+  std::string layout = describe(options.layout, first.split_level);
+  for (std::size_t i = 0; i < options.other_layouts.size(); ++i) {
+    layout += ", " + describe(options.other_layouts[i].layout, first.other_split_levels[i]);
+  }
+  std::fprintf(stderr, "tracer: %s, %dx%d, max depth %d, %zu frame(s), layout%s %s\n",
                scene_name.c_str(), options.render.width, options.render.height,
-               options.render.max_depth, result.frames.size(), layout.c_str());
+               options.render.max_depth, result.frames.size(), options.other_layouts.empty() ? "" : "s",
+               layout.c_str());
   std::fprintf(stderr,
                "  kd-tree: %llu triangles, %llu nodes, %llu leaves (%llu empty), depth %u, built in %.2f s\n",
                static_cast<unsigned long long>(first.triangles),
@@ -94,13 +99,37 @@ struct RenderCommand {
   int run() const;
 
  private:
-  void check_outputs() const;
+  void check_outputs(const TraceJobOptions& options) const;
 };
+
+// -o's {layout} replaced by each layout's name: one trace per layout.
+void assign_outputs(TraceJobOptions& options, const std::vector<LayoutChoice>& choices, const std::string& output) {
+  constexpr std::string_view kPlaceholder = "{layout}";
+  const auto place = output.find(kPlaceholder);
+  if (choices.size() > 1 && place == std::string::npos) {
+    throw base::UsageError(fmt::format("{} layouts: -o needs {{layout}} in the file name, which each layout's name "
+                                       "replaces (e.g. -o out/{{layout}}.din.zst)",
+                                       choices.size()));
+  }
+  const auto name_for = [&](const LayoutChoice& choice) {
+    if (place == std::string::npos) return output;
+    std::string name = output;
+    name.replace(place, kPlaceholder.size(), choice.name);
+    return name;
+  };
+  options.output = name_for(choices.front());
+  for (std::size_t i = 1; i < choices.size(); ++i) options.other_layouts[i - 1].output = name_for(choices[i]);
+}
 
 // An empty name is no output, and an output whose folder is missing would
 // fail only after the whole render: both are refused before it starts.
-void RenderCommand::check_outputs() const {
-  for (const auto& [option, path] : {std::pair{output_option, &output}, std::pair{image_option, &image}}) {
+void RenderCommand::check_outputs(const TraceJobOptions& options) const {
+  std::vector<std::pair<CLI::Option*, const std::string*>> outputs{{image_option, &image}, {output_option, &output}};
+  if (output_option->count() != 0) {
+    outputs.back().second = &options.output;
+    for (const auto& other : options.other_layouts) outputs.emplace_back(output_option, &other.output);
+  }
+  for (const auto& [option, path] : outputs) {
     if (option->count() == 0) continue;
     if (path->empty()) {
       throw base::UsageError(fmt::format("{}: an empty name: give a file name{}", option->get_name(),
@@ -162,9 +191,11 @@ void RenderCommand::add_options(CLI::App& app) {
 
 int RenderCommand::run() const {
   return cli::exit_status_of("tracer render", [&] {
-    check_outputs();
     TraceJobOptions options = make_job_options(render_options, scene_options);
-    options.output = output;
+    if (output_option->count() != 0 || !options.other_layouts.empty()) {
+      assign_outputs(options, layout_choices(render_options), output);
+    }
+    check_outputs(options);
     options.image = image;
     options.zstd_level = zstd_level;
     options.archive = archive;

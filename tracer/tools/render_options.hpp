@@ -3,6 +3,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <fmt/format.h>
 
 #include <cmath>
@@ -116,9 +117,10 @@ struct RenderCommandOptions {
   std::vector<double> eye, look_at, up;
   std::optional<double> fov;
   unsigned threads = 0;
-  std::string layout;
-  std::optional<std::uint32_t> split_level;
-  std::string high_size, node_base = "0", list_base, triangle_base;
+  std::vector<std::string> layouts;
+  std::vector<std::uint32_t> split_levels;
+  std::vector<std::string> high_sizes;
+  std::string node_base = "0", list_base, triangle_base;
   std::uint32_t node_size = 8;
   std::string sample_rows;
   std::uint32_t band_height = kDefaultBandHeight;
@@ -155,14 +157,20 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
   app.add_option("--fov", o.fov, "vertical field of view in degrees, 0.01 to 179");
   app.add_option("--threads", o.threads,
                  "rendering threads (default: one per core; at most 16 per core); the output does not depend on it");
-  app.add_option("--layout", o.layout,
-                 "tree layout: dfl, bfl, hybrid or veb (default: hybrid when --split-level or "
-                 "--high-size is given, else dfl)")
+  app.add_option("--layout", o.layouts,
+                 "tree layout: dfl, bfl, hybrid or veb, or several, comma-separated, for one trace each from "
+                 "one render (-o with {layout}) (default: hybrid when --split-level or --high-size is given, "
+                 "else dfl)")
+      ->delimiter(',')
       ->check(CLI::IsMember({"dfl", "bfl", "hybrid", "veb"}));
-  auto* split = app.add_option("--split-level", o.split_level, "hybrid layout: levels < K in BFL")
+  auto* split = app.add_option("--split-level", o.split_levels,
+                               "hybrid layout: levels < K in BFL; several K, comma-separated: one trace each")
+                    ->delimiter(',')
                     ->check(CLI::Range(0, kMaxLevelLimit));
-  auto* high = app.add_option("--high-size", o.high_size,
-                              "hybrid layout: K = the most levels whose nodes fit a high-level cache of SIZE bytes (e.g. 4k)");
+  auto* high = app.add_option("--high-size", o.high_sizes,
+                              "hybrid layout: K = the most levels whose nodes fit a high-level cache of SIZE bytes "
+                              "(e.g. 4k); several sizes, comma-separated: one trace each")
+                   ->delimiter(',');
   split->excludes(high);
   app.add_option("--node-base", o.node_base, "address of layout slot 0")->capture_default_str();
   app.add_option("--list-base", o.list_base, "address of the leaf primitive lists (--streams lists; default 0x40000000)");
@@ -232,6 +240,45 @@ inline void check_image_size(int width, int height) {
   }
 }
 
+// A layout the options ask for, and its name in an output pattern's
+// {layout}: dfl, bfl, veb, hybrid-4k (--high-size as typed), hybrid-k6.
+struct LayoutChoice {
+  LayoutTrace trace;
+  std::string name;
+};
+
+// Every layout of --layout, the hybrid once per --split-level or --high-size
+// value, in the order given.
+inline std::vector<LayoutChoice> layout_choices(const RenderCommandOptions& r) {
+  std::vector<std::string> layouts = r.layouts;
+  if (layouts.empty()) layouts.push_back(r.split_levels.empty() && r.high_sizes.empty() ? "dfl" : "hybrid");
+  const bool any_hybrid = std::find(layouts.begin(), layouts.end(), "hybrid") != layouts.end();
+  if (!any_hybrid && (!r.split_levels.empty() || !r.high_sizes.empty())) {
+    throw base::UsageError("--split-level and --high-size apply to --layout hybrid only");
+  }
+  std::vector<LayoutChoice> choices;
+  for (const auto& name : layouts) {
+    LayoutTrace trace;
+    trace.layout = *parse_layout_name(name);
+    if (trace.layout != LayoutKind::Hybrid) {
+      choices.push_back({trace, name});
+      continue;
+    }
+    // Without K or a size the trace job says what the hybrid layout needs.
+    if (r.split_levels.empty() && r.high_sizes.empty()) choices.push_back({trace, name});
+    for (const std::uint32_t k : r.split_levels) {
+      trace.split_level = k;
+      choices.push_back({trace, fmt::format("hybrid-k{}", k)});
+    }
+    trace.split_level.reset();
+    for (const auto& size : r.high_sizes) {
+      trace.high_size = base::parse_byte_size(size, "--high-size");
+      choices.push_back({trace, "hybrid-" + size});
+    }
+  }
+  return choices;
+}
+
 inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const SceneCommandOptions& s) {
   check_image_size(r.width, r.height);
   TraceJobOptions options;
@@ -283,16 +330,11 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
   if (!r.sample_rows.empty()) {
     options.sampling = RowSampling{base::parse_sample_rate(r.sample_rows, "--sample-rows"), r.band_height, r.sample_seed};
   }
-  options.split_level = r.split_level;
-  if (!r.high_size.empty()) options.high_size = base::parse_byte_size(r.high_size, "--high-size");
-  if (!r.layout.empty()) {
-    options.layout = *parse_layout_name(r.layout);
-  } else if (options.split_level || options.high_size) {
-    options.layout = LayoutKind::Hybrid;
-  }
-  if (options.layout != LayoutKind::Hybrid && (options.split_level || options.high_size)) {
-    throw base::UsageError("--split-level and --high-size apply to --layout hybrid only");
-  }
+  const std::vector<LayoutChoice> choices = layout_choices(r);
+  options.layout = choices.front().trace.layout;
+  options.split_level = choices.front().trace.split_level;
+  options.high_size = choices.front().trace.high_size;
+  for (std::size_t i = 1; i < choices.size(); ++i) options.other_layouts.push_back(choices[i].trace);
   return options;
 }
 

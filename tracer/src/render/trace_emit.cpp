@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdlib>
 #include <memory>
@@ -25,7 +26,7 @@ double shortest(float value) {
 }
 
 nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
-                           const TraceJobOptions& options, std::uint32_t split_level,
+                           const TraceJobOptions& options, const LayoutTrace& target, std::uint32_t split_level,
                            const RayKindPlan& plan, std::uint64_t frame_count, int depth_limit) {
   const RenderOptions& r = options.render;
   nlohmann::json header;
@@ -54,14 +55,14 @@ nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
   if (r.rays != RayScope::Whitted) render["rays"] = ray_scope_name(r.rays);
   if (r.first_light_only) render["lights"] = "first";
   header["render"] = render;
-  nlohmann::json layout = {{"name", layout_name(options.layout)},
+  nlohmann::json layout = {{"name", layout_name(target.layout)},
                            {"node_size", r.addresses.node_size},
                            {"node_base", r.addresses.node_base}};
   // Only the hybrid layout has a BFL top part: a split level written for the
   // others would make simulators compare their K against a meaningless 0.
-  if (options.layout == LayoutKind::Hybrid) {
+  if (target.layout == LayoutKind::Hybrid) {
     layout["split_level"] = split_level;
-    if (options.high_size) layout["high_size"] = *options.high_size;
+    if (target.high_size) layout["high_size"] = *target.high_size;
   }
   header["layout"] = layout;
   header["kdtree"] = {{"traversal_cost", shortest(options.build.traversal_cost)},
@@ -134,15 +135,19 @@ formats::WindowMarker window_marker(const TraceJobOptions& options, const Sample
 
 }  // namespace
 
-std::uint32_t layout_split_level_for(const TraceJobOptions& options, const KdTreeStats& stats) {
-  if (options.layout != LayoutKind::Hybrid) return 0;
-  if (options.split_level) return *options.split_level;
-  if (options.high_size) {
-    return base::split_level_for_capacity(
-        stats.nodes_per_level, base::LevelPlacement::contiguous_bytes(options.render.addresses.node_size),
-        *options.high_size);
+std::uint32_t layout_split_level_for(const LayoutTrace& trace, std::uint32_t node_size, const KdTreeStats& stats) {
+  if (trace.layout != LayoutKind::Hybrid) return 0;
+  if (trace.split_level) return *trace.split_level;
+  if (trace.high_size) {
+    return base::split_level_for_capacity(stats.nodes_per_level, base::LevelPlacement::contiguous_bytes(node_size),
+                                          *trace.high_size);
   }
   throw base::UsageError("the hybrid layout needs --split-level K or --high-size SIZE");
+}
+
+std::uint32_t layout_split_level_for(const TraceJobOptions& options, const KdTreeStats& stats) {
+  return layout_split_level_for(LayoutTrace{options.layout, options.split_level, options.high_size, options.output},
+                                options.render.addresses.node_size, stats);
 }
 
 namespace {
@@ -158,6 +163,44 @@ void check_address_range(const char* option, std::uint64_t base, std::uint64_t c
                                           "space (the base can be at most {:#x})",
                                           option, base, count, what, size,
                                           count > top / size ? 0 : top - (count * size - 1)));
+  }
+}
+
+// Several traces of one render: each needs a file of its own, and all but a
+// lone trace need a file name (standard output holds one stream).
+void check_layout_traces(const std::vector<LayoutTrace>& targets, bool discard_records) {
+  if (targets.size() == 1) return;
+  if (discard_records) throw base::UsageError("--discard-records writes no trace: it takes one layout");
+  std::vector<std::string> seen;
+  for (const auto& target : targets) {
+    if (target.output.empty() || target.output == "-") {
+      throw base::UsageError("a render that writes several layouts needs a file name for each (not standard output)");
+    }
+    if (std::find(seen.begin(), seen.end(), target.output) != seen.end()) {
+      throw base::UsageError(fmt::format("{}: two layouts would be written to the same file", target.output));
+    }
+    seen.push_back(target.output);
+  }
+}
+
+// The address, in layout `to`, of the node in each slot of layout `from`.
+std::vector<std::uint64_t> relocation(const Layout& from, const Layout& to, const AddressMap& addresses) {
+  std::vector<std::uint64_t> address_of_slot(from.slot_of_node.size());
+  for (std::size_t node = 0; node < from.slot_of_node.size(); ++node) {
+    address_of_slot[from.slot_of_node[node]] =
+        addresses.node_base + std::uint64_t{to.slot_of_node[node]} * addresses.node_size;
+  }
+  return address_of_slot;
+}
+
+// `records` with each node fetch (a level tag) moved to its node's address in
+// the other layout; the other streams do not depend on the layout.
+void relocate(std::span<const formats::Record> records, const std::vector<std::uint64_t>& address_of_slot,
+              const AddressMap& addresses, std::vector<formats::Record>& out) {
+  out.assign(records.begin(), records.end());
+  for (formats::Record& record : out) {
+    if (!formats::is_level(record.tag)) continue;
+    record.address = address_of_slot[(record.address - addresses.node_base) / addresses.node_size];
   }
 }
 
@@ -187,8 +230,14 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
     for (const auto f : options.frames.frames()) frames.emplace_back(f, animation.time_of_frame(f));
   }
 
+  // The traces to write: the render's own layout first, then the others.
+  std::vector<LayoutTrace> targets{{options.layout, options.split_level, options.high_size, options.output}};
+  targets.insert(targets.end(), options.other_layouts.begin(), options.other_layouts.end());
+  check_layout_traces(targets, options.discard_records);
+
   TraceJobResult result;
-  std::unique_ptr<formats::TraceWriter> writer;
+  std::vector<std::unique_ptr<formats::TraceWriter>> writers(targets.size());
+  std::vector<formats::Record> relocated;  // a batch of records in another layout
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const auto [frame, time] = frames[i];
     const Scene scene = source.at_time(time);
@@ -198,7 +247,12 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
     report.time = time;
     report.triangles = scene.triangles.size();
     report.tree = tree.stats();
-    report.split_level = layout_split_level_for(options, tree.stats());
+    std::vector<std::uint32_t> split_levels;
+    for (const auto& target : targets) {
+      split_levels.push_back(layout_split_level_for(target, r.addresses.node_size, tree.stats()));
+    }
+    report.split_level = split_levels.front();
+    report.other_split_levels.assign(split_levels.begin() + 1, split_levels.end());
     check_address_range("--node-base", r.addresses.node_base, tree.stats().nodes, r.addresses.node_size, "nodes");
     if (r.streams.lists) {
       check_address_range("--list-base", r.addresses.list_base, tree.stats().primitive_references,
@@ -209,6 +263,12 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
                           r.addresses.triangle_size, "triangles");
     }
     const Layout layout = make_layout(tree, options.layout, report.split_level);
+    // For each other trace: the address of the node in each slot of `layout`.
+    std::vector<std::vector<std::uint64_t>> relocations;
+    for (std::size_t t = 1; t < targets.size(); ++t) {
+      relocations.push_back(
+          relocation(layout, make_layout(tree, targets[t].layout, split_levels[t]), r.addresses));
+    }
     RenderOptions options_for_frame = r;
     // Records are made for a trace file, or for --discard-records to drop.
     options_for_frame.record = !options.output.empty() || options.discard_records;
@@ -216,9 +276,11 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
 
     if (i == 0) {
       result.plan = renderer.ray_plan();
-      result.header = make_header(source, scene, options, report.split_level, result.plan, frames.size(),
-                                  tree.stats().depth_limit);
-      if (!options.output.empty()) {
+      for (std::size_t t = 0; t < targets.size(); ++t) {
+        nlohmann::json header = make_header(source, scene, options, targets[t], split_levels[t], result.plan,
+                                            frames.size(), tree.stats().depth_limit);
+        if (t == 0) result.header = header;
+        if (targets[t].output.empty()) continue;
         formats::WriterOptions writer_options;
         writer_options.form = options.form;
         writer_options.threads = r.threads;
@@ -231,10 +293,11 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
                           (r.streams.lists && r.addresses.list_base > 0xC0000000ull) ||
                           (r.streams.triangles && r.addresses.triangle_base > 0xC0000000ull);
         writer_options.address_digits = wide ? 16 : 8;
-        writer = formats::TraceWriter::create(options.output, result.header, writer_options);
+        writers[t] = formats::TraceWriter::create(targets[t].output, header, writer_options);
       }
     }
-    if (writer) {
+    for (std::size_t t = 0; t < targets.size(); ++t) {
+      if (!writers[t]) continue;
       formats::AnimationFrameMarker marker;
       marker.frame = frame;
       marker.time = time;
@@ -244,8 +307,8 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
       marker.depth = tree.stats().depth;
       marker.extra = {{"triangles", scene.triangles.size()},
                       {"empty_leaves", tree.stats().empty_leaves}};
-      if (options.layout == LayoutKind::Hybrid) marker.extra["split_level"] = report.split_level;
-      writer->begin_animation_frame(marker);
+      if (targets[t].layout == LayoutKind::Hybrid) marker.extra["split_level"] = split_levels[t];
+      writers[t]->begin_animation_frame(marker);
     }
     Image image;
     const bool want_image = i == 0 && !options.image.empty();
@@ -253,7 +316,15 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
     Renderer::Progress frame_progress;
     if (progress) frame_progress = [&](double f) { progress((done + f) / count); };
     Renderer::RecordSink sink;
-    if (writer) sink = [&](std::span<const formats::Record> records) { writer->write(records); };
+    if (writers.front()) {
+      sink = [&](std::span<const formats::Record> records) {
+        writers.front()->write(records);
+        for (std::size_t t = 1; t < targets.size(); ++t) {
+          relocate(records, relocations[t - 1], r.addresses, relocated);
+          writers[t]->write(relocated);
+        }
+      };
+    }
     if (options.discard_records) sink = [](std::span<const formats::Record>) {};
     if (options.sampling) {
       // Only the chosen bands are rendered; each begins a sample window.
@@ -262,10 +333,11 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
       std::vector<Renderer::PixelRun> runs;
       for (const auto& band : bands) runs.push_back({band.first_pixel, band.end_pixel});
       Renderer::RunStart begin_window;
-      if (writer) {
+      if (writers.front()) {
         // An init-capture: clang's lambdas cannot capture the structured binding itself.
         begin_window = [&, frame_number = frame](std::size_t run) {
-          writer->begin_window(window_marker(options, bands[run], frame_number));
+          const formats::WindowMarker marker = window_marker(options, bands[run], frame_number);
+          for (const auto& writer : writers) writer->begin_window(marker);
         };
       }
       report.render = renderer.render_runs(runs, begin_window, sink, want_image ? &image : nullptr, frame_progress);
@@ -277,11 +349,12 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
     result.total.seconds += report.render.seconds;
     result.frames.push_back(std::move(report));
   }
-  if (writer) {
-    nlohmann::json rays = nlohmann::json::object();
-    for (int k = 0; k < kRayKindCount; ++k) {
-      rays[std::string(ray_kind_name(static_cast<RayKind>(k)))] = result.total.rays[k];
-    }
+  nlohmann::json rays = nlohmann::json::object();
+  for (int k = 0; k < kRayKindCount; ++k) {
+    rays[std::string(ray_kind_name(static_cast<RayKind>(k)))] = result.total.rays[k];
+  }
+  for (const auto& writer : writers) {
+    if (!writer) continue;
     writer->add_totals({{"rays", rays},
                         {"node_fetches", result.total.node_fetches},
                         {"leaf_visits", result.total.leaf_visits},

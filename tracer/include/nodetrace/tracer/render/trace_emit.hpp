@@ -20,6 +20,18 @@
 
 namespace nodetrace::tracer {
 
+// One more trace of the same render in another layout: the rays visit the
+// same nodes in the same order whatever the layout, only the addresses
+// differ, so each further layout costs a remapping of the records, not a
+// render. Its trace equals, byte for byte, the one a render with that layout
+// alone writes.
+struct LayoutTrace {
+  LayoutKind layout = LayoutKind::Dfl;
+  std::optional<std::uint32_t> split_level;  // hybrid: a fixed K ...
+  std::optional<std::uint64_t> high_size;    // ... or K from the high cache's size
+  std::string output;
+};
+
 struct TraceJobOptions {
   RenderOptions render;
   KdBuildOptions build;
@@ -34,6 +46,7 @@ struct TraceJobOptions {
   // Render only sampled row bands (row_sampling.hpp); nullopt: every pixel.
   std::optional<RowSampling> sampling;
   std::string output;  // trace path, "-" for stdout; empty: no trace
+  std::vector<LayoutTrace> other_layouts;  // further traces of the same render
   bool discard_records = false;  // make the records but write none (benchmarks)
   formats::RecordForm form = formats::RecordForm::Din;
   int zstd_level = 3;  // compression level of the container's data frames
@@ -47,6 +60,7 @@ struct AnimationFrameReport {
   std::uint64_t triangles = 0;
   KdTreeStats tree;
   std::uint32_t split_level = 0;
+  std::vector<std::uint32_t> other_split_levels;  // of options.other_layouts, in order
   std::uint64_t bands_rendered = 0;  // sampled renders: the bands chosen in this frame
   RenderStats render;
 };
@@ -61,6 +75,7 @@ struct TraceJobResult {
 // The split level of a layout for a tree: the fixed one, or the one derived
 // from the high cache size (hybrid only; 0 for the other layouts).
 std::uint32_t layout_split_level_for(const TraceJobOptions& options, const KdTreeStats& stats);
+std::uint32_t layout_split_level_for(const LayoutTrace& trace, std::uint32_t node_size, const KdTreeStats& stats);
 
 // Throws base::UsageError for options that cannot work, SceneError from the
 // source, base::IoError / FormatError from the writer. `progress` gets the

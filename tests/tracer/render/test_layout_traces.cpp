@@ -1,0 +1,118 @@
+// One render, several layouts (`--layout a,b --high-size x,y -o NAME{layout}`):
+// each trace equals, byte for byte, the one a render with that layout alone
+// writes, and the option combinations that cannot work are usage errors.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "test_support.hpp"
+
+namespace nodetrace::tracer {
+namespace {
+
+using nodetrace::testing::program;
+using nodetrace::testing::read_file;
+using nodetrace::testing::run_command;
+using nodetrace::testing::TempDir;
+
+std::string tracer() { return program("tracer").string(); }
+
+// Renders `common` once with every layout, then once per layout, and
+// compares the files. `layouts` are the names {layout} takes, each with the
+// options that ask for it alone.
+void expect_each_layout_as_rendered_alone(const std::string& common, const std::string& several,
+                                          const std::vector<std::pair<std::string, std::string>>& layouts,
+                                          const std::string& suffix) {
+  TempDir dir;
+  const auto together = run_command(common + " " + several + " -o " + (dir / ("{layout}" + suffix)).string());
+  ASSERT_EQ(together.exit_code, 0) << together.err;
+  for (const auto& [name, alone] : layouts) {
+    const auto path = dir / ("alone-" + name + suffix);
+    const auto result = run_command(common + " " + alone + " -o " + path.string());
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    const std::string expected = read_file(path);
+    ASSERT_GT(expected.size(), 200u) << name;
+    EXPECT_TRUE(read_file(dir / (name + suffix)) == expected) << name << " differs from its own render";
+  }
+}
+
+const std::vector<std::pair<std::string, std::string>> kEveryLayout = {
+    {"dfl", "--layout dfl"},
+    {"bfl", "--layout bfl"},
+    {"veb", "--layout veb"},
+    {"hybrid-k3", "--split-level 3"},
+    {"hybrid-k7", "--split-level 7"},
+};
+
+TEST(LayoutTraces, EachContainerTraceEqualsItsOwnRenderWithEveryStream) {
+  expect_each_layout_as_rendered_alone(
+      tracer() + " render mountain:6 --width 32 --height 24 -q --threads 2 --streams nodes,lists,triangles",
+      "--layout dfl,hybrid,bfl,veb --split-level 3,7", kEveryLayout, ".xdin.zst");
+}
+
+TEST(LayoutTraces, EachPlainTraceEqualsItsOwnRenderAtHighSizes) {
+  expect_each_layout_as_rendered_alone(tracer() + " render mountain:6 --width 24 --height 16 -q",
+                                       "--layout hybrid,dfl --high-size 512,2k",
+                                       {{"hybrid-512", "--high-size 512"},
+                                        {"hybrid-2k", "--high-size 2k"},
+                                        {"dfl", "--layout dfl"}},
+                                       ".din");
+}
+
+TEST(LayoutTraces, SampledRenderWritesTheSameWindowsInEachLayout) {
+  expect_each_layout_as_rendered_alone(
+      tracer() + " render mountain:6 --width 32 --height 32 -q --sample-rows 1/4 --sample-seed 3",
+      "--layout bfl,hybrid --split-level 5", {{"bfl", "--layout bfl"}, {"hybrid-k5", "--split-level 5"}},
+      ".din.zst");
+}
+
+// Two animation frames whose trees differ: the layouts (and the hybrid's K
+// from the high size) are made per frame.
+TEST(LayoutTraces, EveryAnimationFrameIsRelaidOut) {
+  TempDir dir;
+  std::string scene = "a 0 1 2\nx mover { p 3  0 0 0  1 0 0  0 1 0 }\nl 0 0 5\n";
+  for (int i = 0; i < 12; ++i) {
+    for (int j = 0; j < 12; ++j) {
+      scene += "p 3  " + std::to_string(i) + " " + std::to_string(j) + " -2  " + std::to_string(i + 1) + " " +
+               std::to_string(j) + " -2  " + std::to_string(i) + " " + std::to_string(j + 1) + " -1.5\n";
+    }
+  }
+  scene += "k mover {\n transl 2\n 0  0 0 0  0 0 0\n 1  5 5 1  0 0 0\n}\n";
+  nodetrace::testing::write_file(dir / "moving.aff", scene);
+  expect_each_layout_as_rendered_alone(
+      tracer() + " render " + (dir / "moving.aff").string() + " --frames 0-1 --width 24 --height 16 -q",
+      "--layout dfl,hybrid --high-size 128", {{"dfl", "--layout dfl"}, {"hybrid-128", "--high-size 128"}},
+      ".din.zst");
+}
+
+TEST(LayoutTraces, CombinationsThatCannotWorkAreUsageErrors) {
+  TempDir dir;
+  const std::string common = tracer() + " render mountain:6 --width 8 --height 8 -q ";
+  const auto expect_usage_error = [&](const std::string& options, const std::string& says) {
+    const auto result = run_command(common + options);
+    EXPECT_EQ(result.exit_code, 2) << options << "\n" << result.err;
+    EXPECT_NE(result.err.find(says), std::string::npos) << options << "\n" << result.err;
+  };
+  const std::string out = (dir / "t.din.zst").string();
+  expect_usage_error("--layout dfl,bfl -o " + out, "needs {layout} in the file name");
+  expect_usage_error("--layout dfl,bfl", "needs {layout} in the file name");
+  expect_usage_error("--layout dfl,bfl -o '{layout}' --discard-records", "--discard-records");
+  expect_usage_error("--layout dfl,dfl -o " + (dir / "{layout}.din").string(), "same file");
+  expect_usage_error("--layout dfl,bfl --split-level 4 -o " + (dir / "{layout}.din").string(),
+                     "apply to --layout hybrid only");
+  expect_usage_error("--layout hybrid,dfl -o " + (dir / "{layout}.din").string(), "needs --split-level K");
+  expect_usage_error("--split-level 3,4 --high-size 1k -o " + (dir / "{layout}.din").string(), "excludes");
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+TEST(LayoutTraces, OneLayoutMayNameItsFileByTheLayout) {
+  TempDir dir;
+  const auto result = run_command(tracer() + " render mountain:6 --width 8 --height 8 -q --split-level 4 -o " +
+                                  (dir / "m-{layout}.din").string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "m-hybrid-k4.din"));
+}
+
+}  // namespace
+}  // namespace nodetrace::tracer
