@@ -12,7 +12,8 @@
 # hash of everything that changes its records (the tracer binary, every file
 # of the scene's folder, the tracer options), a simulation's name a hash of
 # its trace's name, the cachesim binary and its options. A trace exists or is
-# rendered; it is never stale, and never rendered twice. Each target's list of
+# rendered; it is never stale, and never rendered twice. Traces that differ
+# only in their layout are written by one render (scripts/render-layouts.sh). Each target's list of
 # inputs (its manifest) is rewritten only when its content changes, so a
 # table is remade exactly when its set of inputs or one of them changes.
 #
@@ -236,13 +237,35 @@ interp_files = $(call interp_check,$2)single=$(call interp_single_file,$1,$2,$3,
   interp_split_file,$1,$2,$3,$4,$5,$6)
 
 # $(call trace,SCENE,TRACER-OPTIONS): the trace of that scene rendered with
-# those options; its rule is defined on first use.
+# those options; its rule is defined on first use. Traces that differ only in
+# their layout (--layout, --split-level, --high-size) form a group, rendered
+# once by scripts/render-layouts.sh, which writes every missing trace of the
+# group from one render: the group's members are complete when the recipe
+# runs, after make has read every study.
 trace = $(call define_trace,$(TRACES)/$1-$(call hash_text,$(tracer_hash) $(call scene_hash,$1) $2).din.zst,$1,$2)
-define_trace = $(if $(defined_$1),,$(eval $(call trace_rule,$1,$2,$3,$(words $(all_traces) x)))$(eval defined_$1 := 1)$(eval all_traces += $1))$1
+define_trace = $(if $(defined_$1),,$(call define_member,$1,$2,$3,$(call trace_group,$2,$3)))$1
+# The first trace of a group leads it: its recipe renders the whole group, and
+# the others wait for it (they render only when their file went missing).
+define_member = $(eval $(call trace_rule,$1,$2,$3,$4,$(group_leader_$4)))$(eval defined_$1 := 1)$(if \
+  $(group_leader_$4),,$(eval group_leader_$4 := $1)$(eval all_groups += $4))$(eval group_files_$4 += $1)$(eval \
+  group_members_$4 += $1=$(call layout_name,$3))
+# Tracer options with each layout option joined to its value (--layout=bfl).
+layout_joined = $(subst --layout$(space),--layout=,$(subst --split-level$(space),--split-level=,$(subst \
+  --high-size$(space),--high-size=,$1)))
+layout_words = $(filter --layout=% --split-level=% --high-size=%,$(call layout_joined,$1))
+render_words = $(filter-out --layout=% --split-level=% --high-size=%,$(call layout_joined,$1))
+# The name tracer render gives the layout in {layout}: dfl, bfl, veb, hybrid-kK, hybrid-SIZE.
+layout_name = $(or $(patsubst --split-level=%,hybrid-k%,$(filter --split-level=%,$(call \
+  layout_words,$1))),$(patsubst --high-size=%,hybrid-%,$(filter --high-size=%,$(call \
+  layout_words,$1))),$(patsubst --layout=%,%,$(filter --layout=%,$(call layout_words,$1))),dfl)
+trace_group = $(call hash_text,group $(tracer_hash) $(call scene_hash,$1) $(call render_words,$2))
+# $(call trace_rule,FILE,SCENE,OPTIONS,GROUP,LEADER): LEADER is empty for the leader.
 define trace_rule
-$1: | $(TRACES)/.dir
-	@echo "render [$$(words $$(wildcard $$(to_render)) x) of $$(words $$(to_render))] $2 $3" >&2
-	@$(RUN) $(TRACER) render $(call scene_arg,$2) -q $3 -o $$@
+$1: | $(TRACES)/.dir $5
+	@$(if $5,test -f $$@ || )echo "render [$$(words $$(wildcard $$(to_render)) x) of $$(words $$(to_render))] \
+	  $2 $(call render_words,$3), layouts: $$(foreach m,$$(group_members_$4),$$(lastword $$(subst =, ,$$m)))" >&2
+	@$(if $5,test -f $$@ || )$(RUN) $(MK_DIR)/render-layouts.sh $(TRACES)/.group-$4.lock $(TRACER) $(call \
+	  scene_arg,$2) -q $(call render_words,$3) -- $$(group_members_$4)
 endef
 
 # $(call sim,TARGET,TRACE,CACHESIM-OPTIONS): cachesim's CSV for that trace.
@@ -499,8 +522,9 @@ sampling_lines := $(common_params) param;tracer=$(TRACER) \
 $(eval $(call study_rule,sampling))
 endif
 
-# The traces this make renders (progress: which of them this one is).
-to_render := $(filter-out $(wildcard $(all_traces)),$(all_traces))
+# The renders this make runs (progress: which of them this one is): the
+# leaders of the groups with a trace missing, one render each.
+to_render := $(foreach g,$(all_groups),$(if $(filter-out $(wildcard $(group_files_$g)),$(group_files_$g)),$(group_leader_$g)))
 
 clean:
 	rm -rf $(OUT)/traces $(addprefix $(OUT)/,$(ALL_TARGETS) calibration-grid interpretations-grid)

@@ -93,7 +93,7 @@ class ExperimentsMakeTest : public ::testing::Test {
 TEST_F(ExperimentsMakeTest, SecondRunRendersAndSimulatesNothing) {
   const auto out = dir_ / "out";
   const auto first = make("table1 WIDTH=32 HEIGHT=24", out);
-  EXPECT_EQ(count_lines_with(first, "tracer render"), 2) << first;
+  EXPECT_EQ(count_lines_with(first, "render-layouts.sh"), 1) << first;
   EXPECT_EQ(count_lines_with(first, "cachesim run"), 2) << first;
   const auto table = read_file(out / "table1" / "table1.csv");
   const auto second = make("table1 WIDTH=32 HEIGHT=24", out);
@@ -107,14 +107,14 @@ TEST_F(ExperimentsMakeTest, ChangingWidthChangesTheTableAndChangingBackRendersNo
   make("table1 WIDTH=32 HEIGHT=24", out);
   const auto narrow = read_file(out / "table1" / "table1.csv");
   const auto wider = make("table1 WIDTH=40 HEIGHT=24", out);
-  EXPECT_EQ(count_lines_with(wider, "tracer render"), 2) << wider;
+  EXPECT_EQ(count_lines_with(wider, "render-layouts.sh"), 1) << wider;
   const auto wide = read_file(out / "table1" / "table1.csv");
   EXPECT_NE(wide, narrow);
   EXPECT_NE(wide.find(",40,24,"), std::string::npos) << wide;
   EXPECT_EQ(narrow.find(",40,24,"), std::string::npos) << narrow;
   // Back to the first width: its traces are still there, the table is its own again.
   const auto back = make("table1 WIDTH=32 HEIGHT=24", out);
-  EXPECT_EQ(count_lines_with(back, "tracer render"), 0) << back;
+  EXPECT_EQ(count_lines_with(back, "render-layouts.sh"), 0) << back;
   EXPECT_EQ(read_file(out / "table1" / "table1.csv"), narrow);
 }
 
@@ -127,9 +127,9 @@ TEST_F(ExperimentsMakeTest, SceneContentAndTracerOptionsDecideARenderNotFileTime
   EXPECT_EQ(make("table1 WIDTH=32 HEIGHT=24", out), "");
   // A file of the scene's folder changes: every trace of the scene renders again.
   write_file(scene_, std::string(kTinyScene) + "p 3\n-2 0 -2\n-1 0 -2\n-1 1 -2\n");
-  EXPECT_EQ(count_lines_with(make("table1 WIDTH=32 HEIGHT=24", out), "tracer render"), 2);
+  EXPECT_EQ(count_lines_with(make("table1 WIDTH=32 HEIGHT=24", out), "render-layouts.sh"), 1);
   // A kd-tree option changes the records too.
-  EXPECT_EQ(count_lines_with(make("table1 WIDTH=32 HEIGHT=24 TRAVERSAL_COST=2", out), "tracer render"), 2);
+  EXPECT_EQ(count_lines_with(make("table1 WIDTH=32 HEIGHT=24 TRAVERSAL_COST=2", out), "render-layouts.sh"), 1);
 }
 
 TEST_F(ExperimentsMakeTest, OutputsAreTheSameBytesFromARerunWithAnyJobCount) {
@@ -143,6 +143,27 @@ TEST_F(ExperimentsMakeTest, OutputsAreTheSameBytesFromARerunWithAnyJobCount) {
     ASSERT_TRUE(std::filesystem::exists(serial / file)) << file;
     EXPECT_TRUE(read_file(serial / file) == read_file(parallel / file)) << file << " differs";
   }
+}
+
+// Traces that differ only in their layout come from one render; a trace that
+// went missing is rendered again alone, the others left as they were.
+TEST_F(ExperimentsMakeTest, LayoutsOfOneRenderAreOneRenderAndAMissingOneComesBack) {
+  const auto out = dir_ / "out";
+  const auto first = make("-j2 table1 baselines WIDTH=32 HEIGHT=24", out);
+  EXPECT_EQ(count_lines_with(first, "render-layouts.sh"), 1) << first;
+  std::vector<std::filesystem::path> traces;
+  for (const auto& entry : std::filesystem::directory_iterator(out / "traces")) {
+    if (entry.path().extension() == ".zst") traces.push_back(entry.path());
+  }
+  ASSERT_EQ(traces.size(), 5u) << "hybrid for 1k and 4k, dfl, bfl, veb";
+  std::sort(traces.begin(), traces.end());
+  const std::string removed = read_file(traces[2]);
+  const auto kept_time = std::filesystem::last_write_time(traces[0]);
+  std::filesystem::remove(traces[2]);
+  const auto again = make("table1 baselines WIDTH=32 HEIGHT=24", out);
+  EXPECT_EQ(count_lines_with(again, "render-layouts.sh"), 1) << again;
+  EXPECT_TRUE(read_file(traces[2]) == removed) << "the trace rendered again is the same bytes";
+  EXPECT_EQ(std::filesystem::last_write_time(traces[0]), kept_time) << "the traces on disk are not rewritten";
 }
 
 TEST_F(ExperimentsMakeTest, TableShowsThePapersNumbersDirectionsAndParameters) {
