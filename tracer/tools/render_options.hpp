@@ -163,15 +163,15 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
                  "else dfl)")
       ->delimiter(',')
       ->check(CLI::IsMember({"dfl", "bfl", "hybrid", "veb"}));
-  auto* split = app.add_option("--split-level", o.split_levels,
-                               "hybrid layout: levels < K in BFL; several K, comma-separated: one trace each")
-                    ->delimiter(',')
-                    ->check(CLI::Range(0, kMaxLevelLimit));
-  auto* high = app.add_option("--high-size", o.high_sizes,
-                              "hybrid layout: K = the most levels whose nodes fit a high-level cache of SIZE bytes "
-                              "(e.g. 4k); several sizes, comma-separated: one trace each")
-                   ->delimiter(',');
-  split->excludes(high);
+  app.add_option("--split-level", o.split_levels,
+                 "hybrid layout: levels < K in BFL; several K, comma-separated: one trace each")
+      ->delimiter(',')
+      ->check(CLI::Range(0, kMaxLevelLimit));
+  app.add_option("--high-size", o.high_sizes,
+                 "hybrid layout: K = the most levels whose nodes fit a high-level cache of SIZE bytes "
+                 "(e.g. 4k); several sizes, comma-separated: one trace each (with --split-level: one trace "
+                 "per K and per size)")
+      ->delimiter(',');
   app.add_option("--node-base", o.node_base, "address of layout slot 0")->capture_default_str();
   app.add_option("--list-base", o.list_base, "address of the leaf primitive lists (--streams lists; default 0x40000000)");
   app.add_option("--triangle-base", o.triangle_base, "address of the triangles (--streams triangles; default 0x80000000)");
