@@ -5,34 +5,14 @@
 #include <stdexcept>
 #include <utility>
 
+#include "accel/box_test.hpp"
 #include "accel/watertight_intersection.hpp"
 
 namespace nodetrace::tracer {
 
 using formats::Record;
 
-namespace {
-
-// Slab test with the conservative rounding of Ize (2013) so a ray grazing the
-// root box is not lost.
-bool intersect_box(const Bounds& box, const Vec3& origin, const Vec3& inverse, float& t0,
-                   float& t1) {
-  constexpr float kGrow = 1.0f + 2.0f * 3.0f * std::numeric_limits<float>::epsilon();
-  t0 = 0.0f;
-  for (int axis = 0; axis < 3; ++axis) {
-    float near = (box.lo[axis] - origin[axis]) * inverse[axis];
-    float far = (box.hi[axis] - origin[axis]) * inverse[axis];
-    if (near > far) std::swap(near, far);
-    far *= kGrow;
-    // NaN (0 * inf) leaves the bound as it was.
-    t0 = near > t0 ? near : t0;
-    t1 = far < t1 ? far : t1;
-    if (t0 > t1) return false;
-  }
-  return true;
-}
-
-}  // namespace
+using detail::intersect_box;
 
 Traversal::Traversal(const std::vector<Triangle>& triangles, const KdTree& tree, const Layout& layout,
                      const StreamSelection& streams, const AddressMap& addresses)

@@ -1,0 +1,123 @@
+#include "nodetrace/tracer/accel/bvh_traversal.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "accel/box_test.hpp"
+#include "accel/watertight_intersection.hpp"
+
+namespace nodetrace::tracer {
+
+using formats::Record;
+
+BvhTraversal::BvhTraversal(const std::vector<Triangle>& triangles, const Bvh& bvh, const Layout& layout,
+                           const StreamSelection& streams, const AddressMap& addresses)
+    : triangles_(triangles), bvh_(bvh), streams_(streams), addresses_(addresses) {
+  const auto& slots = layout.slot_of_node;
+  const auto& nodes = bvh.nodes();
+  if (slots.size() != nodes.size()) throw std::invalid_argument("layout does not match the BVH");
+  node_records_.resize(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    node_records_[i] = {addresses.node_base + std::uint64_t{slots[i]} * addresses.node_size, addresses.node_size,
+                        formats::AccessType::Read, static_cast<formats::Tag>(nodes[i].level)};
+  }
+}
+
+template <bool AnyHit>
+bool BvhTraversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records,
+                            RenderStats* stats) const {
+  const auto& nodes = bvh_.nodes();
+  if (nodes.empty()) return false;
+  // A ray with a non-finite or zero part meets nothing (as the kd-tree's).
+  const auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (!finite(ray.origin) || !finite(ray.direction) || ray.direction == Vec3{}) return false;
+  const Vec3 inverse{1.0f / ray.direction.x, 1.0f / ray.direction.y, 1.0f / ray.direction.z};
+  {
+    float t0 = 0, t1 = t_max;
+    if (!detail::intersect_box(bvh_.bounds(), ray.origin, inverse, t0, t1)) return false;
+  }
+  const detail::ShearedRay sheared(ray);
+  const auto& children = bvh_.children();
+  const auto& primitives = bvh_.primitives();
+  const auto& map = addresses_;
+  const bool record_nodes = records && streams_.nodes;
+
+  // A node of the tree pushes at most arity - 1 entries more than it pops,
+  // and no tree is deeper than kBvhMaxLevels.
+  struct Entry {
+    float t;
+    std::uint32_t index, count;  // count 0: a node
+  };
+  Entry stack[kBvhMaxLevels * 7 + 9];
+  int top = 0;
+  stack[top++] = {0.0f, 0, 0};
+  float best = t_max;
+  bool found = false;
+  std::uint64_t fetches = 0, leaves = 0, tests = 0;
+  while (top > 0) {
+    const Entry entry = stack[--top];
+    if (entry.t > best) continue;  // nearer hit found since it was pushed: never read
+    if (entry.count == 0) {
+      ++fetches;
+      if (record_nodes) records->push_back(node_records_[entry.index]);
+      const BvhNode& node = nodes[entry.index];
+      // The children hit, sorted farthest first below the stack top so the
+      // nearest is popped first (ties: stored order).
+      const int base = top;
+      for (std::uint32_t k = 0; k < node.child_count; ++k) {
+        const BvhChild& c = children[node.first_child + k];
+        float t0 = 0, t1 = best;
+        if (!detail::intersect_box(c.box, ray.origin, inverse, t0, t1)) continue;
+        Entry e{t0, c.index, c.count};
+        int j = top++;
+        while (j > base && stack[j - 1].t < e.t) {
+          stack[j] = stack[j - 1];
+          --j;
+        }
+        stack[j] = e;
+      }
+      continue;
+    }
+    ++leaves;
+    for (std::uint32_t i = 0; i < entry.count; ++i) {
+      const std::uint32_t slot = entry.index + i;
+      const std::uint32_t id = primitives[slot];
+      if (records && streams_.lists) {
+        records->push_back({map.list_base + std::uint64_t{slot} * map.list_entry_size, map.list_entry_size,
+                            formats::AccessType::Read, formats::kTagPrimitiveList});
+      }
+      if (records && streams_.triangles) {
+        records->push_back({map.triangle_base + std::uint64_t{id} * map.triangle_size, map.triangle_size,
+                            formats::AccessType::Read, formats::kTagTriangle});
+      }
+      ++tests;
+      if (detail::intersect_sheared(sheared, triangles_[id], best, hit)) {
+        best = hit.t;
+        hit.triangle = id;
+        found = true;
+        if constexpr (AnyHit) break;
+      }
+    }
+    if constexpr (AnyHit) {
+      if (found) break;
+    }
+  }
+  if (stats) {
+    stats->node_fetches += fetches;
+    stats->leaf_visits += leaves;
+    stats->triangle_tests += tests;
+  }
+  return found;
+}
+
+bool BvhTraversal::closest_hit(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records,
+                               RenderStats* stats) const {
+  return traverse<false>(ray, t_max, hit, records, stats);
+}
+
+bool BvhTraversal::any_hit(const Ray& ray, float t_max, std::vector<Record>* records, RenderStats* stats) const {
+  Hit hit;
+  return traverse<true>(ray, t_max, hit, records, stats);
+}
+
+}  // namespace nodetrace::tracer
