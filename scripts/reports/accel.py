@@ -66,15 +66,22 @@ text = ["# Acceleration structures and the split node cache\n\n",
         f"hybrid layout sized for the high cache; treelets of {params['treelet_bytes']} bytes.\n"]
 for scene in scenes:
     text.append(f"\n## {common.paper_name(scene)}\n\n")
-    text.append("Bytes of nodes fetched per ray (dfl layout) and node fetches per ray:\n\n")
+    text.append("Bytes of nodes fetched per ray and node fetches per ray (the same in every layout), and bytes "
+                "missed per ray (misses x block / rays) of the single cache over the hybrid layout, "
+                f"direct-mapped, {blocks[-1]}-byte blocks:\n\n")
     body = []
     for kind in kinds:
         r = find(scene=scene, accel=kind, layout="hybrid", scheme="single", size=sizes[0], block=blocks[0],
                  assoc=assocs[0])
         if r:
-            body.append([kind, str(r["node_size"]), r["bytes_fetched_per_ray"], f"{r['refs'] / max(r['rays'], 1):.2f}"])
-    text.append(common.markdown_table(["Structure", "Node bytes", "Bytes fetched per ray", "Node fetches per ray"],
-                                      body))
+            line = [kind, str(r["node_size"]), r["bytes_fetched_per_ray"], f"{r['refs'] / max(r['rays'], 1):.2f}"]
+            for z in sizes:
+                m = find(scene=scene, accel=kind, layout="hybrid", scheme="single", size=z, block=blocks[-1],
+                         assoc=assocs[0])
+                line.append(m["miss_bytes_per_ray"] if m else "")
+            body.append(line)
+    text.append(common.markdown_table(["Structure", "Node bytes", "Bytes fetched per ray", "Node fetches per ray"]
+                                      + [f"Bytes missed per ray, {common.size_label(z)}" for z in sizes], body))
     for assoc in assocs:
         text.append(f"\n### Split minus single, hybrid layout, {assoc_label(assoc)} (miss ratio %, "
                     "negative: the split misses less)\n\n")
