@@ -4,7 +4,7 @@
 #include <stdexcept>
 
 #include "accel/box_test.hpp"
-#include "accel/watertight_intersection.hpp"
+#include "accel/leaf_visit.hpp"
 
 namespace nodetrace::tracer {
 
@@ -37,9 +37,8 @@ bool BvhTraversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<R
     if (!detail::intersect_box(bvh_.bounds(), ray.origin, inverse, t0, t1)) return false;
   }
   const detail::ShearedRay sheared(ray);
+  const detail::LeafVisit leaf{triangles_, bvh_.primitives(), sheared, streams_, addresses_, records};
   const auto& children = bvh_.children();
-  const auto& primitives = bvh_.primitives();
-  const auto& map = addresses_;
   const bool record_nodes = records && streams_.nodes;
 
   // A node of the tree pushes at most arity - 1 entries more than it pops,
@@ -79,25 +78,7 @@ bool BvhTraversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<R
       continue;
     }
     ++leaves;
-    for (std::uint32_t i = 0; i < entry.count; ++i) {
-      const std::uint32_t slot = entry.index + i;
-      const std::uint32_t id = primitives[slot];
-      if (records && streams_.lists) {
-        records->push_back({map.list_base + std::uint64_t{slot} * map.list_entry_size, map.list_entry_size,
-                            formats::AccessType::Read, formats::kTagPrimitiveList});
-      }
-      if (records && streams_.triangles) {
-        records->push_back({map.triangle_base + std::uint64_t{id} * map.triangle_size, map.triangle_size,
-                            formats::AccessType::Read, formats::kTagTriangle});
-      }
-      ++tests;
-      if (detail::intersect_sheared(sheared, triangles_[id], best, hit)) {
-        best = hit.t;
-        hit.triangle = id;
-        found = true;
-        if constexpr (AnyHit) break;
-      }
-    }
+    if (leaf.visit<AnyHit>(entry.index, entry.count, best, hit, tests)) found = true;
     if constexpr (AnyHit) {
       if (found) break;
     }

@@ -6,7 +6,7 @@
 #include <utility>
 
 #include "accel/box_test.hpp"
-#include "accel/watertight_intersection.hpp"
+#include "accel/leaf_visit.hpp"
 
 namespace nodetrace::tracer {
 
@@ -52,8 +52,7 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
   if (!intersect_box(tree_.bounds(), ray.origin, inverse, t_min, t_far)) return false;
 
   const detail::ShearedRay sheared(ray);
-  const auto& primitives = tree_.primitives();
-  const auto& map = addresses_;
+  const detail::LeafVisit leaf{triangles_, tree_.primitives(), sheared, streams_, addresses_, records};
   const bool record_nodes = records && streams_.nodes;
   struct Pending {
     std::uint32_t node;
@@ -90,27 +89,7 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
       continue;
     }
     ++leaves;
-    const std::uint32_t count = node.bits >> 2;
-    for (std::uint32_t i = 0; i < count; ++i) {
-      const std::uint32_t slot = node.first + i;
-      const std::uint32_t id = primitives[slot];
-      if (records && streams_.lists) {
-        records->push_back({map.list_base + std::uint64_t{slot} * map.list_entry_size,
-                            map.list_entry_size, formats::AccessType::Read,
-                            formats::kTagPrimitiveList});
-      }
-      if (records && streams_.triangles) {
-        records->push_back({map.triangle_base + std::uint64_t{id} * map.triangle_size,
-                            map.triangle_size, formats::AccessType::Read, formats::kTagTriangle});
-      }
-      ++tests;
-      if (detail::intersect_sheared(sheared, triangles_[id], best, hit)) {
-        best = hit.t;
-        hit.triangle = id;
-        found = true;
-        if constexpr (AnyHit) break;
-      }
-    }
+    if (leaf.visit<AnyHit>(node.first, node.bits >> 2, best, hit, tests)) found = true;
     if constexpr (AnyHit) {
       if (found) break;
     }
