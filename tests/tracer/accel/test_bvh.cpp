@@ -84,6 +84,9 @@ void expect_same_hits(const Scene& scene, int width, int height) {
     const auto bvh = AccelerationStructure::build(scene.triangles, kind);
     const HitComparison c = compare_hits(scene, kd, bvh, width, height);
     ASSERT_GT(c.rays, std::uint64_t(width) * height);  // some shadow rays were cast
+    std::printf("  %s: %llu rays, %llu the same, %llu distance ties, %zu other differences\n",
+                std::string(accel_name(kind)).c_str(), static_cast<unsigned long long>(c.rays),
+                static_cast<unsigned long long>(c.equal), static_cast<unsigned long long>(c.ties), c.other.size());
     for (const auto& line : c.other) std::printf("  %s: %s\n", std::string(accel_name(kind)).c_str(), line.c_str());
     EXPECT_GE(double(c.equal) / double(c.rays), 0.9999) << c.ties << " ties, " << c.other.size() << " others";
     // Anything but an exact tie would be a ray lost at a grazing box edge:
