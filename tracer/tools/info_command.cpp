@@ -24,7 +24,7 @@ namespace {
 struct InfoCommand {
   std::string scene_spec, format = "text";
   int max_depth = 10;
-  std::optional<std::uint32_t> node_size;  // default: the acceleration structure's
+  std::optional<std::uint32_t> node_size_option;  // default: the acceleration structure's
   SceneCommandOptions scene_options;
 
   void add_options(CLI::App& app);
@@ -37,7 +37,7 @@ void InfoCommand::add_options(CLI::App& app) {
   app.add_option("--max-depth", max_depth, "ray tree depth assumed for the ray kinds")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
-  app.add_option("--node-size", node_size,
+  app.add_option("--node-size", node_size_option,
                  "bytes per node, for the bytes and split levels shown (at most 65535; default: the structure's)")
       ->check(CLI::Range(1, kMaxNodeSize));
   add_scene_options(app, scene_options, /*frame_runs=*/false);
@@ -59,7 +59,7 @@ int InfoCommand::run() const {
     const AccelerationStructure tree =
         AccelerationStructure::build(scene.triangles, kind, {build_options, make_bvh_options(scene_options)});
     const KdTreeStats& s = tree.stats();
-    const std::uint32_t node_size = this->node_size.value_or(default_node_size(kind));
+    const std::uint32_t node_size = node_size_option.value_or(default_node_size(kind));
     const RayKindPlan plan = plan_ray_kinds(scene, max_depth);
     const Bounds bounds = scene.bounds();
 

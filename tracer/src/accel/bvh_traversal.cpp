@@ -41,47 +41,52 @@ bool BvhTraversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<R
   const auto& children = bvh_.children();
   const bool record_nodes = records && streams_.nodes;
 
-  // A node of the tree pushes at most arity - 1 entries more than it pops,
-  // and no tree is deeper than kBvhMaxLevels.
+  // A node visit pushes at most arity - 1 entries (its nearest child is
+  // visited next without the stack), and no tree is deeper than kBvhMaxLevels.
   struct Entry {
     float t;
     std::uint32_t index, count;  // count 0: a node
   };
-  Entry stack[kBvhMaxLevels * 7 + 9];
+  Entry stack[kBvhMaxLevels * 7 + 8];
   int top = 0;
-  stack[top++] = {0.0f, 0, 0};
+  Entry current{0.0f, 0, 0};  // the root
   float best = t_max;
   bool found = false;
   std::uint64_t fetches = 0, leaves = 0, tests = 0;
-  while (top > 0) {
-    const Entry entry = stack[--top];
-    if (entry.t > best) continue;  // nearer hit found since it was pushed: never read
-    if (entry.count == 0) {
+  while (true) {
+    if (current.count == 0) {
       ++fetches;
-      if (record_nodes) records->push_back(node_records_[entry.index]);
-      const BvhNode& node = nodes[entry.index];
-      // The children hit, sorted farthest first below the stack top so the
-      // nearest is popped first (ties: stored order).
-      const int base = top;
+      if (record_nodes) records->push_back(node_records_[current.index]);
+      const BvhNode& node = nodes[current.index];
+      // The children hit, nearest first (ties: stored order).
+      Entry hits[8];
+      int hit_count = 0;
       for (std::uint32_t k = 0; k < node.child_count; ++k) {
         const BvhChild& c = children[node.first_child + k];
         float t0 = 0, t1 = best;
-        if (!detail::intersect_box(c.box, ray.origin, inverse, t0, t1)) continue;
-        Entry e{t0, c.index, c.count};
-        int j = top++;
-        while (j > base && stack[j - 1].t < e.t) {
-          stack[j] = stack[j - 1];
-          --j;
-        }
-        stack[j] = e;
+        if (!detail::intersect_box_branchless(c.box, ray.origin, inverse, t0, t1)) continue;
+        int j = hit_count++;
+        for (; j > 0 && hits[j - 1].t > t0; --j) hits[j] = hits[j - 1];
+        hits[j] = {t0, c.index, c.count};
       }
-      continue;
+      if (hit_count > 0) {
+        // The nearest is visited next; the others wait, farthest deepest.
+        for (int j = hit_count - 1; j > 0; --j) stack[top++] = hits[j];
+        current = hits[0];
+        continue;
+      }
+    } else {
+      ++leaves;
+      if (leaf.visit<AnyHit>(current.index, current.count, best, hit, tests)) found = true;
+      if constexpr (AnyHit) {
+        if (found) break;
+      }
     }
-    ++leaves;
-    if (leaf.visit<AnyHit>(entry.index, entry.count, best, hit, tests)) found = true;
-    if constexpr (AnyHit) {
-      if (found) break;
-    }
+    // The next entry still nearer than the closest hit; the others are
+    // never read.
+    while (top > 0 && stack[top - 1].t > best) --top;
+    if (top == 0) break;
+    current = stack[--top];
   }
   if (stats) {
     stats->node_fetches += fetches;
