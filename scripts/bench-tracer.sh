@@ -2,7 +2,7 @@
 # Tracer speed: rays per second rendering only, the cost of writing the trace
 # as the ratio (render + trace) / render only (target: at most 2.0), and
 # compressed bytes per record, for each built-in scene and the two BART
-# scenes. Medians of --runs runs; each run is one `tracer render`. Then, for
+# scenes; the binary BVH against the kd-tree (build time, rays per second). Medians of --runs runs; each run is one `tracer render`. Then, for
 # the BART scenes, the same ratio for the whole command (wall and CPU user +
 # sys of `tracer render ... --high-size 4k` with and without -o, runs
 # alternating), with peak RSS; last, primary rays per second against Embree
@@ -46,6 +46,7 @@ trap 'rm -rf "$work"' EXIT
 thread_args=()
 [ "$threads" != 0 ] && thread_args=(--threads "$threads")
 
+column() { awk -v c="$1" '{print $c}'; }
 median() { sort -g | awk '{v[NR] = $1} END {if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
 # Seconds of the render loop from tracer's summary line "render: X s, ...".
 render_seconds() { sed -n 's/^  render: \([0-9.]*\) s.*/\1/p' "$1"; }
@@ -93,13 +94,43 @@ done
 triangles="$("$tracer" info forest:5 --format json | sed -n 's/^    "triangles": \([0-9]*\),*/\1/p')"
 echo "kd-tree build, forest:5 ($triangles triangles): median $(printf '%s\n' "${builds[@]}" | median) s wall over $runs run(s)"
 
+# The binary BVH against the kd-tree on the BART scenes: build wall time
+# (goal: at most 0.3 s for Kitchen's BVH on 2 cores) and rays per second of
+# the render loop over the same rays (nothing recorded), with wall and CPU
+# (user + sys) of the whole command; the two structures' runs alternate.
+for bart in robots/Robot.aff kitchen/kitchen.aff; do
+  [ -f "$shared/$bart" ] || continue
+  [ -z "${bvh_header:-}" ] && bvh_header=1 && {
+    echo "bvh2 against kdtree, ${width}x${height}, max depth $max_depth, medians of $runs alternating run(s); load average $(cut -d' ' -f1 /proc/loadavg)"
+    printf '%-12s %-7s %11s %8s %10s %9s %9s %9s\n' scene accel rays build_s render_s Mrays_s wall_s cpu_s
+  }
+  for accel in kdtree bvh2; do : > "$work/$accel.all"; done
+  for ((run = 0; run < runs; run++)); do
+    for accel in kdtree bvh2; do
+      /usr/bin/time -f '%e %U %S' -o "$work/t" "$tracer" render "$shared/$bart" --accel "$accel" --width "$width" \
+        --height "$height" --max-depth "$max_depth" "${thread_args[@]}" 2> "$work/s.txt"
+      echo "$(sed -n 's/.*built in \([0-9.]*\) s.*/\1/p' "$work/s.txt") $(render_seconds "$work/s.txt")" \
+        "$(sed -n 's/^  rays: .*; total \([0-9]*\)$/\1/p' "$work/s.txt") $(cat "$work/t")" >> "$work/$accel.all"
+    done
+  done
+  for accel in kdtree bvh2; do
+    b="$(column 1 < "$work/$accel.all" | median)"
+    r="$(column 2 < "$work/$accel.all" | median)"
+    n="$(column 3 < "$work/$accel.all" | median)"
+    w="$(column 4 < "$work/$accel.all" | median)"
+    c="$(awk '{print $5 + $6}' "$work/$accel.all" | median)"
+    awk -v s="$(basename "$bart")" -v a="$accel" -v n="$n" -v b="$b" -v r="$r" -v w="$w" -v c="$c" 'BEGIN {
+      printf "%-12s %-7s %11d %8.3f %10.3f %9.3f %9.2f %9.2f\n", s, a, n, b, r, n / r / 1e6, w, c }'
+  done
+done
+[ -n "${bvh_header:-}" ] && echo "build_s: the structure's build (wall); render_s: the render loop; goal: bvh2 Mrays_s >= kdtree's"
+
 # The whole command on the BART scenes: what a user waits for and pays.
 # /usr/bin/time gives wall, user, sys and peak RSS of each run.
 timed_render() {  # OUT_FILE tracer-args...
   local out="$1"; shift
   /usr/bin/time -f '%e %U %S %M' -o "$out" "$tracer" render "$@" -q >/dev/null 2>/dev/null
 }
-column() { awk -v c="$1" '{print $c}'; }
 bart_found=0
 for bart in robots/Robot.aff kitchen/kitchen.aff; do
   [ -f "$shared/$bart" ] && bart_found=1

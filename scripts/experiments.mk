@@ -71,6 +71,15 @@ LIGHTS ?= all
 INTERPRETATION ?=
 
 # --- Studies ------------------------------------------------------------------
+# Acceleration structures (the accel target): Table 1's grid for each
+# structure and layout. TREELET_BYTES: the treelet layout's treelet size.
+ACCEL_SCENES ?= robot kitchen
+ACCEL_KINDS ?= kdtree bvh2 bvh4 bvh8 cwbvh8
+ACCEL_LAYOUTS ?= dfl bfl veb treelet
+ACCEL_SIZES ?= $(SIZES)
+ACCEL_BLOCKS ?= 8 32 64
+ACCEL_ASSOCS ?= 1 4
+TREELET_BYTES ?= 64
 BASELINE_LAYOUTS ?= dfl bfl veb
 ASSOCS ?= 1 2 4 8 full
 SENS_SCENES ?= robot
@@ -242,7 +251,9 @@ interp_files = $(call interp_check,$2)single=$(call interp_single_file,$1,$2,$3,
 # once by scripts/render-layouts.sh, which writes every missing trace of the
 # group from one render: the group's members are complete when the recipe
 # runs, after make has read every study.
-trace = $(call define_trace,$(TRACES)/$1-$(call hash_text,$(tracer_hash) $(call scene_hash,$1) $2).din.zst,$1,$2)
+# A BVH's trace (--accel) is extended din: its records carry the node's size.
+trace = $(call define_trace,$(TRACES)/$1-$(call hash_text,$(tracer_hash) $(call scene_hash,$1) $2).$(if $(findstring \
+  --accel ,$2),xdin,din).zst,$1,$2)
 define_trace = $(if $(defined_$1),,$(call define_member,$1,$2,$3,$(call trace_group,$2,$3)))$1
 # The first trace of a group leads it: its recipe renders the whole group, and
 # the others wait for it (they render only when their file went missing).
@@ -254,7 +265,7 @@ layout_joined = $(subst --layout$(space),--layout=,$(subst --split-level$(space)
   --high-size$(space),--high-size=,$1)))
 layout_words = $(filter --layout=% --split-level=% --high-size=%,$(call layout_joined,$1))
 render_words = $(filter-out --layout=% --split-level=% --high-size=%,$(call layout_joined,$1))
-# The name tracer render gives the layout in {layout}: dfl, bfl, veb, hybrid-kK, hybrid-SIZE.
+# The name tracer render gives the layout in {layout}: dfl, bfl, veb, treelet, hybrid-kK, hybrid-SIZE.
 layout_name = $(or $(patsubst --split-level=%,hybrid-k%,$(filter --split-level=%,$(call \
   layout_words,$1))),$(patsubst --high-size=%,hybrid-%,$(filter --high-size=%,$(call \
   layout_words,$1))),$(patsubst --layout=%,%,$(filter --layout=%,$(call layout_words,$1))),dfl)
@@ -320,11 +331,11 @@ goals := $(or $(MAKECMDGOALS),$(.DEFAULT_GOAL))
 wanted = $(filter $1 all,$(goals))
 
 .PHONY: all table1 baselines assoc levels sensitivity calibration calibration-grid interpretations \
-  interpretations-grid frames sampling clean FORCE
+  interpretations-grid frames sampling accel clean FORCE
 .DELETE_ON_ERROR:
 
 # Every study; `all` makes them (a new study adds its target here and its section below).
-ALL_TARGETS := table1 baselines assoc levels sensitivity calibration interpretations frames sampling
+ALL_TARGETS := table1 baselines assoc levels sensitivity calibration interpretations frames sampling accel
 all: $(ALL_TARGETS)
 
 %/.dir:
@@ -359,6 +370,28 @@ baselines_lines := $(common_params) \
   trace,$s,$(render_default) $(call hybrid_for,$z)),--size $z --block $(BLOCK) --assoc 1 --scheme \
   single$(comma)split --split-level auto)))
 $(eval $(call study_rule,baselines))
+endif
+
+# --- accel: Table 1's grid for each acceleration structure and layout -----
+# Each structure (ACCEL_KINDS) in each layout (ACCEL_LAYOUTS) under one
+# node cache (single) of every size, block and associativity; and in the
+# hybrid layout sized for each size's high cache, single against split
+# (split level auto). A kd-tree's options and traces are table1's.
+accel_figures := accel.png
+ifneq ($(call wanted,accel),)
+# --treelet-bytes on every render, so the treelet trace is one more layout of
+# the same render (scripts/render-layouts.sh).
+accel_render = $(render_default)$(if $(filter kdtree,$1),, --accel $1) --treelet-bytes $(TREELET_BYTES)
+accel_grid = --block $(call join_commas,$(ACCEL_BLOCKS)) --assoc $(call join_commas,$(ACCEL_ASSOCS))
+accel_layout = --layout $1
+accel_row = row;scene=$1;accel=$2;layout=$3;trace=$4;file=$(call sim,accel,$4,$5)
+accel_lines := $(common_params) param;treelet_bytes=$(TREELET_BYTES) \
+  $(foreach s,$(ACCEL_SCENES),$(foreach a,$(ACCEL_KINDS), \
+    $(foreach l,$(ACCEL_LAYOUTS),$(call accel_row,$s,$a,$l,$(call trace,$s,$(call accel_render,$a) $(call \
+      accel_layout,$l)),--size $(call join_commas,$(ACCEL_SIZES)) $(accel_grid) --scheme single)) \
+    $(foreach z,$(ACCEL_SIZES),$(call accel_row,$s,$a,hybrid,$(call trace,$s,$(call accel_render,$a) $(call \
+      hybrid_for,$z)),--size $z $(accel_grid) --scheme single$(comma)split --split-level auto))))
+$(eval $(call study_rule,accel))
 endif
 
 # --- assoc: split minus single against associativity and size --------------

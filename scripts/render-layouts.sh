@@ -5,8 +5,9 @@
 # render). A lock makes concurrent calls for the same group (make -j) wait, so
 # the second finds its trace written and renders nothing.
 #   render-layouts.sh LOCK TRACER SCENE [RENDER-OPTIONS...] -- FILE=LAYOUT...
-# LAYOUT is a name tracer render gives {layout}: dfl, bfl, veb, hybrid-kK or
-# hybrid-SIZE. Each trace is written under a temporary name and renamed.
+# LAYOUT is a name tracer render gives {layout}: dfl, bfl, veb, treelet,
+# hybrid-kK or hybrid-SIZE. The traces of a group share their suffix
+# (.din.zst, .xdin.zst). Each is written under a temporary name and renamed.
 set -euo pipefail
 if [ $# -lt 4 ]; then
   echo "usage: render-layouts.sh LOCK TRACER SCENE [RENDER-OPTIONS...] -- FILE=LAYOUT..." >&2
@@ -31,7 +32,7 @@ for member in "$@"; do
   file=${member%=*} name=${member##*=}
   [ -f "$file" ] && continue
   case "$name" in
-    dfl|bfl|veb) add_layout "$name" ;;
+    dfl|bfl|veb|treelet) add_layout "$name" ;;
     hybrid-k*) add_layout hybrid; split_levels+=("${name#hybrid-k}") ;;
     hybrid-*) add_layout hybrid; high_sizes+=("${name#hybrid-}") ;;
     *) echo "render-layouts.sh: unknown layout name '$name' (of $file)" >&2; exit 2 ;;
@@ -44,7 +45,9 @@ join() { local IFS=,; echo "$*"; }
 args=(--layout "$(join "${layouts[@]}")")
 [ ${#split_levels[@]} -gt 0 ] && args+=(--split-level "$(join "${split_levels[@]}")")
 [ ${#high_sizes[@]} -gt 0 ] && args+=(--high-size "$(join "${high_sizes[@]}")")
+base=${files[0]##*/}
+suffix=.${base#*.}
 tmp=$(mktemp -d "$lock.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
-"$tracer" render "${options[@]}" "${args[@]}" -o "$tmp/{layout}.din.zst"
-for i in "${!files[@]}"; do mv "$tmp/${names[$i]}.din.zst" "${files[$i]}"; done
+"$tracer" render "${options[@]}" "${args[@]}" -o "$tmp/{layout}$suffix"
+for i in "${!files[@]}"; do mv "$tmp/${names[$i]}$suffix" "${files[$i]}"; done

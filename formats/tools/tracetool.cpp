@@ -90,7 +90,17 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
   info["kind"] = std::string(reader->input_kind());
   info["records_form"] = std::string(formats::form_name(reader->form()));
   info["tags"] = reader->tags_are_levels() ? "node-level" : "none";
-  if (reader->header().present()) info["header"] = reader->header().json;
+  if (reader->header().present()) {
+    const nlohmann::json& header = reader->header().json;
+    info["header"] = header;
+    // The tracer's acceleration structure: named by the header's "accel";
+    // a kd-tree trace has none (its header predates BVHs) but a "kdtree".
+    if (header.contains("accel") && header["accel"].is_object() && header["accel"].contains("name")) {
+      info["accel"] = header["accel"]["name"];
+    } else if (header.contains("kdtree")) {
+      info["accel"] = "kdtree";
+    }
+  }
   const auto& trailer = reader->trailer();
   if (trailer && trailer->totals.contains("records") && trailer->totals.contains("record_bytes")) {
     // A seekable container: everything is in the trailer.
@@ -144,6 +154,7 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
   row("kind", info["kind"].get<std::string>());
   row("records form", info["records_form"].get<std::string>());
   row("tags", info["tags"].get<std::string>());
+  if (info.contains("accel")) row("accel", info["accel"].is_string() ? info["accel"].get<std::string>() : info["accel"].dump());
   if (info.contains("header")) {
     for (const auto& [key, value] : info["header"].items()) row("header." + key, value.dump());
   }

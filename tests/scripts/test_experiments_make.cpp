@@ -183,6 +183,54 @@ TEST_F(ExperimentsMakeTest, TableShowsThePapersNumbersDirectionsAndParameters) {
   }
 }
 
+// The accel target at a tiny size: every structure in every layout, Table
+// 1's grid, single and split, bytes per ray; BVH traces are extended din.
+TEST_F(ExperimentsMakeTest, AccelTargetCoversEveryStructureLayoutAndConfiguration) {
+  const auto out = dir_ / "out";
+  const auto log = make("accel WIDTH=32 HEIGHT=24 ACCEL_SCENES=robot", out);
+  // 5 structures, one render each, of 4 layouts + a hybrid trace per size of SIZES='1k 4k'.
+  EXPECT_EQ(count_lines_with(log, "render-layouts.sh"), 5);
+  EXPECT_EQ(count_lines_with(log, "--accel bvh2 "), 1);
+  std::size_t traces = 0, xdin = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(out / "traces")) {
+    traces += entry.path().extension() == ".zst";
+    xdin += entry.path().string().ends_with(".xdin.zst");
+  }
+  EXPECT_EQ(traces, 5u * 6u);
+  EXPECT_EQ(xdin, 4u * 6u) << "BVH traces are extended din";
+  const auto csv = read_file(out / "accel" / "accel.csv");
+  EXPECT_EQ(one_csv_table(csv), "");
+  const auto rows = csv_rows(csv);
+  const std::vector<std::string> header = rows.at(0);
+  const auto column = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  for (const std::string name : {"accel", "layout", "scheme", "size", "block", "assoc", "miss_percent",
+                                 "bytes_fetched_per_ray", "miss_bytes_per_ray", "node_size"}) {
+    ASSERT_LT(column(name), header.size()) << name;
+  }
+  // Single: 5 structures x 5 layouts x 2 sizes x 3 blocks x 2 associativities;
+  // split: the hybrid layout's, 5 x 2 x 3 x 2.
+  std::size_t single = 0, split = 0;
+  for (std::size_t r = 1; r < rows.size(); ++r) {
+    (rows[r][column("scheme")] == "single" ? single : split) += 1;
+    if (rows[r][column("scheme")] == "split") {
+      EXPECT_EQ(rows[r][column("layout")], "hybrid");
+    }
+    const std::string accel = rows[r][column("accel")];
+    const std::string expected_size = accel == "kdtree" ? "8" : accel == "bvh2" ? "64" : accel == "bvh4" ? "128"
+                                      : accel == "bvh8" ? "256" : "80";
+    EXPECT_EQ(rows[r][column("node_size")], expected_size) << accel;
+  }
+  EXPECT_EQ(single, 5u * 5 * 2 * 3 * 2);
+  EXPECT_EQ(split, 5u * 2 * 3 * 2);
+  EXPECT_TRUE(std::filesystem::exists(out / "accel" / "accel.png"));
+  const auto markdown = read_file(out / "accel" / "accel.md");
+  for (const std::string stated : {"32x24", "treelets of 64 bytes", "cwbvh8", "Bytes fetched per ray", "4-way"}) {
+    EXPECT_NE(markdown.find(stated), std::string::npos) << stated << " is not stated: " << markdown;
+  }
+}
+
 TEST_F(ExperimentsMakeTest, AnUnknownSceneStopsMakeWithAMessage) {
   make("table1 SCENES=nosuch", dir_ / "out", false);
   EXPECT_NE(output_.find("unknown scene 'nosuch'"), std::string::npos) << output_;
@@ -206,7 +254,8 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
       " INTERP_SIZE_MEANINGS='half each highk' INTERP_BASELINES='hybrid bfl' INTERP_HIGH_LOADS=free"
       " INTERP_SPLIT_LEVELS='auto 4' INTERP_TREES='default:1:1.5:0.2:0 default:1:1.5:0.2:2'"
       " INTERP_RAY_SETS='whitted:first primary:all' INTERP_BEST=2 INTERP_FINAL_SCENES='robot forest'"
-      " INTERP_FINAL_WIDTH=32 INTERP_FINAL_HEIGHT=24 2>&1");
+      " INTERP_FINAL_WIDTH=32 INTERP_FINAL_HEIGHT=24 ACCEL_SCENES=robot ACCEL_KINDS='bvh2 cwbvh8'"
+      " ACCEL_LAYOUTS=treelet ACCEL_SIZES=4k 2>&1");
   ASSERT_EQ(result.exit_code, 0) << result.out;
   for (const std::string file :
        {"table1/table1.md", "table1/table1.png", "baselines/baselines.md", "baselines/baselines.png",
@@ -216,7 +265,8 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
         "sampling/sampling.md", "sampling/sampling.csv", "sampling/sampling.png",
         "interpretations-grid/best.txt", "interpretations-grid/interpretations-grid.md",
         "interpretations/interpretations.md", "interpretations/interpretations.csv",
-        "interpretations/interpretations-cells.csv", "interpretations/interpretations.png"}) {
+        "interpretations/interpretations-cells.csv", "interpretations/interpretations.png", "accel/accel.md",
+        "accel/accel.csv", "accel/accel.png"}) {
     EXPECT_TRUE(std::filesystem::exists(out / file)) << file;
   }
   // Every CSV the targets write (their tables and the runs behind them,

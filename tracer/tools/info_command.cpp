@@ -1,4 +1,4 @@
-// tracer info SCENE: what a scene holds, its kd-tree, and which ray kinds a
+// tracer info SCENE: what a scene holds, its acceleration structure, and which ray kinds a
 // render of it casts.
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
@@ -24,7 +24,7 @@ namespace {
 struct InfoCommand {
   std::string scene_spec, format = "text";
   int max_depth = 10;
-  std::uint32_t node_size = 8;
+  std::optional<std::uint32_t> node_size_option;  // default: the acceleration structure's
   SceneCommandOptions scene_options;
 
   void add_options(CLI::App& app);
@@ -37,9 +37,9 @@ void InfoCommand::add_options(CLI::App& app) {
   app.add_option("--max-depth", max_depth, "ray tree depth assumed for the ray kinds")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
-  app.add_option("--node-size", node_size, "bytes per node, for the split levels shown (at most 65535)")
-      ->check(CLI::Range(1, kMaxNodeSize))
-      ->capture_default_str();
+  app.add_option("--node-size", node_size_option,
+                 "bytes per node, for the bytes and split levels shown (at most 65535; default: the structure's)")
+      ->check(CLI::Range(1, kMaxNodeSize));
   add_scene_options(app, scene_options, /*frame_runs=*/false);
 }
 
@@ -55,8 +55,11 @@ int InfoCommand::run() const {
     if (!scene_options.time) check_frame_range({frame, frame, 1}, animation.frames, source->name());
     const double time = scene_options.time.value_or(animation.time_of_frame(frame));
     const Scene scene = source->at_time(time);
-    const KdTree tree = KdTree::build(scene.triangles, build_options);
+    const AccelKind kind = *parse_accel_name(scene_options.accel);
+    const AccelerationStructure tree =
+        AccelerationStructure::build(scene.triangles, kind, {build_options, make_bvh_options(scene_options)});
     const KdTreeStats& s = tree.stats();
+    const std::uint32_t node_size = node_size_option.value_or(default_node_size(kind));
     const RayKindPlan plan = plan_ray_kinds(scene, max_depth);
     const Bounds bounds = scene.bounds();
 
@@ -78,6 +81,22 @@ int InfoCommand::run() const {
       split_levels[std::to_string(size)] = base::split_level_for_capacity(
           s.nodes_per_level, base::LevelPlacement::contiguous_bytes(node_size), size);
     }
+    if (kind != AccelKind::KdTree) {
+      nlohmann::json accel = {{"name", accel_name(kind)},
+                              {"arity", accel_arity(kind)},
+                              {"nodes", s.nodes},
+                              {"leaves", s.leaves},
+                              {"depth", s.depth},
+                              {"nodes_per_level", s.nodes_per_level},
+                              {"node_size", node_size},
+                              {"bytes", s.nodes * node_size},
+                              {"mean_leaf_size", s.mean_leaf_size},
+                              {"primitive_references", s.primitive_references},
+                              {"sah_cost", s.sah_cost},
+                              {"build_seconds", s.build_seconds},
+                              {"split_level_for_high_size", split_levels}};
+      j["accel"] = accel;
+    } else {
     j["kdtree"] = {{"nodes", s.nodes},
                    {"interior", s.interior},
                    {"leaves", s.leaves},
@@ -92,6 +111,7 @@ int InfoCommand::run() const {
                    {"build_seconds", s.build_seconds},
                    {"node_size", node_size},
                    {"split_level_for_high_size", split_levels}};
+    }
     nlohmann::json rays = nlohmann::json::object();
     for (int k = 0; k < kRayKindCount; ++k) {
       rays[std::string(ray_kind_name(static_cast<RayKind>(k)))] =
@@ -111,10 +131,17 @@ int InfoCommand::run() const {
       fmt::print("  bounds: ({:g}, {:g}, {:g}) - ({:g}, {:g}, {:g})\n", bounds.lo.x, bounds.lo.y,
                  bounds.lo.z, bounds.hi.x, bounds.hi.y, bounds.hi.z);
     }
-    fmt::print("kd-tree: {} nodes ({} interior, {} leaves, {} empty), depth {} (limit {})\n", s.nodes,
-               s.interior, s.leaves, s.empty_leaves, s.depth, s.depth_limit);
-    fmt::print("  mean leaf size {:.2f} ({:.2f} over non-empty leaves), SAH cost {:.2f}, built in {:.3f} s\n",
-               s.mean_leaf_size, s.mean_nonempty_leaf_size, s.sah_cost, s.build_seconds);
+    if (kind == AccelKind::KdTree) {
+      fmt::print("kd-tree: {} nodes ({} interior, {} leaves, {} empty), depth {} (limit {})\n", s.nodes,
+                 s.interior, s.leaves, s.empty_leaves, s.depth, s.depth_limit);
+      fmt::print("  mean leaf size {:.2f} ({:.2f} over non-empty leaves), SAH cost {:.2f}, built in {:.3f} s\n",
+                 s.mean_leaf_size, s.mean_nonempty_leaf_size, s.sah_cost, s.build_seconds);
+    } else {
+      fmt::print("{}: {} nodes of {} bytes ({} bytes), {}-wide, {} leaves, depth {}\n", accel_name(kind), s.nodes,
+                 node_size, s.nodes * node_size, accel_arity(kind), s.leaves, s.depth);
+      fmt::print("  mean leaf size {:.2f}, SAH cost {:.2f}, built in {:.3f} s\n", s.mean_leaf_size, s.sah_cost,
+                 s.build_seconds);
+    }
     fmt::print("  nodes per level: {}\n", fmt::join(s.nodes_per_level, " "));
     fmt::print("  split level K for a high-level cache of 1K/2K/4K/8K/16K at {} bytes a node: {}/{}/{}/{}/{}\n",
                node_size, split_levels["1024"].get<int>(), split_levels["2048"].get<int>(),
@@ -133,8 +160,9 @@ int InfoCommand::run() const {
 
 int info_command(int argc, char** argv) {
   return cli::run_command<InfoCommand>("tracer info",
-                                      "Scene and kd-tree statistics: triangles, materials, lights, bounds, the SAH\n"
-                                      "kd-tree's figures, and which ray kinds a render casts.", argc, argv);
+                                      "Scene and acceleration-structure statistics: triangles, materials, lights,\n"
+                                      "bounds, the SAH kd-tree's or a BVH's figures (--accel), and which ray kinds\n"
+                                      "a render casts.", argc, argv);
 }
 
 }  // namespace nodetrace::tracer::tools

@@ -45,9 +45,10 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
                scene_name.c_str(), options.render.width, options.render.height,
                options.render.max_depth, result.frames.size(), options.other_layouts.empty() ? "" : "s",
                layout.c_str());
+  const std::string accel = options.accel == AccelKind::KdTree ? "kd-tree" : std::string(accel_name(options.accel));
   std::fprintf(stderr,
-               "  kd-tree: %llu triangles, %llu nodes, %llu leaves (%llu empty), depth %u, built in %.2f s\n",
-               static_cast<unsigned long long>(first.triangles),
+               "  %s: %llu triangles, %llu nodes, %llu leaves (%llu empty), depth %u, built in %.2f s\n",
+               accel.c_str(), static_cast<unsigned long long>(first.triangles),
                static_cast<unsigned long long>(first.tree.nodes),
                static_cast<unsigned long long>(first.tree.leaves),
                static_cast<unsigned long long>(first.tree.empty_leaves), first.tree.depth,
@@ -162,6 +163,24 @@ void warn_of_din_node_size(const TraceJobOptions& options) {
                node_size);
 }
 
+// A BVH node is larger than din's 4 bytes: unless --records says
+// otherwise its fetches are written as extended din, with the node's size,
+// so Dinero IV counts the bytes each fetch reads. A name that asks for din
+// is refused rather than given xdin records.
+void choose_bvh_record_form(TraceJobOptions& options, const std::string& output, bool form_named) {
+  if (options.accel == AccelKind::KdTree || form_named || options.render.addresses.node_size <= 4) return;
+  if (options.form != formats::RecordForm::Din) return;
+  const auto ends_with = [&](std::string_view suffix) {
+    return output.size() >= suffix.size() && output.compare(output.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  if (ends_with(".din") || ends_with(".din.zst")) {
+    throw base::UsageError(fmt::format("--accel {}: {}-byte nodes are written as extended din (din reads every "
+                                       "fetch as 4 bytes): name the trace .xdin.zst, or give --records din",
+                                       accel_name(options.accel), options.render.addresses.node_size));
+  }
+  options.form = formats::RecordForm::ExtendedDin;
+}
+
 void RenderCommand::add_options(CLI::App& app) {
   app.add_option("scene", scene_spec,
                  "an .obj or .aff file, or a built-in scene's name (NAME or NAME:SIZE); "
@@ -203,6 +222,7 @@ int RenderCommand::run() const {
     std::optional<formats::RecordForm> named_form;
     if (!records_name.empty()) named_form = formats::parse_form_name(records_name);
     options.form = formats::decide_trace_output(output, formats::OutputKind::Auto, named_form).form;
+    choose_bvh_record_form(options, output, named_form.has_value());
     options.render.streams = parse_streams(streams);
     if (output == "-" && isatty(STDOUT_FILENO)) {
       throw base::UsageError("refusing to write a trace to a terminal; redirect standard output");
@@ -238,8 +258,8 @@ int RenderCommand::run() const {
 
 int render_command(int argc, char** argv) {
   return cli::run_command<RenderCommand>("tracer render",
-                                        "Render a scene with a Whitted ray tracer over a SAH kd-tree and write every\n"
-                                        "kd-tree node fetch (address, node level) as a trace.", argc, argv);
+                                        "Render a scene with a Whitted ray tracer over a SAH kd-tree or a BVH (--accel)\n"
+                                        "and write every node fetch (address, node level) as a trace.", argc, argv);
 }
 
 }  // namespace nodetrace::tracer::tools

@@ -1,5 +1,5 @@
 // Command-line options shared by `tracer render` and `tracer info`: frame
-// selection, kd-tree build, layout and render settings, and their parsing.
+// selection, acceleration structure and its build, layout and render settings, and their parsing.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -78,6 +78,11 @@ struct SceneCommandOptions {
   float empty_bonus = KdBuildOptions{}.empty_bonus;
   int tree_depth = 0;
   std::uint32_t leaf_size = 0;
+  std::string accel = "kdtree";
+  float bvh_traversal_cost = BvhBuildOptions{}.traversal_cost;
+  float bvh_intersection_cost = BvhBuildOptions{}.intersection_cost;
+  std::uint32_t bvh_max_leaf_size = BvhBuildOptions{}.max_leaf_size;
+  std::uint32_t bvh_bins = BvhBuildOptions{}.bins;
 };
 
 // `frame_runs`: --frames (tracer render only: `tracer info` describes one frame).
@@ -101,6 +106,33 @@ inline void add_scene_options(CLI::App& app, SceneCommandOptions& o, bool frame_
   app.add_option("--leaf-size", o.leaf_size,
                  "a node of at most N triangles is a leaf whatever the SAH says (default 0: the SAH decides)")
       ->check(CLI::Range(0u, 1000000u));
+  app.add_option("--accel", o.accel,
+                 "acceleration structure: kdtree (the paper's, 8-byte nodes), bvh2 (binary BVH, 64-byte nodes), "
+                 "bvh4 / bvh8 (4- / 8-wide BVH collapsed from the binary one, 128- / 256-byte nodes of "
+                 "full-precision boxes), cwbvh8 (8-wide, 80-byte nodes of quantized boxes)")
+      ->check(CLI::IsMember({"kdtree", "bvh2", "bvh4", "bvh8", "cwbvh8"}))
+      ->capture_default_str();
+  app.add_option("--bvh-traversal-cost", o.bvh_traversal_cost, "BVH SAH cost of visiting a node")
+      ->capture_default_str();
+  app.add_option("--bvh-intersection-cost", o.bvh_intersection_cost, "BVH SAH cost of a triangle test")
+      ->capture_default_str();
+  app.add_option("--bvh-max-leaf-size", o.bvh_max_leaf_size,
+                 "BVH: a node of more triangles is always split; up to this many become a leaf when the SAH "
+                 "says a leaf is cheaper")
+      ->check(CLI::Range(1u, 1000000u))
+      ->capture_default_str();
+  app.add_option("--bvh-bins", o.bvh_bins, "BVH: SAH bins per axis (bins - 1 candidate planes)")
+      ->check(CLI::Range(2u, 256u))
+      ->capture_default_str();
+}
+
+inline BvhBuildOptions make_bvh_options(const SceneCommandOptions& s) {
+  cli::check_finite(s.bvh_traversal_cost, "--bvh-traversal-cost");
+  cli::check_finite(s.bvh_intersection_cost, "--bvh-intersection-cost");
+  if (!(s.bvh_traversal_cost > 0) || !(s.bvh_intersection_cost > 0)) {
+    throw base::UsageError("--bvh-traversal-cost and --bvh-intersection-cost must be positive");
+  }
+  return {s.bvh_traversal_cost, s.bvh_intersection_cost, s.bvh_max_leaf_size, s.bvh_bins};
 }
 
 // Rows per sampled band by default: one. Measured on BART Robot frame 0 at
@@ -121,7 +153,8 @@ struct RenderCommandOptions {
   std::vector<std::uint32_t> split_levels;
   std::vector<std::string> high_sizes;
   std::string node_base = "0", list_base, triangle_base;
-  std::uint32_t node_size = 8;
+  std::optional<std::uint32_t> node_size;  // default: the acceleration structure's
+  std::uint32_t treelet_bytes = kDefaultTreeletBytes;
   std::string sample_rows;
   std::uint32_t band_height = kDefaultBandHeight;
   std::uint64_t sample_seed = 0;
@@ -158,11 +191,16 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
   app.add_option("--threads", o.threads,
                  "rendering threads (default: one per core; at most 16 per core); the output does not depend on it");
   app.add_option("--layout", o.layouts,
-                 "tree layout: dfl, bfl, hybrid or veb, or several, comma-separated, for one trace each from "
-                 "one render (-o with {layout}) (default: hybrid when --split-level or --high-size is given, "
-                 "else dfl)")
+                 "tree layout: dfl, bfl, hybrid, veb or treelet, or several, comma-separated, for one trace "
+                 "each from one render (-o with {layout}) (default: hybrid when --split-level or --high-size "
+                 "is given, else dfl)")
       ->delimiter(',')
-      ->check(CLI::IsMember({"dfl", "bfl", "hybrid", "veb"}));
+      ->check(CLI::IsMember({"dfl", "bfl", "hybrid", "veb", "treelet"}));
+  app.add_option("--treelet-bytes", o.treelet_bytes,
+                 "treelet layout: bytes per treelet (as many whole nodes as fit, at least one); treelets grow "
+                 "from their root by the child of largest surface area")
+      ->check(CLI::Range(1u, 1u << 30))
+      ->capture_default_str();
   app.add_option("--split-level", o.split_levels,
                  "hybrid layout: levels < K in BFL; several K, comma-separated: one trace each")
       ->delimiter(',')
@@ -175,9 +213,10 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
   app.add_option("--node-base", o.node_base, "address of layout slot 0")->capture_default_str();
   app.add_option("--list-base", o.list_base, "address of the leaf primitive lists (--streams lists; default 0x40000000)");
   app.add_option("--triangle-base", o.triangle_base, "address of the triangles (--streams triangles; default 0x80000000)");
-  app.add_option("--node-size", o.node_size, "bytes per kd-tree node (at most 65535)")
-      ->check(CLI::Range(1, kMaxNodeSize))
-      ->capture_default_str();
+  app.add_option("--node-size", o.node_size,
+                 "bytes per node, for what-if studies (at most 65535; default: the structure's: kdtree 8, "
+                 "bvh2 64, bvh4 128, bvh8 256, cwbvh8 80)")
+      ->check(CLI::Range(1, kMaxNodeSize));
   auto* rows = app.add_option("--sample-rows", o.sample_rows,
                               "render one band of rows in every K (rate 1/K), the other bands' rays never traced; "
                               "each band begins a sample window of the trace (with --pixel-order tiled or morton "
@@ -241,7 +280,7 @@ inline void check_image_size(int width, int height) {
 }
 
 // A layout the options ask for, and its name in an output pattern's
-// {layout}: dfl, bfl, veb, hybrid-4k (--high-size as typed), hybrid-k6.
+// {layout}: dfl, bfl, veb, treelet, hybrid-4k (--high-size as typed), hybrid-k6.
 struct LayoutChoice {
   LayoutTrace trace;
   std::string name;
@@ -283,6 +322,9 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
   check_image_size(r.width, r.height);
   TraceJobOptions options;
   options.build = make_build_options(s);
+  options.accel = *parse_accel_name(s.accel);
+  options.bvh = make_bvh_options(s);
+  options.treelet_bytes = r.treelet_bytes;
   apply_frames(s, options);
   RenderOptions& render = options.render;
   render.width = r.width;
@@ -295,7 +337,7 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
   render.pixel_order = *parse_pixel_order(r.pixel_order);
   render.tile_size = r.tile_size;
   render.threads = cli::check_thread_count(r.threads, "--threads");
-  render.addresses.node_size = r.node_size;
+  render.addresses.node_size = r.node_size.value_or(default_node_size(options.accel));
   render.addresses.node_base = parse_address(r.node_base, "--node-base");
   if (!r.list_base.empty()) render.addresses.list_base = parse_address(r.list_base, "--list-base");
   if (!r.triangle_base.empty()) {

@@ -319,6 +319,20 @@ TEST(WrapRun, RealDineroIVGivesTheSameRows) {
                       "--split-level 6 --high-policy retain,cache --tags-are-levels --format csv");
 }
 
+// A BVH trace: 64-byte nodes as extended din records that span blocks of 8
+// bytes (8 fetches each) or fill one of 64; Dinero IV reads the same.
+TEST(WrapRun, RealDineroIVGivesTheSameRowsOnABvhTrace) {
+  NODETRACE_DINERO_OR_SKIP(dinero);
+  testing::TempDir dir;
+  const auto trace = dir / "bvh2.xdin.zst";
+  const auto rendered = run_command(quoted(program("tracer")) + " render mountain:6 --accel bvh2 --width 24 "
+                                    "--height 18 --high-size 2k -q -o " + quoted(trace));
+  ASSERT_EQ(rendered.exit_code, 0) << rendered.err;
+  expect_same_csv("--dinero " + quoted(dinero), quoted(trace) +
+                                                    " --size 4k --block 8,64 --assoc 1,4 --scheme single,split "
+                                                    "--split-level auto --format csv");
+}
+
 TEST(WrapRun, EveryFetchPolicyGivesDinerosDemandMisses) {
   NODETRACE_SHARED_OR_SKIP(shared);
   NODETRACE_DINERO_OR_SKIP(dinero);

@@ -157,7 +157,7 @@ TEST(LayoutTest, SplitLevelForHighSize) {
 }
 
 TEST(LayoutTest, NamesRoundTrip) {
-  for (auto kind : {LayoutKind::Dfl, LayoutKind::Bfl, LayoutKind::Hybrid, LayoutKind::Veb}) {
+  for (auto kind : {LayoutKind::Dfl, LayoutKind::Bfl, LayoutKind::Hybrid, LayoutKind::Veb, LayoutKind::Treelet}) {
     EXPECT_EQ(parse_layout_name(layout_name(kind)), kind);
   }
   EXPECT_FALSE(parse_layout_name("zigzag").has_value());

@@ -41,6 +41,7 @@ const std::vector<std::pair<std::string, std::string>> kEveryLayout = {
     {"dfl", "--layout dfl"},
     {"bfl", "--layout bfl"},
     {"veb", "--layout veb"},
+    {"treelet", "--layout treelet"},
     {"hybrid-k3", "--split-level 3"},
     {"hybrid-k7", "--split-level 7"},
 };
@@ -48,7 +49,14 @@ const std::vector<std::pair<std::string, std::string>> kEveryLayout = {
 TEST(LayoutTraces, EachContainerTraceEqualsItsOwnRenderWithEveryStream) {
   expect_each_layout_as_rendered_alone(
       tracer() + " render mountain:6 --width 32 --height 24 -q --threads 2 --streams nodes,lists,triangles",
-      "--layout dfl,hybrid,bfl,veb --split-level 3,7", kEveryLayout, ".xdin.zst");
+      "--layout dfl,hybrid,bfl,veb,treelet --split-level 3,7", kEveryLayout, ".xdin.zst");
+}
+
+TEST(LayoutTraces, EachBvhTraceEqualsItsOwnRender) {
+  expect_each_layout_as_rendered_alone(
+      tracer() + " render mountain:6 --width 24 --height 16 -q --accel cwbvh8 --treelet-bytes 256",
+      "--layout treelet,bfl,hybrid --split-level 2",
+      {{"treelet", "--layout treelet"}, {"bfl", "--layout bfl"}, {"hybrid-k2", "--split-level 2"}}, ".xdin.zst");
 }
 
 TEST(LayoutTraces, EachPlainTraceEqualsItsOwnRenderAtHighSizes) {

@@ -5,34 +5,14 @@
 #include <stdexcept>
 #include <utility>
 
-#include "accel/watertight_intersection.hpp"
+#include "accel/box_test.hpp"
+#include "accel/leaf_visit.hpp"
 
 namespace nodetrace::tracer {
 
 using formats::Record;
 
-namespace {
-
-// Slab test with the conservative rounding of Ize (2013) so a ray grazing the
-// root box is not lost.
-bool intersect_box(const Bounds& box, const Vec3& origin, const Vec3& inverse, float& t0,
-                   float& t1) {
-  constexpr float kGrow = 1.0f + 2.0f * 3.0f * std::numeric_limits<float>::epsilon();
-  t0 = 0.0f;
-  for (int axis = 0; axis < 3; ++axis) {
-    float near = (box.lo[axis] - origin[axis]) * inverse[axis];
-    float far = (box.hi[axis] - origin[axis]) * inverse[axis];
-    if (near > far) std::swap(near, far);
-    far *= kGrow;
-    // NaN (0 * inf) leaves the bound as it was.
-    t0 = near > t0 ? near : t0;
-    t1 = far < t1 ? far : t1;
-    if (t0 > t1) return false;
-  }
-  return true;
-}
-
-}  // namespace
+using detail::intersect_box;
 
 Traversal::Traversal(const std::vector<Triangle>& triangles, const KdTree& tree, const Layout& layout,
                      const StreamSelection& streams, const AddressMap& addresses)
@@ -72,8 +52,7 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
   if (!intersect_box(tree_.bounds(), ray.origin, inverse, t_min, t_far)) return false;
 
   const detail::ShearedRay sheared(ray);
-  const auto& primitives = tree_.primitives();
-  const auto& map = addresses_;
+  const detail::LeafVisit leaf{triangles_, tree_.primitives(), sheared, streams_, addresses_, records};
   const bool record_nodes = records && streams_.nodes;
   struct Pending {
     std::uint32_t node;
@@ -110,27 +89,7 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
       continue;
     }
     ++leaves;
-    const std::uint32_t count = node.bits >> 2;
-    for (std::uint32_t i = 0; i < count; ++i) {
-      const std::uint32_t slot = node.first + i;
-      const std::uint32_t id = primitives[slot];
-      if (records && streams_.lists) {
-        records->push_back({map.list_base + std::uint64_t{slot} * map.list_entry_size,
-                            map.list_entry_size, formats::AccessType::Read,
-                            formats::kTagPrimitiveList});
-      }
-      if (records && streams_.triangles) {
-        records->push_back({map.triangle_base + std::uint64_t{id} * map.triangle_size,
-                            map.triangle_size, formats::AccessType::Read, formats::kTagTriangle});
-      }
-      ++tests;
-      if (detail::intersect_sheared(sheared, triangles_[id], best, hit)) {
-        best = hit.t;
-        hit.triangle = id;
-        found = true;
-        if constexpr (AnyHit) break;
-      }
-    }
+    if (leaf.visit<AnyHit>(node.first, node.bits >> 2, best, hit, tests)) found = true;
     if constexpr (AnyHit) {
       if (found) break;
     }

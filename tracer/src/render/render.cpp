@@ -9,6 +9,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <mutex>
+#include <utility>
 #include <thread>
 
 #include "nodetrace/base/ordered_pipeline.hpp"
@@ -23,21 +24,31 @@ namespace {
 // Unwinds a worker whose render was abandoned because another one failed.
 struct RenderCancelled {};
 
-Camera camera_to_use(const Scene& scene, const KdTree& tree, const RenderOptions& options) {
-  Camera camera = options.camera ? *options.camera : scene.camera ? *scene.camera : default_camera(tree.bounds());
+Camera camera_to_use(const Scene& scene, const Bounds& bounds, const RenderOptions& options) {
+  Camera camera = options.camera ? *options.camera : scene.camera ? *scene.camera : default_camera(bounds);
   if (options.fov_y_degrees) camera.fov_y_degrees = *options.fov_y_degrees;
   return camera;
 }
 }  // namespace
 
-Renderer::Renderer(const Scene& scene, const KdTree& tree, const Layout& layout,
+Renderer::Renderer(const Scene& scene, const KdTree& tree, const Layout& layout, const RenderOptions& options)
+    : Renderer(scene, tree.bounds(), std::make_unique<Traversal>(scene.triangles, tree, layout, options.streams,
+                                                                 options.addresses),
+               options) {}
+
+Renderer::Renderer(const Scene& scene, const AccelerationStructure& accel, const Layout& layout,
+                   const RenderOptions& options)
+    : Renderer(scene, accel.bounds(), accel.traversal(scene.triangles, layout, options.streams, options.addresses),
+               options) {}
+
+Renderer::Renderer(const Scene& scene, const Bounds& bounds, std::unique_ptr<RayTraversal> traversal,
                    const RenderOptions& options)
     : scene_(scene),
       options_(options),
       plan_(plan_ray_kinds(scene, options.max_depth, options.rays)),
-      camera_(camera_to_use(scene, tree, options)),
+      camera_(camera_to_use(scene, bounds, options)),
       pinhole_(camera_, options.width, options.height),
-      traversal_(scene.triangles, tree, layout, options.streams, options.addresses) {
+      traversal_(std::move(traversal)) {
   // NFF / SPD convention (which AFF inherits): each of N lights has
   // intensity 1 / sqrt(N). Pixels only; the rays cast do not depend on it.
   const std::size_t lights = options.first_light_only ? std::min<std::size_t>(1, scene.lights.size()) : scene.lights.size();
@@ -49,13 +60,13 @@ Renderer::Renderer(const Scene& scene, const KdTree& tree, const Layout& layout,
 std::optional<Hit> Renderer::closest_hit(const Ray& ray, float t_max, std::vector<Record>* records,
                                          RenderStats* stats) const {
   Hit hit;
-  if (traversal_.closest_hit(ray, t_max, hit, records, stats)) return hit;
+  if (traversal_->closest_hit(ray, t_max, hit, records, stats)) return hit;
   return std::nullopt;
 }
 
 bool Renderer::occluded(const Ray& ray, float t_max, std::vector<Record>* records,
                         RenderStats* stats) const {
-  return traversal_.any_hit(ray, t_max, records, stats);
+  return traversal_->any_hit(ray, t_max, records, stats);
 }
 
 RenderStats Renderer::render(const RecordSink& sink, Image* image, const Progress& progress) const {

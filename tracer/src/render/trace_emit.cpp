@@ -64,15 +64,37 @@ nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
     layout["split_level"] = split_level;
     if (target.high_size) layout["high_size"] = *target.high_size;
   }
+  if (target.layout == LayoutKind::Treelet) layout["treelet_bytes"] = options.treelet_bytes;
   header["layout"] = layout;
-  header["kdtree"] = {{"traversal_cost", shortest(options.build.traversal_cost)},
-                      {"intersection_cost", shortest(options.build.intersection_cost)},
-                      {"empty_bonus", shortest(options.build.empty_bonus)},
-                      {"max_depth", depth_limit}};
-  // The default limit depends on each frame's triangle count: say so, since
-  // max_depth is then the first frame's.
-  if (options.build.max_depth == 0) header["kdtree"]["max_depth_default"] = "8 + 1.3 log2 triangles, per frame";
-  if (options.build.leaf_size) header["kdtree"]["leaf_size"] = options.build.leaf_size;
+  if (options.accel == AccelKind::KdTree) {
+    // No "accel" key: a kd-tree trace keeps the bytes it had before BVHs.
+    header["kdtree"] = {{"traversal_cost", shortest(options.build.traversal_cost)},
+                        {"intersection_cost", shortest(options.build.intersection_cost)},
+                        {"empty_bonus", shortest(options.build.empty_bonus)},
+                        {"max_depth", depth_limit}};
+    // The default limit depends on each frame's triangle count: say so, since
+    // max_depth is then the first frame's.
+    if (options.build.max_depth == 0) header["kdtree"]["max_depth_default"] = "8 + 1.3 log2 triangles, per frame";
+    if (options.build.leaf_size) header["kdtree"]["leaf_size"] = options.build.leaf_size;
+  } else {
+    const unsigned arity = accel_arity(options.accel);
+    nlohmann::json accel = {{"name", accel_name(options.accel)},
+                            {"arity", arity},
+                            {"node_size", r.addresses.node_size},
+                            {"stored_node_size", default_node_size(options.accel)},
+                            {"record", "one per node fetched, the whole node, tagged with its level"}};
+    accel["node"] = options.accel == AccelKind::CwBvh8
+                        ? "8 child boxes quantized to 8 bits per plane on a power-of-two grid (conservative), "
+                          "child references"
+                        : fmt::format("{} full-precision child boxes and child references", arity);
+    if (arity > 2) accel["collapse"] = "binary BVH opened greedily: the interior child of largest surface area first";
+    header["accel"] = accel;
+    header["bvh"] = {{"build", "binned SAH"},
+                     {"bins", options.bvh.bins},
+                     {"traversal_cost", shortest(options.bvh.traversal_cost)},
+                     {"intersection_cost", shortest(options.bvh.intersection_cost)},
+                     {"max_leaf_size", options.bvh.max_leaf_size}};
+  }
   nlohmann::json cast = nlohmann::json::array();
   nlohmann::json left_out = nlohmann::json::object();
   for (int k = 0; k < kRayKindCount; ++k) {
@@ -241,7 +263,8 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const auto [frame, time] = frames[i];
     const Scene scene = source.at_time(time);
-    const KdTree tree = KdTree::build(scene.triangles, options.build);
+    const AccelerationStructure tree = AccelerationStructure::build(scene.triangles, options.accel,
+                                                                   {options.build, options.bvh});
     AnimationFrameReport report;
     report.frame = frame;
     report.time = time;
@@ -262,12 +285,13 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
       check_address_range("--triangle-base", r.addresses.triangle_base, scene.triangles.size(),
                           r.addresses.triangle_size, "triangles");
     }
-    const Layout layout = make_layout(tree, options.layout, report.split_level);
+    const std::uint32_t treelet_nodes = treelet_nodes_for(options.treelet_bytes, r.addresses.node_size);
+    const Layout layout = make_layout(tree.shape(), options.layout, report.split_level, treelet_nodes);
     // For each other trace: the address of the node in each slot of `layout`.
     std::vector<std::vector<std::uint64_t>> relocations;
     for (std::size_t t = 1; t < targets.size(); ++t) {
-      relocations.push_back(
-          relocation(layout, make_layout(tree, targets[t].layout, split_levels[t]), r.addresses));
+      relocations.push_back(relocation(
+          layout, make_layout(tree.shape(), targets[t].layout, split_levels[t], treelet_nodes), r.addresses));
     }
     RenderOptions options_for_frame = r;
     // Records are made for a trace file, or for --discard-records to drop.

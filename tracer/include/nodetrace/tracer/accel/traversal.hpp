@@ -10,6 +10,7 @@
 #include "nodetrace/formats/record/record.hpp"
 #include "nodetrace/tracer/accel/kdtree.hpp"
 #include "nodetrace/tracer/accel/layout.hpp"
+#include "nodetrace/tracer/accel/ray_traversal.hpp"
 #include "nodetrace/tracer/geometry/ray.hpp"
 #include "nodetrace/tracer/render/render_stats.hpp"
 #include "nodetrace/tracer/scene/scene.hpp"
@@ -31,7 +32,7 @@ struct AddressMap {
   std::uint32_t triangle_size = 36;
 };
 
-class Traversal {
+class Traversal : public RayTraversal {
  public:
   // Keeps references to the triangles and the tree; they must outlive it.
   // Throws std::invalid_argument when the layout is not the tree's or the
@@ -42,8 +43,9 @@ class Traversal {
   // One traversal each, appending its records to `records` when not null
   // and adding its counts to `stats` when not null.
   bool closest_hit(const Ray& ray, float t_max, Hit& hit, std::vector<formats::Record>* records,
-                   RenderStats* stats) const;
-  bool any_hit(const Ray& ray, float t_max, std::vector<formats::Record>* records, RenderStats* stats) const;
+                   RenderStats* stats) const override;
+  bool any_hit(const Ray& ray, float t_max, std::vector<formats::Record>* records,
+               RenderStats* stats) const override;
 
  private:
   template <bool AnyHit>

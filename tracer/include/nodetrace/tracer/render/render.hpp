@@ -1,12 +1,14 @@
 // The Whitted renderer: pinhole primary rays, shadow rays to the lights,
 // mirror reflection and refraction (Snell, Fresnel, total internal
-// reflection), over a kd-tree stored in a given layout. Every traversal
+// reflection), over an acceleration structure (kd-tree or BVH) stored in a
+// given layout. Every traversal
 // records the node fetches it makes (docs/ARCHITECTURE.md "What a traversal fetches").
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -14,6 +16,7 @@
 #include <vector>
 
 #include "nodetrace/formats/record/record.hpp"
+#include "nodetrace/tracer/accel/acceleration_structure.hpp"
 #include "nodetrace/tracer/render/camera.hpp"
 #include "nodetrace/tracer/render/image.hpp"
 #include "nodetrace/tracer/accel/kdtree.hpp"
@@ -60,6 +63,8 @@ class Renderer {
   using RunStart = std::function<void(std::size_t run)>;
 
   // Keeps references to all three; they must outlive the renderer.
+  Renderer(const Scene& scene, const AccelerationStructure& accel, const Layout& layout,
+           const RenderOptions& options);
   Renderer(const Scene& scene, const KdTree& tree, const Layout& layout,
            const RenderOptions& options);
 
@@ -73,7 +78,8 @@ class Renderer {
   RenderStats render_runs(std::span<const PixelRun> runs, const RunStart& run_start, const RecordSink& sink,
                           Image* image, const Progress& progress = {}) const;
 
-  // One traversal each, appending its records to `records` when not null.
+  // One traversal each, appending its records to `records` when not null;
+  // the acceleration structure's traversal does the work.
   std::optional<Hit> closest_hit(const Ray& ray, float t_max, std::vector<formats::Record>* records,
                                  RenderStats* stats) const;
   bool occluded(const Ray& ray, float t_max, std::vector<formats::Record>* records,
@@ -84,6 +90,8 @@ class Renderer {
 
  private:
   struct Context;
+  Renderer(const Scene& scene, const Bounds& bounds, std::unique_ptr<RayTraversal> traversal,
+           const RenderOptions& options);
   Vec3 shade(const Ray& ray, RayKind kind, int depth, Context& context) const;
   void render_pixel(std::uint32_t pixel, Context& context, Image* image) const;
 
@@ -92,7 +100,7 @@ class Renderer {
   RayKindPlan plan_;
   Camera camera_;
   PinholeCamera pinhole_;
-  Traversal traversal_;
+  std::unique_ptr<RayTraversal> traversal_;
   std::vector<Vec3> face_normals_;  // unit geometric normals
   float light_scale_ = 1;
 };

@@ -1,5 +1,5 @@
 // Rendering a scene source into a trace: for each animation frame, build the
-// kd-tree, lay it out, render, and write the marker and the records through
+// acceleration structure (kd-tree or BVH), lay it out, render, and write the marker and the records through
 // formats::TraceWriter with the header of docs/ARCHITECTURE.md.
 #pragma once
 
@@ -12,6 +12,7 @@
 
 #include "nodetrace/formats/record/record.hpp"
 #include "nodetrace/tracer/render/animation_frame_range.hpp"
+#include "nodetrace/tracer/accel/acceleration_structure.hpp"
 #include "nodetrace/tracer/accel/kdtree.hpp"
 #include "nodetrace/tracer/accel/layout.hpp"
 #include "nodetrace/tracer/render/render.hpp"
@@ -35,7 +36,10 @@ struct LayoutTrace {
 struct TraceJobOptions {
   RenderOptions render;
   KdBuildOptions build;
+  AccelKind accel = AccelKind::KdTree;
+  BvhBuildOptions bvh;  // the BVHs' build
   LayoutKind layout = LayoutKind::Dfl;
+  std::uint32_t treelet_bytes = kDefaultTreeletBytes;  // the treelet layout's budget
   // Hybrid K: a fixed level, or derived per frame from the high cache size.
   std::optional<std::uint32_t> split_level;
   std::optional<std::uint64_t> high_size;
@@ -58,7 +62,7 @@ struct AnimationFrameReport {
   std::uint64_t frame = 0;
   double time = 0;
   std::uint64_t triangles = 0;
-  KdTreeStats tree;
+  KdTreeStats tree;  // the acceleration structure's figures
   std::uint32_t split_level = 0;
   std::vector<std::uint32_t> other_split_levels;  // of options.other_layouts, in order
   std::uint64_t bands_rendered = 0;  // sampled renders: the bands chosen in this frame

@@ -1,0 +1,45 @@
+// BVH traversal as ray-tracing hardware does it, recording its node fetches:
+// each visit fetches the whole node (one record of the node's size, tagged
+// with its level), tests every child box, and visits the children hit
+// nearest first (a stack; a pushed child is read only when popped and its
+// entry distance is still nearer than the closest hit). Shadow rays stop at
+// the first hit. Leaf triangles are read as the kd-tree's are (streams
+// lists and triangles).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "nodetrace/formats/record/record.hpp"
+#include "nodetrace/tracer/accel/bvh.hpp"
+#include "nodetrace/tracer/accel/layout.hpp"
+#include "nodetrace/tracer/accel/ray_traversal.hpp"
+#include "nodetrace/tracer/accel/traversal.hpp"
+
+namespace nodetrace::tracer {
+
+class BvhTraversal : public RayTraversal {
+ public:
+  // Keeps references to the triangles and the BVH; they must outlive it.
+  // Throws std::invalid_argument when the layout is not the BVH's.
+  BvhTraversal(const std::vector<Triangle>& triangles, const Bvh& bvh, const Layout& layout,
+               const StreamSelection& streams, const AddressMap& addresses);
+
+  bool closest_hit(const Ray& ray, float t_max, Hit& hit, std::vector<formats::Record>* records,
+                   RenderStats* stats) const override;
+  bool any_hit(const Ray& ray, float t_max, std::vector<formats::Record>* records,
+               RenderStats* stats) const override;
+
+ private:
+  template <bool AnyHit>
+  bool traverse(const Ray& ray, float t_max, Hit& hit, std::vector<formats::Record>* records,
+                RenderStats* stats) const;
+
+  const std::vector<Triangle>& triangles_;
+  const Bvh& bvh_;
+  StreamSelection streams_;
+  AddressMap addresses_;
+  std::vector<formats::Record> node_records_;  // the fetch record of each node
+};
+
+}  // namespace nodetrace::tracer

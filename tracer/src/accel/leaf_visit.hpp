@@ -1,0 +1,52 @@
+// What every traversal does at a leaf: test its triangles in order,
+// recording the reads the stream selection asks for. Internal header.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "accel/watertight_intersection.hpp"
+#include "nodetrace/formats/record/record.hpp"
+#include "nodetrace/tracer/accel/traversal.hpp"
+
+namespace nodetrace::tracer::detail {
+
+struct LeafVisit {
+  const std::vector<Triangle>& triangles;
+  const std::vector<std::uint32_t>& primitives;
+  const ShearedRay& sheared;
+  const StreamSelection& streams;
+  const AddressMap& map;
+  std::vector<formats::Record>* records;
+
+  // Tests primitives()[first, first + count): a list entry read (tag p) and
+  // a triangle read (tag t) per triangle when selected; a hit nearer than
+  // `best` becomes `hit` and `best`. Returns whether one was hit; an any-hit
+  // visit stops at the first.
+  template <bool AnyHit>
+  bool visit(std::uint32_t first, std::uint32_t count, float& best, Hit& hit, std::uint64_t& tests) const {
+    bool found = false;
+    for (std::uint32_t i = 0; i < count; ++i) {
+      const std::uint32_t slot = first + i;
+      const std::uint32_t id = primitives[slot];
+      if (records && streams.lists) {
+        records->push_back({map.list_base + std::uint64_t{slot} * map.list_entry_size, map.list_entry_size,
+                            formats::AccessType::Read, formats::kTagPrimitiveList});
+      }
+      if (records && streams.triangles) {
+        records->push_back({map.triangle_base + std::uint64_t{id} * map.triangle_size, map.triangle_size,
+                            formats::AccessType::Read, formats::kTagTriangle});
+      }
+      ++tests;
+      if (intersect_sheared(sheared, triangles[id], best, hit)) {
+        best = hit.t;
+        hit.triangle = id;
+        found = true;
+        if constexpr (AnyHit) break;
+      }
+    }
+    return found;
+  }
+};
+
+}  // namespace nodetrace::tracer::detail
