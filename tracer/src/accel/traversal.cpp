@@ -44,9 +44,10 @@ Traversal::Traversal(const std::vector<Triangle>& triangles, const KdTree& tree,
   compact_.resize(nodes.size());
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     const KdNode& n = nodes[i];
-    node_records_[i] = {addresses.node_base + std::uint64_t{slots[i]} * addresses.node_size,
-                        addresses.node_size, formats::AccessType::Read,
-                        static_cast<formats::Tag>(n.level)};
+    node_records_[i] = {.address = addresses.node_base + std::uint64_t{slots[i]} * addresses.node_size,
+                        .size = addresses.node_size,
+                        .type = formats::AccessType::Read,
+                        .tag = static_cast<formats::Tag>(n.level)};
     if (n.is_leaf()) {
       compact_[i].first = n.first;
       compact_[i].bits = (n.count << 2) | KdNode::kLeafAxis;
@@ -115,13 +116,16 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
       const std::uint32_t slot = node.first + i;
       const std::uint32_t id = primitives[slot];
       if (records && streams_.lists) {
-        records->push_back({map.list_base + std::uint64_t{slot} * map.list_entry_size,
-                            map.list_entry_size, formats::AccessType::Read,
-                            formats::kTagPrimitiveList});
+        records->push_back({.address = map.list_base + std::uint64_t{slot} * map.list_entry_size,
+                            .size = map.list_entry_size,
+                            .type = formats::AccessType::Read,
+                            .tag = formats::kTagPrimitiveList});
       }
       if (records && streams_.triangles) {
-        records->push_back({map.triangle_base + std::uint64_t{id} * map.triangle_size,
-                            map.triangle_size, formats::AccessType::Read, formats::kTagTriangle});
+        records->push_back({.address = map.triangle_base + std::uint64_t{id} * map.triangle_size,
+                            .size = map.triangle_size,
+                            .type = formats::AccessType::Read,
+                            .tag = formats::kTagTriangle});
       }
       ++tests;
       if (detail::intersect_sheared(sheared, triangles_[id], best, hit)) {
