@@ -68,8 +68,8 @@ bool read_tag(const char*& p, const char* end, Tag& tag, std::string& message) {
     return false;
   }
   const char* stop = token_end(p, end);
-  p = stop;
   const std::string_view token(p, static_cast<std::size_t>(stop - p));
+  p = stop;
   if (token == "p") {
     tag = kTagPrimitiveList;
     return true;

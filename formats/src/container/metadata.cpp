@@ -156,7 +156,7 @@ bool TraceHeader::tags_are_levels() const {
 unsigned TraceHeader::units() const {
   const auto found = json.find("units");
   if (found == json.end()) return 1;
-  if (!found->is_number_unsigned() || found->get<std::uint64_t>() == 0 || found->get<std::uint64_t>() > kMaxUnits) {
+  if (!found->is_number_integer() || found->get<std::int64_t>() < 1 || found->get<std::int64_t>() > kMaxUnits) {
     throw base::FormatError(fmt::format("header: \"units\" is {}, expected a count of traversal units from 1 to {}",
                                         found->dump().substr(0, 40), kMaxUnits));
   }
