@@ -17,6 +17,7 @@
 #include "nodetrace/cachesim/report/report.hpp"
 #include "nodetrace/cachesim/sampling/sampled_sweep.hpp"
 #include "nodetrace/cachesim/sweep/sweep.hpp"
+#include "nodetrace/cachesim/sweep/unit_sweep.hpp"
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/formats/read/trace_reader.hpp"
 #include "nodetrace/base/sample_rate.hpp"
@@ -30,7 +31,7 @@ namespace {
 // options have nothing to set there, and one silently ignored misleads.
 void check_curve_options(const CLI::App& app) {
   for (const char* option : {"--size", "--high-policy", "--low-size", "--high-assoc", "--count-loads", "--per-level",
-                             "--per-frame"}) {
+                             "--per-frame", "--units", "--per-unit"}) {
     if (app.count(option) > 0) {
       throw base::UsageError(fmt::format(
           "{} does not apply to --curve (it covers every power-of-two size up to 64 MB, single caches and the "
@@ -152,6 +153,33 @@ int sampled_command(const RunCommandLine& line, const std::vector<Configuration>
   return 0;
 }
 
+// --units private: every unit's own caches; the report sums them, and
+// --per-unit writes one row per unit and configuration.
+int private_units_command(const RunCommandLine& line, const SweepOptions& options,
+                          const std::vector<Configuration>& configs, const Readers& readers) {
+  if (options.per_level || options.per_animation_frame) {
+    throw base::UsageError("--units private: not with --per-level or --per-frame (--per-unit gives each unit's rows)");
+  }
+  if (options.fetch != FetchPolicy::Demand) {
+    throw base::UsageError(fmt::format("--fetch {}: --units private simulates demand fetch only", line.fetch));
+  }
+  std::vector<ResultRow> rows;
+  std::vector<UnitRow> unit_rows;
+  std::vector<std::string> notes;
+  for (std::size_t t = 0; t < readers.size(); ++t) {
+    if (readers[t]->units() == 1) {
+      notes.push_back(fmt::format("{}: its records carry no unit (no \"units\" above 1 in a header): one unit",
+                                  readers[t]->source_name()));
+    }
+    UnitSweepResult result = run_unit_sweep(*readers[t], configs, line.traces[t]);
+    rows.insert(rows.end(), result.total.rows.begin(), result.total.rows.end());
+    unit_rows.insert(unit_rows.end(), result.unit_rows.begin(), result.unit_rows.end());
+    notes.insert(notes.end(), result.total.notes.begin(), result.total.notes.end());
+  }
+  print_report(rows, {}, notes, line, {}, unit_rows);
+  return 0;
+}
+
 }  // namespace
 
 int run_command(int argc, char** argv) {
@@ -169,6 +197,14 @@ int run_command(int argc, char** argv) {
                "--assoc, single caches and the split scheme's low cache (K from --split-level, "
                "or auto for --high-size)");
   add_sampling_options(app, sampling_line);
+  app.add_option("--units", line.units,
+                 "Traversal units of a trace whose records carry them (header \"units\"): shared (one copy of "
+                 "each cache sees every record) or private (each unit its own copy; the report sums them)")
+      ->check(CLI::IsMember({"shared", "private"}))
+      ->capture_default_str();
+  app.add_option("--per-unit", line.per_unit,
+                 "--units private: also write each unit's rows (the main columns, unit after trace) to FILE "
+                 "(- for standard output instead of the main table)");
   if (const std::optional<int> status = nodetrace::cli::parse_command_line(app, argc, argv)) return *status;
   return nodetrace::cli::exit_status_of("cachesim run", [&] {
     const SweepOptions options = sweep_options(line);
@@ -183,6 +219,16 @@ int run_command(int argc, char** argv) {
     }
     const std::vector<Configuration> configs = expand_configurations(options);
     const Readers readers = open_traces(line, sampling);
+    if (!line.per_unit.empty() && line.units != "private") {
+      throw base::UsageError("--per-unit: the rows of private caches need --units private");
+    }
+    if (line.units == "private") {
+      if (sampling.sampling() || row_sampled(readers)) {
+        throw base::UsageError("--units private: not with sampling (--sample-windows, --sample-sets or a "
+                               "row-sampled trace)");
+      }
+      return private_units_command(line, options, configs, readers);
+    }
     if (const formats::TraceReader* sampled = row_sampled(readers)) {
       if (!line.per_level.empty() || !line.per_animation_frame.empty()) {
         throw base::UsageError(fmt::format(

@@ -32,12 +32,24 @@ const std::vector<std::string>& level_report_columns() {
   return columns;
 }
 
+namespace {
+
+// The main columns with `key` (a per-frame or per-unit table's) after `trace`.
+std::vector<std::string> keyed_columns(const char* key) {
+  std::vector<std::string> columns = report_columns();
+  columns.insert(columns.begin() + 1, key);
+  return columns;
+}
+
+}  // namespace
+
 const std::vector<std::string>& animation_frame_report_columns() {
-  static const std::vector<std::string> columns = [] {
-    std::vector<std::string> with_frame = report_columns();
-    with_frame.insert(with_frame.begin() + 1, "frame");
-    return with_frame;
-  }();
+  static const std::vector<std::string> columns = keyed_columns("frame");
+  return columns;
+}
+
+const std::vector<std::string>& unit_report_columns() {
+  static const std::vector<std::string> columns = keyed_columns("unit");
   return columns;
 }
 
@@ -161,8 +173,8 @@ namespace {
 
 bool is_level_text_column(std::size_t column) { return is_text_column(column); }
 
-// The main table's text columns, one place further after `frame`.
-bool is_frame_text_column(std::size_t column) {
+// The main table's text columns, one place further after `frame` or `unit`.
+bool is_keyed_text_column(std::size_t column) {
   return column == 0 || (column > 1 && is_text_column(column - 1));
 }
 
@@ -221,6 +233,19 @@ std::vector<std::string> animation_frame_report_cells(const AnimationFrameRow& r
   return cells;
 }
 
+std::vector<std::string> unit_report_cells(const UnitRow& row) {
+  std::vector<std::string> cells = report_cells(row.row);
+  cells.insert(cells.begin() + 1, std::to_string(row.unit));
+  return cells;
+}
+
+std::string format_unit_rows(const std::vector<UnitRow>& rows, ReportFormat format) {
+  std::vector<std::vector<std::string>> cells;
+  cells.reserve(rows.size());
+  for (const UnitRow& row : rows) cells.push_back(unit_report_cells(row));
+  return format_cells(unit_report_columns(), cells, format, is_keyed_text_column);
+}
+
 std::string format_rows(const std::vector<ResultRow>& rows, ReportFormat format) {
   std::vector<std::vector<std::string>> cells;
   cells.reserve(rows.size());
@@ -239,7 +264,7 @@ std::string format_animation_frame_rows(const std::vector<AnimationFrameRow>& ro
   std::vector<std::vector<std::string>> cells;
   cells.reserve(rows.size());
   for (const AnimationFrameRow& row : rows) cells.push_back(animation_frame_report_cells(row));
-  return format_cells(animation_frame_report_columns(), cells, format, is_frame_text_column);
+  return format_cells(animation_frame_report_columns(), cells, format, is_keyed_text_column);
 }
 
 const std::vector<std::string>& sampling_columns() {

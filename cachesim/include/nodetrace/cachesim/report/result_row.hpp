@@ -47,6 +47,13 @@ struct AnimationFrameRow {
   ResultRow row;
 };
 
+// `--per-unit`: one configuration's counts in one traversal unit's private
+// caches (`cachesim run --units private`).
+struct UnitRow {
+  unsigned unit = 0;
+  ResultRow row;
+};
+
 struct TraceResult {
   std::vector<ResultRow> rows;
   std::vector<LevelRow> level_rows;
