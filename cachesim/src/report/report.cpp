@@ -246,11 +246,31 @@ std::string format_unit_rows(const std::vector<UnitRow>& rows, ReportFormat form
   return format_cells(unit_report_columns(), cells, format, is_keyed_text_column);
 }
 
+const std::vector<std::string>& second_level_columns() {
+  static const std::vector<std::string> columns = {"l2_size",  "l2_block",  "l2_assoc",     "l2_refs",
+                                                    "l2_fetches", "l2_misses", "l2_miss_ratio"};
+  return columns;
+}
+
 std::string format_rows(const std::vector<ResultRow>& rows, ReportFormat format) {
   std::vector<std::vector<std::string>> cells;
   cells.reserve(rows.size());
-  for (const ResultRow& row : rows) cells.push_back(report_cells(row));
-  return format_cells(report_columns(), cells, format, is_text_column);
+  // A run with a second-level cache has its columns in every row.
+  const bool second_level = !rows.empty() && rows.front().l2.has_value();
+  for (const ResultRow& row : rows) {
+    std::vector<std::string>& row_cells = cells.emplace_back(report_cells(row));
+    if (!second_level) continue;
+    const SecondLevelCounts l2 = row.l2.value_or(SecondLevelCounts{});
+    for (const std::uint64_t value : {l2.size, std::uint64_t{l2.block}, std::uint64_t{l2.assoc}, l2.refs, l2.fetches,
+                                      l2.misses}) {
+      row_cells.push_back(std::to_string(value));
+    }
+    row_cells.push_back(miss_ratio_text(l2.misses, l2.fetches));
+  }
+  if (!second_level) return format_cells(report_columns(), cells, format, is_text_column);
+  std::vector<std::string> columns = report_columns();
+  columns.insert(columns.end(), second_level_columns().begin(), second_level_columns().end());
+  return format_cells(columns, cells, format, is_text_column);
 }
 
 std::string format_level_rows(const std::vector<LevelRow>& rows, ReportFormat format) {

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "nodetrace/base/ordered_pipeline.hpp"
+#include "nodetrace/cachesim/sweep/second_level.hpp"
 
 namespace nodetrace::cachesim {
 
@@ -28,9 +29,12 @@ ResultRow& add_counts(ResultRow& sum, const ResultRow& unit) {
 }  // namespace
 
 UnitSweepResult run_unit_sweep(formats::TraceReader& reader, const std::vector<Configuration>& configs,
-                               const std::string& trace_column, const SweepProgress& progress) {
-  const unsigned units = reader.units();
+                               const std::string& trace_column, const UnitSweepOptions& options,
+                               const SweepProgress& progress) {
+  const unsigned units = options.private_units ? reader.units() : 1;
   const TraceContext context = trace_context(reader, trace_column);
+  std::optional<SecondLevelSimulator> second_level;
+  if (options.l2) second_level.emplace(configs, context, units, *options.l2);
   std::vector<std::unique_ptr<Sweep>> sweeps;
   for (unsigned u = 0; u < units; ++u) sweeps.push_back(std::make_unique<Sweep>(configs, context, false));
   // Each unit's batches of a group; a unit's first_record counts its own
@@ -39,13 +43,21 @@ UnitSweepResult run_unit_sweep(formats::TraceReader& reader, const std::vector<C
   std::vector<std::uint64_t> unit_records(units, 0);
   const unsigned threads = std::max(1u, std::min(units, std::thread::hardware_concurrency()));
   base::OrderedPipeline<void> workers(threads);
+  std::vector<formats::RecordBatch> whole;  // the group's batches as read, for the second level
   const auto simulate = [&] {
     for (unsigned u = 0; u < units; ++u) {
       workers.submit([&, u] {
         for (const formats::RecordBatch& batch : group[u]) sweeps[u]->feed(batch);
       });
     }
+    // The second level after the first levels' sweeps: they stop the run
+    // first on what a first level cannot hold (a retained high cache that
+    // overflows).
     while (!workers.empty()) workers.pop();
+    if (second_level) {
+      for (const formats::RecordBatch& batch : whole) second_level->feed(batch);
+    }
+    whole.clear();
     for (auto& batches : group) batches.clear();
   };
   constexpr std::size_t kGroupRecords = std::size_t{1} << 18;
@@ -58,10 +70,15 @@ UnitSweepResult run_unit_sweep(formats::TraceReader& reader, const std::vector<C
       part.window = batch.window;
       part.first_record = unit_records[u];
     }
-    for (const formats::Record& record : batch.records) {
-      group[formats::unit_index(record.unit)].back().records.push_back(record);
+    if (units == 1) {
+      group[0].back().records = batch.records;
+    } else {
+      for (const formats::Record& record : batch.records) {
+        group[formats::unit_index(record.unit)].back().records.push_back(record);
+      }
     }
     for (unsigned u = 0; u < units; ++u) unit_records[u] += group[u].back().records.size();
+    if (second_level) whole.push_back(batch);
     grouped += batch.records.size();
     if (grouped >= kGroupRecords) {
       simulate();
@@ -84,8 +101,11 @@ UnitSweepResult run_unit_sweep(formats::TraceReader& reader, const std::vector<C
         }
       }
     }
-    for (const ResultRow& row : unit.rows) result.unit_rows.push_back({u, row});
+    if (options.private_units) {
+      for (const ResultRow& row : unit.rows) result.unit_rows.push_back({u, row});
+    }
   }
+  if (second_level) attach_second_level(result.total.rows, *second_level);
   return result;
 }
 

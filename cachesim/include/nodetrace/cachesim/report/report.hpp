@@ -49,7 +49,11 @@ std::string format_cells(const std::vector<std::string>& columns,
                          const std::vector<std::vector<std::string>>& rows, ReportFormat format,
                          bool (*text_column)(std::size_t));
 
-// The main table alone.
+// Runs with a second-level cache (`--l2-size`) append these after
+// low_misses, in every row: its geometry, the first-level fetches it saw,
+// its fetches, misses and miss ratio (six decimals, empty without fetches).
+const std::vector<std::string>& second_level_columns();
+// The main table alone (with the second-level columns when its rows have them).
 std::string format_rows(const std::vector<ResultRow>& rows, ReportFormat format);
 // The per-level table alone.
 std::string format_level_rows(const std::vector<LevelRow>& rows, ReportFormat format);
