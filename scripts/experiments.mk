@@ -517,7 +517,7 @@ endif
 # of every smaller one too: K = auto per size); each size per unit.
 inflight_figures := inflight.png
 ifneq ($(call wanted,inflight),)
-inflight_largest := $(lastword $(sort $(foreach z,$(SIZES),$(call size_bytes,$z))))
+inflight_largest := $(shell printf '%s\n' $(foreach z,$(SIZES),$(call size_bytes,$z)) | sort -n | tail -n 1)
 inflight_render = $(call render_options,$(INFLIGHT_WIDTH),$(INFLIGHT_HEIGHT),$(FRAME),$(kd_default)) --layout hybrid \
   --high-size $(shell echo $$(( $(inflight_largest) / 2 ))) --pixel-order tiled --rays-in-flight $1 --units $2
 inflight_sim = --units private --size $(call join_commas,$(SIZES)) --block $(BLOCK) --assoc 1 --scheme \
