@@ -93,7 +93,8 @@ bool RayScheduler::refill(Unit& unit, bool no_more_pixels) {
       } else {
         return false;
       }
-      const PixelRays::Ray& traced = pool_[ray.pixel].rays.rays[ray.ray];
+      const PixelRays& pixel = pool_[ray.pixel].rays;
+      const PixelRays::Ray& traced = pixel.rays[ray.ray];
       if (traced.begin == traced.end) {
         // A ray that fetches nothing finishes as it starts.
         ready_.clear();
@@ -101,7 +102,8 @@ bool RayScheduler::refill(Unit& unit, bool no_more_pixels) {
         make_ready(unit, ready_);
         continue;
       }
-      slot = {true, ray, traced.begin, traced.end};
+      slot = {true, ray, pixel.records.data() + traced.begin, pixel.records.data() + traced.end};
+      for (int line = 0; line < 4; ++line) __builtin_prefetch(slot.next + 4 * line);  // run() reads 16 ahead
     }
   }
   return true;
@@ -120,7 +122,11 @@ bool RayScheduler::run(std::vector<formats::Record>& out, bool no_more_pixels) {
       for (Slot& slot : unit.slots) {
         if (!slot.busy) continue;
         busy = true;
-        formats::Record record = pool_[slot.ray.pixel].rays.records[slot.next];
+        formats::Record record = *slot.next;
+        // The records were traced on another core a while ago: fetch a few
+        // cache lines ahead of each slot (measured: loading them was most of
+        // the scheduler's time at 32 rays in flight).
+        __builtin_prefetch(slot.next + 16);
         record.unit = unit_field;
         out.push_back(record);
         if (++slot.next == slot.end) {

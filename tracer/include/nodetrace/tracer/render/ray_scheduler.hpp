@@ -73,7 +73,10 @@ class RayScheduler {
   struct Slot {
     bool busy = false;
     RayRef ray;
-    std::uint32_t next = 0, end = 0;  // records still to issue
+    // Records still to issue, in the pixel's records (whose buffer stays put
+    // while pool_ grows: a moved vector keeps it).
+    const formats::Record* next = nullptr;
+    const formats::Record* end = nullptr;
   };
   struct Unit {
     std::vector<Slot> slots;
