@@ -5,16 +5,19 @@
 # scenes; the binary BVH against the kd-tree (build time, rays per second). Medians of --runs runs; each run is one `tracer render`. Then, for
 # the BART scenes, the same ratio for the whole command (wall and CPU user +
 # sys of `tracer render ... --high-size 4k` with and without -o, runs
-# alternating), with peak RSS; last, primary rays per second against Embree
-# where libembree-dev is installed (a benchmark-only reference).
+# alternating), with peak RSS; then, for the BART scenes, writing the trace
+# with 32 rays in flight against 1 (wall and CPU, target at most 1.3x CPU)
+# and the peak RSS at 1, 32 and 128; last, primary rays per second against
+# Embree where libembree-dev is installed (a benchmark-only reference).
 #   scripts/bench-tracer.sh [--build-dir build] [--runs 3] [--width 400 --height 300]
-#                           [--max-depth 10] [--threads N] [--scenes "a b c"]
+#                           [--max-depth 10] [--threads N] [--scenes "a b c"] [--in-flight-only]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-build_dir=build runs=3 width=400 height=300 max_depth=10 threads=0 scenes=""
+build_dir=build runs=3 width=400 height=300 max_depth=10 threads=0 scenes="" in_flight_only=0
 while [ $# -gt 0 ]; do
   case "$1" in
+    --in-flight-only) in_flight_only=1; shift ;;
     --build-dir) build_dir="$2"; shift 2 ;;
     --runs) runs="$2"; shift 2 ;;
     --width) width="$2"; shift 2 ;;
@@ -22,7 +25,7 @@ while [ $# -gt 0 ]; do
     --max-depth) max_depth="$2"; shift 2 ;;
     --threads) threads="$2"; shift 2 ;;
     --scenes) scenes="$2"; shift 2 ;;
-    -h|--help) sed -n '2,11s/^# \{0,1\}//p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,13s/^# \{0,1\}//p' "$0"; exit 0 ;;
     *) echo "bench-tracer.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -50,6 +53,45 @@ column() { awk -v c="$1" '{print $c}'; }
 median() { sort -g | awk '{v[NR] = $1} END {if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
 # Seconds of the render loop from tracer's summary line "render: X s, ...".
 render_seconds() { sed -n 's/^  render: \([0-9.]*\) s.*/\1/p' "$1"; }
+
+# Writing the trace with rays in flight: 32 against 1 (alternating runs,
+# wall and CPU user + sys of the whole command), and the peak RSS at 1, 32
+# and 128 rays in flight, for the BART scenes.
+rays_in_flight() {
+  echo "rays in flight, ${width}x${height} --high-size 4k -o T.din.zst, medians of $runs alternating run(s); load average $(cut -d' ' -f1 /proc/loadavg)"
+  printf '%-12s %8s %9s %8s %9s %10s %9s %8s %9s %10s
+' scene wall_1 cpu_1 wall_32 cpu_32 wall_ratio cpu_ratio MiB_1 MiB_32 MiB_128
+  local bart scene n
+  for bart in robots/Robot.aff kitchen/kitchen.aff; do
+    scene="$shared/$bart"
+    if [ ! -f "$scene" ]; then
+      echo "bench-tracer: $scene absent: skipped" >&2
+      continue
+    fi
+    for n in 1 32 128; do : > "$work/inflight$n.all"; done
+    for ((run = 0; run < runs; run++)); do
+      for n in 1 32 128; do
+        /usr/bin/time -f '%e %U %S %M' -o "$work/t" "$tracer" render "$scene" --width "$width" --height "$height" \
+          --max-depth "$max_depth" --high-size 4k --rays-in-flight "$n" "${thread_args[@]}" -q \
+          -o "$work/inflight.din.zst" >/dev/null 2>/dev/null
+        cat "$work/t" >> "$work/inflight$n.all"
+      done
+    done
+    awk -v n="$(basename "$scene")" \
+        -v w1="$(awk '{print $1}' "$work/inflight1.all" | median)" -v c1="$(awk '{print $2 + $3}' "$work/inflight1.all" | median)" \
+        -v w32="$(awk '{print $1}' "$work/inflight32.all" | median)" -v c32="$(awk '{print $2 + $3}' "$work/inflight32.all" | median)" \
+        -v m1="$(awk '{print $4}' "$work/inflight1.all" | median)" -v m32="$(awk '{print $4}' "$work/inflight32.all" | median)" \
+        -v m128="$(awk '{print $4}' "$work/inflight128.all" | median)" 'BEGIN {
+      printf "%-12s %8.2f %9.2f %8.2f %9.2f %10.2f %9.2f %8.0f %9.0f %10.0f\n", n, w1, c1, w32, c32, w32 / w1, c32 / c1, m1 / 1024, m32 / 1024, m128 / 1024 }'
+  done
+  echo "wall/cpu_N: tracer render --rays-in-flight N writing the trace (cpu = user + sys); ratios 32 / 1 (target <= 1.3"
+  echo "in CPU time); MiB_N: peak RSS"
+}
+
+if [ "$in_flight_only" = 1 ]; then
+  rays_in_flight
+  exit 0
+fi
 
 load="$(cut -d' ' -f1 /proc/loadavg)"
 echo "bench-tracer: ${width}x${height}, max depth $max_depth, $runs run(s) each, $(nproc) cores, load average $load"
@@ -167,6 +209,8 @@ for bart in robots/Robot.aff kitchen/kitchen.aff; do
 done
 echo "render: tracer render without -o (nothing recorded); traced: with -o T.din.zst; cpu = user + sys;"
 echo "ratios traced / render (target <= 2.0 in wall and CPU time)"
+
+rays_in_flight
 
 # Primary rays against Embree's rtcIntersect1 (a benchmark-only reference,
 # where libembree-dev is installed): the same rays and triangles, one thread

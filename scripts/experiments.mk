@@ -137,6 +137,18 @@ INTERP_BEST ?= 8
 INTERP_FINAL_SCENES ?= robot kitchen forest
 INTERP_FINAL_WIDTH ?= $(WIDTH)
 INTERP_FINAL_HEIGHT ?= $(HEIGHT)
+# Rays in flight: traversal units of INFLIGHT_RAYS ray slots each, every
+# unit its own node caches of each size of SIZES (per unit), and a second
+# level shared by the units behind them. Pixels dealt to the units in 8x8
+# tiles (tiled pixel order, 64 pixels a run) round robin.
+INFLIGHT_SCENES ?= robot kitchen
+INFLIGHT_WIDTH ?= 200
+INFLIGHT_HEIGHT ?= 150
+INFLIGHT_RAYS ?= 1 4 16 32 128
+INFLIGHT_UNITS ?= 1 4 16
+INFLIGHT_L2_SIZE ?= 256k
+INFLIGHT_L2_BLOCK ?= 64
+INFLIGHT_L2_ASSOC ?= 8
 
 scene_robot := $(SHARED)/scenes/bart/robots/Robot.aff
 scene_kitchen := $(SHARED)/scenes/bart/kitchen/kitchen.aff
@@ -331,11 +343,11 @@ goals := $(or $(MAKECMDGOALS),$(.DEFAULT_GOAL))
 wanted = $(filter $1 all,$(goals))
 
 .PHONY: all table1 baselines assoc levels sensitivity calibration calibration-grid interpretations \
-  interpretations-grid frames sampling accel clean FORCE
+  interpretations-grid frames sampling accel inflight clean FORCE
 .DELETE_ON_ERROR:
 
 # Every study; `all` makes them (a new study adds its target here and its section below).
-ALL_TARGETS := table1 baselines assoc levels sensitivity calibration interpretations frames sampling accel
+ALL_TARGETS := table1 baselines assoc levels sensitivity calibration interpretations frames sampling accel inflight
 all: $(ALL_TARGETS)
 
 %/.dir:
@@ -553,6 +565,25 @@ sampling_lines := $(common_params) param;tracer=$(TRACER) \
   samp_full,$s,$z) $(foreach m,$(SAMPLING_METHODS),$(foreach r,$(SAMPLING_RATES),$(foreach e,$(SAMPLING_SEEDS),row;scene=$s;size=$z;method=$m;rate=$r;seed=$e;file=$(call \
   samp_run,$s,$z,$m,$r,$e))))))
 $(eval $(call study_rule,sampling))
+endif
+
+# --- inflight: the split's gain and the L2 against rays in flight and units --
+# One trace per scene, rays in flight and units, in the hybrid layout sized
+# for the high cache of the largest size (its BFL part holds the top levels
+# of every smaller one too: K = auto per size); each size per unit.
+inflight_figures := inflight.png
+ifneq ($(call wanted,inflight),)
+inflight_largest := $(shell printf '%s\n' $(foreach z,$(SIZES),$(call size_bytes,$z)) | sort -n | tail -n 1)
+inflight_render = $(call render_options,$(INFLIGHT_WIDTH),$(INFLIGHT_HEIGHT),$(FRAME),$(kd_default)) --layout hybrid \
+  --high-size $(shell echo $$(( $(inflight_largest) / 2 ))) --pixel-order tiled --rays-in-flight $1 --units $2
+inflight_sim = --units private --size $(call join_commas,$(SIZES)) --block $(BLOCK) --assoc 1 --scheme \
+  single$(comma)split --split-level auto --l2-size $(INFLIGHT_L2_SIZE) --l2-block $(INFLIGHT_L2_BLOCK) \
+  --l2-assoc $(INFLIGHT_L2_ASSOC)
+inflight_lines := $(common_params) param;inflight_width=$(INFLIGHT_WIDTH) param;inflight_height=$(INFLIGHT_HEIGHT) \
+  param;l2_size=$(INFLIGHT_L2_SIZE) param;l2_block=$(INFLIGHT_L2_BLOCK) param;l2_assoc=$(INFLIGHT_L2_ASSOC) \
+  $(foreach s,$(INFLIGHT_SCENES),$(foreach u,$(INFLIGHT_UNITS),$(foreach n,$(INFLIGHT_RAYS),row;scene=$s;units=$u;rays=$n;file=$(call \
+  sim,inflight,$(call trace,$s,$(call inflight_render,$n,$u)),$(inflight_sim)))))
+$(eval $(call study_rule,inflight))
 endif
 
 # The renders this make runs (progress: which of them this one is): the

@@ -17,6 +17,8 @@
 #include "nodetrace/cachesim/report/report.hpp"
 #include "nodetrace/cachesim/sampling/sampled_sweep.hpp"
 #include "nodetrace/cachesim/sweep/sweep.hpp"
+#include "nodetrace/cachesim/sweep/unit_sweep.hpp"
+#include "nodetrace/cachesim/models/cache_geometry.hpp"
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/formats/read/trace_reader.hpp"
 #include "nodetrace/base/sample_rate.hpp"
@@ -30,7 +32,7 @@ namespace {
 // options have nothing to set there, and one silently ignored misleads.
 void check_curve_options(const CLI::App& app) {
   for (const char* option : {"--size", "--high-policy", "--low-size", "--high-assoc", "--count-loads", "--per-level",
-                             "--per-frame"}) {
+                             "--per-frame", "--units", "--per-unit"}) {
     if (app.count(option) > 0) {
       throw base::UsageError(fmt::format(
           "{} does not apply to --curve (it covers every power-of-two size up to 64 MB, single caches and the "
@@ -64,6 +66,14 @@ int curve_command(const RunCommandLine& line, const SweepOptions& options) {
   std::fflush(stdout);
   return 0;
 }
+
+// The second-level cache of `cachesim run --l2-size`.
+struct SecondLevelCommandLine {
+  std::string size;
+  std::uint32_t block = 64;
+  std::string assoc = "8";
+  std::string policy = "lru";
+};
 
 // The sampling options of `cachesim run` (dinero-wrap has none).
 struct SamplingCommandLine {
@@ -152,6 +162,37 @@ int sampled_command(const RunCommandLine& line, const std::vector<Configuration>
   return 0;
 }
 
+// --units private: every unit's own caches; the report sums them, and
+// --per-unit writes one row per unit and configuration. --l2-size: a second
+// level shared by the units, over private or shared first levels.
+int unit_caches_command(const RunCommandLine& line, const SweepOptions& options,
+                        const std::vector<Configuration>& configs, const Readers& readers,
+                        const UnitSweepOptions& unit_options) {
+  if (options.per_level || options.per_animation_frame) {
+    throw base::UsageError("--units private and --l2-size: not with --per-level or --per-frame (--per-unit gives "
+                           "each unit's rows)");
+  }
+  if (options.fetch != FetchPolicy::Demand) {
+    throw base::UsageError(
+        fmt::format("--fetch {}: --units private and --l2-size simulate demand fetch only", line.fetch));
+  }
+  std::vector<ResultRow> rows;
+  std::vector<UnitRow> unit_rows;
+  std::vector<std::string> notes;
+  for (std::size_t t = 0; t < readers.size(); ++t) {
+    if (unit_options.private_units && readers[t]->units() == 1) {
+      notes.push_back(fmt::format("{}: its records carry no unit (no \"units\" above 1 in a header): one unit",
+                                  readers[t]->source_name()));
+    }
+    UnitSweepResult result = run_unit_sweep(*readers[t], configs, line.traces[t], unit_options);
+    rows.insert(rows.end(), result.total.rows.begin(), result.total.rows.end());
+    unit_rows.insert(unit_rows.end(), result.unit_rows.begin(), result.unit_rows.end());
+    notes.insert(notes.end(), result.total.notes.begin(), result.total.notes.end());
+  }
+  print_report(rows, {}, notes, line, {}, unit_rows);
+  return 0;
+}
+
 }  // namespace
 
 int run_command(int argc, char** argv) {
@@ -169,6 +210,23 @@ int run_command(int argc, char** argv) {
                "--assoc, single caches and the split scheme's low cache (K from --split-level, "
                "or auto for --high-size)");
   add_sampling_options(app, sampling_line);
+  app.add_option("--units", line.units,
+                 "Traversal units of a trace whose records carry them (header \"units\"): shared (one copy of "
+                 "each cache sees every record) or private (each unit its own copy; the report sums them)")
+      ->check(CLI::IsMember({"shared", "private"}))
+      ->capture_default_str();
+  SecondLevelCommandLine l2_line;
+  app.add_option("--l2-size", l2_line.size,
+                 "Add a second-level cache of this size, shared by all units, seeing each configuration's "
+                 "first-level misses (and retained high-cache loads) in trace order; its own report columns");
+  app.add_option("--l2-block", l2_line.block, "Second-level block size in bytes")->capture_default_str();
+  app.add_option("--l2-assoc", l2_line.assoc, "Second-level ways, or full")->capture_default_str();
+  app.add_option("--l2-policy", l2_line.policy, "Second-level replacement: lru or fifo")
+      ->check(CLI::IsMember({"lru", "fifo"}))
+      ->capture_default_str();
+  app.add_option("--per-unit", line.per_unit,
+                 "--units private: also write each unit's rows (the main columns, unit after trace) to FILE "
+                 "(- for standard output instead of the main table)");
   if (const std::optional<int> status = nodetrace::cli::parse_command_line(app, argc, argv)) return *status;
   return nodetrace::cli::exit_status_of("cachesim run", [&] {
     const SweepOptions options = sweep_options(line);
@@ -183,6 +241,29 @@ int run_command(int argc, char** argv) {
     }
     const std::vector<Configuration> configs = expand_configurations(options);
     const Readers readers = open_traces(line, sampling);
+    if (!line.per_unit.empty() && line.units != "private") {
+      throw base::UsageError("--per-unit: the rows of private caches need --units private");
+    }
+    UnitSweepOptions unit_options;
+    unit_options.private_units = line.units == "private";
+    if (!l2_line.size.empty()) {
+      CacheGeometry l2;
+      l2.size = cache_size(l2_line.size, "--l2-size");
+      l2.block_size = l2_line.block;
+      l2.assoc = parse_assoc(l2_line.assoc);  // 0: full
+      if (l2.assoc == 0) l2.assoc = static_cast<std::uint32_t>(l2.size / std::max(1u, l2.block_size));
+      l2.replacement = parse_policy_name(l2_line.policy).value_or(ReplacementPolicy::Lru);
+      unit_options.l2 = l2;
+    } else if (app.count("--l2-block") + app.count("--l2-assoc") + app.count("--l2-policy") > 0) {
+      throw base::UsageError("--l2-block, --l2-assoc and --l2-policy describe the cache --l2-size adds");
+    }
+    if (unit_options.private_units || unit_options.l2) {
+      if (sampling.sampling() || row_sampled(readers)) {
+        throw base::UsageError("--units private and --l2-size: not with sampling (--sample-windows, "
+                               "--sample-sets or a row-sampled trace)");
+      }
+      return unit_caches_command(line, options, configs, readers, unit_options);
+    }
     if (const formats::TraceReader* sampled = row_sampled(readers)) {
       if (!line.per_level.empty() || !line.per_animation_frame.empty()) {
         throw base::UsageError(fmt::format(

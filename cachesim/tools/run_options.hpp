@@ -53,6 +53,8 @@ struct RunCommandLine {
   bool tags_are_levels = false;
   std::string per_level;            // --per-level FILE: the per-level table's output ("" = none, "-" = stdout)
   std::string per_animation_frame;  // --per-frame FILE: likewise
+  std::string units = "shared";     // cachesim run --units: shared or private caches per traversal unit
+  std::string per_unit;             // --per-unit FILE: likewise (--units private)
   bool curve = false;
   std::string format = "table";
   std::string informat;  // plain traces: din, xdin, binary
@@ -245,13 +247,15 @@ inline void write_table(const std::string& path, const std::string& text) {
 // puts that table there instead; the others in their files.
 inline void print_report(const std::vector<ResultRow>& rows, const std::vector<LevelRow>& levels,
                          const std::vector<std::string>& notes, const RunCommandLine& line,
-                         const std::vector<AnimationFrameRow>& frames = {}) {
+                         const std::vector<AnimationFrameRow>& frames = {},
+                         const std::vector<UnitRow>& unit_rows = {}) {
   const ReportFormat format = parse_report_format(line.format).value_or(ReportFormat::Table);
   if (!line.per_level.empty()) write_table(line.per_level, format_level_rows(levels, format));
   if (!line.per_animation_frame.empty()) {
     write_table(line.per_animation_frame, format_animation_frame_rows(frames, format));
   }
-  if (line.per_level != "-" && line.per_animation_frame != "-") {
+  if (!line.per_unit.empty()) write_table(line.per_unit, format_unit_rows(unit_rows, format));
+  if (line.per_level != "-" && line.per_animation_frame != "-" && line.per_unit != "-") {
     const std::string report = format_rows(rows, format);
     std::fwrite(report.data(), 1, report.size(), stdout);
   }

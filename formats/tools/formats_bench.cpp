@@ -35,7 +35,7 @@ int generate(std::uint64_t count, const std::string& out, unsigned threads) {
     std::uint64_t bits = state >> 20;
     std::uint64_t slot = 0;
     for (unsigned level = 0; level <= depth && written < count; ++level) {
-      batch.push_back({0x10000000ull + slot * 8, 8, formats::AccessType::Read, static_cast<formats::Tag>(level)});
+      batch.push_back({0x10000000ull + slot * 8, 8, formats::AccessType::Read, formats::TraversalUnit{}, static_cast<formats::Tag>(level)});
       ++written;
       slot = 2 * slot + 1 + (bits & 1);
       bits >>= 1;

@@ -90,6 +90,7 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
   info["kind"] = std::string(reader->input_kind());
   info["records_form"] = std::string(formats::form_name(reader->form()));
   info["tags"] = reader->tags_are_levels() ? "node-level" : "none";
+  if (reader->units() > 1) info["units"] = reader->units();
   if (reader->header().present()) {
     const nlohmann::json& header = reader->header().json;
     info["header"] = header;
@@ -155,6 +156,7 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
   row("records form", info["records_form"].get<std::string>());
   row("tags", info["tags"].get<std::string>());
   if (info.contains("accel")) row("accel", info["accel"].is_string() ? info["accel"].get<std::string>() : info["accel"].dump());
+  if (info.contains("units")) row("units", info["units"].dump());
   if (info.contains("header")) {
     for (const auto& [key, value] : info["header"].items()) row("header." + key, value.dump());
   }
@@ -179,9 +181,17 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
   return 0;
 }
 
-int run_cat(const std::string& path, const std::string& tags, const std::string& to, bool tags_are_levels,
-            const std::string& form) {
+int run_cat(const std::string& path, const std::string& tags, const std::string& to, std::optional<unsigned> unit,
+            bool tags_are_levels, const std::string& form) {
   auto reader = formats::TraceReader::open(path, reader_options(tags_are_levels, form_option(form)));
+  if (unit && *unit >= reader->units()) {
+    throw base::UsageError(
+        reader->units() > 1
+            ? fmt::format("{}: --unit {}: the trace has traversal units 0 to {}", reader->source_name(), *unit,
+                          reader->units() - 1)
+            : fmt::format("{}: --unit {}: the trace's records carry no unit (its header says no \"units\" above 1)",
+                          reader->source_name(), *unit));
+  }
   std::optional<formats::TagFilter> filter;
   if (!tags.empty()) {
     filter = formats::TagFilter::parse(tags);
@@ -196,6 +206,9 @@ int run_cat(const std::string& path, const std::string& tags, const std::string&
   options.form = to.empty() ? reader->form() : *formats::parse_form_name(to);
   options.kind = formats::OutputKind::Plain;
   options.threads = 1;
+  // All units keep their field (the text zstdcat shows); one unit's records
+  // are a trace of one unit, without it.
+  if (!unit && options.form != formats::RecordForm::Binary) options.units = reader->units();
   auto writer = formats::TraceWriter::create("-", nlohmann::json::object(), options);
   // Din has no size field (every record reads as 4 bytes); a container's
   // header knows its nodes' size, so node records written as extended din
@@ -208,13 +221,14 @@ int run_cat(const std::string& path, const std::string& tags, const std::string&
   formats::RecordBatch batch;
   std::vector<Record> kept;
   while (reader->next(batch)) {
-    if (!filter && !node_size) {
+    if (!filter && !node_size && !unit) {
       writer->write(batch.records);
       continue;
     }
     kept.clear();
     for (Record record : batch.records) {
       if (filter && !filter->keeps(record.tag)) continue;
+      if (unit && formats::unit_index(record.unit) != *unit) continue;
       if (node_size && formats::is_level(record.tag)) record.size = *node_size;
       kept.push_back(record);
     }
@@ -271,6 +285,7 @@ int run_convert(const std::string& in, const std::string& out, const ConvertOpti
   options.threads = convert.threads;
   options.records_per_data_frame = convert.frame_records;
   options.tags_are_levels = reader->tags_are_levels();
+  options.units = reader->units();
   options.address_digits = convert.address16 ? 16 : 8;
   if (convert.archive) formats::use_archive_setting(options);
   // The producer's part of the header travels along; the writer sets the rest.
@@ -339,15 +354,19 @@ struct InfoCommand {
 
 struct CatCommand {
   std::string path, tags, to;
+  std::optional<unsigned> unit;
   InputOptions input;
   void add_options(CLI::App& app) {
     app.add_option("FILE", path, "Trace file, or - for standard input")->required();
     app.add_option("--tags", tags, "Keep these tags: levels, ranges and p / t, e.g. 0-3,9-,p");
+    app.add_option("--unit", unit,
+                   "Keep the records of this traversal unit (0-based; a trace whose header says \"units\"), "
+                   "written without the unit field");
     app.add_option("--to", to, "Output record form (default: the input's)")->check(CLI::IsMember(kForms));
     input.add_to(app);
   }
   int run() const {
-    return cli::exit_status_of("tracetool cat", [&] { return run_cat(path, tags, to, input.tags_are_levels, input.form); });
+    return cli::exit_status_of("tracetool cat", [&] { return run_cat(path, tags, to, unit, input.tags_are_levels, input.form); });
   }
 };
 

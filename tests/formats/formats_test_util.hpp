@@ -100,7 +100,7 @@ inline std::vector<Record> sample_records(std::size_t count, std::uint32_t seed 
     state = state * 6364136223846793005ull + 1442695040888963407ull;
     const auto level = static_cast<Tag>((state >> 33) % 30);
     const std::uint64_t address = 0x10000000u + ((state >> 20) & 0xFFFFF) * 8;
-    records.push_back(Record{address, 8, AccessType::Read, level});
+    records.push_back(Record{address, 8, AccessType::Read, TraversalUnit{}, level});
   }
   return records;
 }

@@ -32,9 +32,9 @@ class Tracetool : public ::testing::Test {
     if (!std::filesystem::exists(program("tracetool"))) GTEST_SKIP() << "tracetool is not built";
     std::vector<Record> records;
     for (int i = 0; i < 100; ++i) {
-      records.push_back({0x1000u + 8u * i, 8, AccessType::Read, static_cast<Tag>(i % 12)});
+      records.push_back({0x1000u + 8u * i, 8, AccessType::Read, TraversalUnit{}, static_cast<Tag>(i % 12)});
     }
-    records.push_back({0x9000, 8, AccessType::Read, kTagPrimitiveList});
+    records.push_back({0x9000, 8, AccessType::Read, TraversalUnit{}, kTagPrimitiveList});
     WriterOptions options;
     options.records_per_data_frame = 30;
     AnimationFrameMarker first;

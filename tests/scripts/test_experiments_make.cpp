@@ -255,7 +255,8 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
       " INTERP_SPLIT_LEVELS='auto 4' INTERP_TREES='default:1:1.5:0.2:0 default:1:1.5:0.2:2'"
       " INTERP_RAY_SETS='whitted:first primary:all' INTERP_BEST=2 INTERP_FINAL_SCENES='robot forest'"
       " INTERP_FINAL_WIDTH=32 INTERP_FINAL_HEIGHT=24 ACCEL_SCENES=robot ACCEL_KINDS='bvh2 cwbvh8'"
-      " ACCEL_LAYOUTS=treelet ACCEL_SIZES=4k 2>&1");
+      " ACCEL_LAYOUTS=treelet ACCEL_SIZES=4k"
+      " INFLIGHT_SCENES=robot INFLIGHT_WIDTH=16 INFLIGHT_HEIGHT=12 INFLIGHT_RAYS='1 4' INFLIGHT_UNITS='1 2' 2>&1");
   ASSERT_EQ(result.exit_code, 0) << result.out;
   for (const std::string file :
        {"table1/table1.md", "table1/table1.png", "baselines/baselines.md", "baselines/baselines.png",
@@ -266,7 +267,8 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
         "interpretations-grid/best.txt", "interpretations-grid/interpretations-grid.md",
         "interpretations/interpretations.md", "interpretations/interpretations.csv",
         "interpretations/interpretations-cells.csv", "interpretations/interpretations.png", "accel/accel.md",
-        "accel/accel.csv", "accel/accel.png"}) {
+        "accel/accel.csv", "accel/accel.png", "inflight/inflight.md", "inflight/inflight.csv",
+        "inflight/inflight.png"}) {
     EXPECT_TRUE(std::filesystem::exists(out / file)) << file;
   }
   // Every CSV the targets write (their tables and the runs behind them,
@@ -292,6 +294,10 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
     ++tables;
   }
   EXPECT_GT(tables, 20);
+  // Two unit counts x three sizes x two rays in flight, each with an L2 miss ratio.
+  const auto inflight = read_file(out / "inflight" / "inflight.csv");
+  EXPECT_EQ(count_lines_with(inflight, "robot,"), 12) << inflight;
+  EXPECT_EQ(count_lines_with(inflight, "robot,2,4,"), 3) << inflight;
   const auto frames = read_file(out / "frames" / "frames.csv");
   EXPECT_EQ(count_lines_with(frames, "robot,"), 2) << frames;
   EXPECT_EQ(count_lines_with(frames, "kitchen,"), 2) << frames;

@@ -159,7 +159,13 @@ struct RenderCommandOptions {
   std::uint32_t band_height = kDefaultBandHeight;
   std::uint64_t sample_seed = 0;
   std::string rays = "whitted", lights = "all";
+  unsigned rays_in_flight = 1, units = 1, unit_pixels = 64;
+  std::string ready_order = "depth-first";
 };
+
+// Ray slots per traversal unit at most: a step then issues up to 4096
+// fetches per unit.
+inline constexpr unsigned kMaxRaysInFlight = 4096;
 
 inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
   app.add_option("--width", o.width, "image width (at most 65535; width x height at most 2^26 pixels)")
@@ -226,6 +232,27 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
                  "error 0.07 points with 1 row, 0.26 with 4, 0.93 with 16, at the same time)")
       ->check(CLI::Range(1, kMaxImageSide))
       ->needs(rows)
+      ->capture_default_str();
+  app.add_option("--rays-in-flight", o.rays_in_flight,
+                 "ray slots per traversal unit: each step every busy slot issues its ray's next node fetch, in "
+                 "slot order; 1 is one ray at a time (README \"Rays in flight\")")
+      ->check(CLI::Range(1u, kMaxRaysInFlight))
+      ->capture_default_str();
+  app.add_option("--units", o.units,
+                 "traversal units, their fetches merged by step (unit 0's, unit 1's, ...); above 1 each record "
+                 "carries its unit after the tag")
+      ->check(CLI::Range(1u, formats::kMaxUnits))
+      ->capture_default_str();
+  app.add_option("--unit-pixels", o.unit_pixels,
+                 "pixels are dealt to the units in runs of this many positions of the pixel order, run r to "
+                 "unit r mod units (64: one 8x8 tile of --pixel-order tiled)")
+      ->check(CLI::Range(1u, 1u << 26))
+      ->capture_default_str();
+  app.add_option("--ready-order", o.ready_order,
+                 "where a finished ray's secondary rays join its unit's queue, always ahead of the next primary "
+                 "ray: depth-first (at the front: a pixel's rays stay together; one slot is the sequential "
+                 "order) or breadth-first (behind the secondary rays waiting)")
+      ->check(CLI::IsMember({"depth-first", "breadth-first"}))
       ->capture_default_str();
   app.add_option("--sample-seed", o.sample_seed,
                  "--sample-rows: seed of the band chosen in each run of K bands (same seed: same bands)")
@@ -336,6 +363,10 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
   render.first_light_only = r.lights == "first";
   render.pixel_order = *parse_pixel_order(r.pixel_order);
   render.tile_size = r.tile_size;
+  render.rays_in_flight = r.rays_in_flight;
+  render.units = r.units;
+  render.unit_pixels = r.unit_pixels;
+  render.ready_order = *parse_ready_order(r.ready_order);
   render.threads = cli::check_thread_count(r.threads, "--threads");
   render.addresses.node_size = r.node_size.value_or(default_node_size(options.accel));
   render.addresses.node_base = parse_address(r.node_base, "--node-base");

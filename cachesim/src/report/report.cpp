@@ -32,12 +32,24 @@ const std::vector<std::string>& level_report_columns() {
   return columns;
 }
 
+namespace {
+
+// The main columns with `key` (a per-frame or per-unit table's) after `trace`.
+std::vector<std::string> keyed_columns(const char* key) {
+  std::vector<std::string> columns = report_columns();
+  columns.insert(columns.begin() + 1, key);
+  return columns;
+}
+
+}  // namespace
+
 const std::vector<std::string>& animation_frame_report_columns() {
-  static const std::vector<std::string> columns = [] {
-    std::vector<std::string> with_frame = report_columns();
-    with_frame.insert(with_frame.begin() + 1, "frame");
-    return with_frame;
-  }();
+  static const std::vector<std::string> columns = keyed_columns("frame");
+  return columns;
+}
+
+const std::vector<std::string>& unit_report_columns() {
+  static const std::vector<std::string> columns = keyed_columns("unit");
   return columns;
 }
 
@@ -161,8 +173,8 @@ namespace {
 
 bool is_level_text_column(std::size_t column) { return is_text_column(column); }
 
-// The main table's text columns, one place further after `frame`.
-bool is_frame_text_column(std::size_t column) {
+// The main table's text columns, one place further after `frame` or `unit`.
+bool is_keyed_text_column(std::size_t column) {
   return column == 0 || (column > 1 && is_text_column(column - 1));
 }
 
@@ -221,11 +233,44 @@ std::vector<std::string> animation_frame_report_cells(const AnimationFrameRow& r
   return cells;
 }
 
+std::vector<std::string> unit_report_cells(const UnitRow& row) {
+  std::vector<std::string> cells = report_cells(row.row);
+  cells.insert(cells.begin() + 1, std::to_string(row.unit));
+  return cells;
+}
+
+std::string format_unit_rows(const std::vector<UnitRow>& rows, ReportFormat format) {
+  std::vector<std::vector<std::string>> cells;
+  cells.reserve(rows.size());
+  for (const UnitRow& row : rows) cells.push_back(unit_report_cells(row));
+  return format_cells(unit_report_columns(), cells, format, is_keyed_text_column);
+}
+
+const std::vector<std::string>& second_level_columns() {
+  static const std::vector<std::string> columns = {"l2_size",  "l2_block",  "l2_assoc",     "l2_refs",
+                                                    "l2_fetches", "l2_misses", "l2_miss_ratio"};
+  return columns;
+}
+
 std::string format_rows(const std::vector<ResultRow>& rows, ReportFormat format) {
   std::vector<std::vector<std::string>> cells;
   cells.reserve(rows.size());
-  for (const ResultRow& row : rows) cells.push_back(report_cells(row));
-  return format_cells(report_columns(), cells, format, is_text_column);
+  // A run with a second-level cache has its columns in every row.
+  const bool second_level = !rows.empty() && rows.front().l2.has_value();
+  for (const ResultRow& row : rows) {
+    std::vector<std::string>& row_cells = cells.emplace_back(report_cells(row));
+    if (!second_level) continue;
+    const SecondLevelCounts l2 = row.l2.value_or(SecondLevelCounts{});
+    for (const std::uint64_t value : {l2.size, std::uint64_t{l2.block}, std::uint64_t{l2.assoc}, l2.refs, l2.fetches,
+                                      l2.misses}) {
+      row_cells.push_back(std::to_string(value));
+    }
+    row_cells.push_back(miss_ratio_text(l2.misses, l2.fetches));
+  }
+  if (!second_level) return format_cells(report_columns(), cells, format, is_text_column);
+  std::vector<std::string> columns = report_columns();
+  columns.insert(columns.end(), second_level_columns().begin(), second_level_columns().end());
+  return format_cells(columns, cells, format, is_text_column);
 }
 
 std::string format_level_rows(const std::vector<LevelRow>& rows, ReportFormat format) {
@@ -239,7 +284,7 @@ std::string format_animation_frame_rows(const std::vector<AnimationFrameRow>& ro
   std::vector<std::vector<std::string>> cells;
   cells.reserve(rows.size());
   for (const AnimationFrameRow& row : rows) cells.push_back(animation_frame_report_cells(row));
-  return format_cells(animation_frame_report_columns(), cells, format, is_frame_text_column);
+  return format_cells(animation_frame_report_columns(), cells, format, is_keyed_text_column);
 }
 
 const std::vector<std::string>& sampling_columns() {

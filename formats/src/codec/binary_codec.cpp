@@ -25,7 +25,7 @@ bool parse_binary_records(std::string_view bytes, std::vector<Record>& out, Reco
       error = {out.size() - first, "size 0 (a reference is at least 1 byte)"};
       return false;
     }
-    out.push_back(Record{address, size, static_cast<AccessType>(type), kTagNone});
+    out.push_back(Record{address, size, static_cast<AccessType>(type), TraversalUnit{}, kTagNone});
   }
   if (bytes.size() % 8 != 0) {
     error = {whole, fmt::format("truncated record: {} bytes of 8", bytes.size() % 8)};

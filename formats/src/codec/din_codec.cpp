@@ -63,9 +63,9 @@ bool parse_din_records(std::string_view bytes, const ParseSettings& settings, st
                           ignored_fields);
 }
 
-void format_din_records(std::span<const Record> records, unsigned address_digits, ByteBuffer& out,
-                        RecordSummary& summary) {
-  format_text_records<false>(records, address_digits, out, summary);
+void format_din_records(std::span<const Record> records, unsigned address_digits, unsigned unit_digits,
+                        ByteBuffer& out, RecordSummary& summary) {
+  format_text_records<false>(records, address_digits, unit_digits, out, summary);
 }
 
 }  // namespace nodetrace::formats::detail

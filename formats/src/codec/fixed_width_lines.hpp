@@ -149,25 +149,32 @@ inline std::size_t din8_tagged_lines(const char* begin, const char* end, bool ta
     v = (v | (v >> 8)) & 0x0000FFFF0000FFFFull;
     v = (v | (v >> 16)) & 0x00000000FFFFFFFFull;
     const Tag level = static_cast<Tag>((tag & 0xFF) * 10 + (tag >> 8));
-    out.push_back(Record{v, 4, static_cast<AccessType>(type), tags_are_levels ? level : kTagNone});
+    out.push_back(Record{v, 4, static_cast<AccessType>(type), TraversalUnit{}, tags_are_levels ? level : kTagNone});
     p += 14;
   }
   return static_cast<std::size_t>(p - begin);
 }
 
 // A run of lines that all have the layout of the first one: D address digits;
-// a one-digit size for extended din; a two-digit tag when kTagged. Stops at
-// the first line of another layout and returns the bytes consumed.
-template <int D, bool kExtended, bool kTagged>
-std::size_t fast_lines(const char* begin, const char* end, bool tags_are_levels, std::vector<Record>& out) {
+// a one-digit size for extended din; a two-digit tag when kTagged, followed
+// by a unit of kUnitDigits digits when that is not 0 (read when `units` is
+// above 1, else skipped as Dinero IV skips it). Stops at the first line of
+// another layout (or a unit not below `units`) and returns the bytes
+// consumed.
+template <int D, bool kExtended, bool kTagged, int kUnitDigits = 0>
+std::size_t fast_lines(const char* begin, const char* end, bool tags_are_levels, unsigned units,
+                       std::vector<Record>& out) {
+  static_assert(kTagged || kUnitDigits == 0);
   constexpr int kAddress = 2;
   constexpr int kAfterAddress = kAddress + D;
   constexpr int kSize = kAfterAddress + 1;
   constexpr int kTagPos = (kExtended ? kSize + 1 : kAfterAddress) + 1;
-  constexpr int kLength = (kTagged ? kTagPos + 2 : kTagPos - 1) + 1;
+  constexpr int kUnitPos = kTagPos + 3;
+  constexpr int kLength = (kTagged ? kTagPos + 2 + (kUnitDigits ? 1 + kUnitDigits : 0) : kTagPos - 1) + 1;
+  const bool read_units = kUnitDigits != 0 && tags_are_levels && units > 1;
   const char* p = begin;
   out.reserve(out.size() + static_cast<std::size_t>(end - begin) / kLength);
-  if constexpr (std::endian::native == std::endian::little && D == 8 && !kExtended && kTagged) {
+  if constexpr (std::endian::native == std::endian::little && D == 8 && !kExtended && kTagged && kUnitDigits == 0) {
     p += din8_tagged_lines(p, end, tags_are_levels, out);
   }
   while (end - p >= kLength) {
@@ -210,8 +217,24 @@ std::size_t fast_lines(const char* begin, const char* end, bool tags_are_levels,
       if (tens > 9 || ones > 9) break;
       if (tags_are_levels) tag = static_cast<Tag>(tens * 10 + ones);
     }
+    unsigned unit = 0;
+    if constexpr (kUnitDigits != 0) {
+      if (p[kUnitPos - 1] != ' ') break;
+      bool digits = true;
+      for (int i = 0; i < kUnitDigits; ++i) {
+        const unsigned digit = static_cast<unsigned char>(p[kUnitPos + i]) - '0';
+        digits = digits && digit <= 9;
+        unit = unit * 10 + digit;
+      }
+      if (!digits) break;
+      if (!read_units) {
+        unit = 0;
+      } else if (unit >= units) {
+        break;  // the general parser names the record
+      }
+    }
     if (bad & 0xF0) break;
-    out.push_back(Record{address, size, static_cast<AccessType>(type), tag});
+    out.push_back(Record{address, size, static_cast<AccessType>(type), traversal_unit(unit), tag});
     p += kLength;
   }
   return static_cast<std::size_t>(p - begin);
@@ -227,12 +250,23 @@ FastParser choose_fast_parser(const char* p, const char* end, const ParseSetting
   for (const int digits : {8, 16}) {
     const int untagged = digits + (kExtended ? 5 : 3);
     const int tagged_length = untagged + 3;
+    const bool wide = digits == 16;
     if (length == untagged && !settings.tags_are_levels) {
-      return digits == 8 ? &fast_lines<8, kExtended, false> : &fast_lines<16, kExtended, false>;
+      return wide ? &fast_lines<16, kExtended, false> : &fast_lines<8, kExtended, false>;
     }
-    if (length == tagged_length) {
+    // Lines without a unit in a trace whose records carry units go to the
+    // general parser, which says the unit is missing.
+    if (length == tagged_length && !settings.reads_units()) {
       tagged = true;
-      return digits == 8 ? &fast_lines<8, kExtended, true> : &fast_lines<16, kExtended, true>;
+      return wide ? &fast_lines<16, kExtended, true> : &fast_lines<8, kExtended, true>;
+    }
+    if (length > tagged_length + 1 && length <= tagged_length + 4) {
+      tagged = true;
+      switch (length - tagged_length - 1) {
+        case 1: return wide ? &fast_lines<16, kExtended, true, 1> : &fast_lines<8, kExtended, true, 1>;
+        case 2: return wide ? &fast_lines<16, kExtended, true, 2> : &fast_lines<8, kExtended, true, 2>;
+        default: return wide ? &fast_lines<16, kExtended, true, 3> : &fast_lines<8, kExtended, true, 3>;
+      }
     }
   }
   return nullptr;
@@ -267,7 +301,7 @@ inline constexpr auto kDecimalPairs = make_decimal_pairs();
 // `0 00001a38 07\n` or `r 00001a38 8 07\n`. Returns false, writing nothing
 // useful, when the record needs the general path.
 template <bool kExtended>
-bool put_common_line(char*& out, const Record& record) {
+bool put_common_line(char*& out, const Record& record, unsigned unit_digits) {
   if ((record.address >> 32) != 0 || record.tag >= 100 || (kExtended && record.size >= 16)) return false;
   char* p = out;
   const auto type = static_cast<unsigned>(record.type);
@@ -283,8 +317,10 @@ bool put_common_line(char*& out, const Record& record) {
   }
   p[0] = ' ';
   std::memcpy(p + 1, &kDecimalPairs[2 * record.tag], 2);
-  p[3] = '\n';
-  out = p + 4;
+  p += 3;
+  if (unit_digits != 0) p = put_unit(p, record.unit, unit_digits);
+  *p = '\n';
+  out = p + 1;
   return true;
 }
 
@@ -293,12 +329,12 @@ bool put_common_line(char*& out, const Record& record) {
 // each record in `summary` in the same pass: a second pass over the records
 // cost the writer about a third of what formatting them does.
 template <bool kExtended>
-void format_text_records(std::span<const Record> records, unsigned address_digits, ByteBuffer& out,
-                         RecordSummary& summary) {
+void format_text_records(std::span<const Record> records, unsigned address_digits, unsigned unit_digits,
+                         ByteBuffer& out, RecordSummary& summary) {
   const std::size_t start = out.size();
   out.reserve(start + records.size() * kMaxTextLine);
   char* p = out.data() + start;
-  const TextLayout layout{address_digits, true};
+  const TextLayout layout{address_digits, true, unit_digits};
   if (address_digits != 8) {
     for (const Record& record : records) {
       summary.add(record);
@@ -307,7 +343,7 @@ void format_text_records(std::span<const Record> records, unsigned address_digit
   } else {
     for (const Record& record : records) {
       summary.add(record);
-      if (!put_common_line<kExtended>(p, record)) p = put_text_line(p, record, kExtended, layout);
+      if (!put_common_line<kExtended>(p, record, unit_digits)) p = put_text_line(p, record, kExtended, layout);
     }
   }
   out.resize(static_cast<std::size_t>(p - out.data()));

@@ -25,10 +25,10 @@ RecordForm detect_text_form(std::string_view first_bytes) {
 }
 
 void format_records(std::span<const Record> records, RecordForm form, unsigned address_digits,
-                    std::uint64_t first_record, ByteBuffer& out, RecordSummary& summary) {
+                    unsigned unit_digits, std::uint64_t first_record, ByteBuffer& out, RecordSummary& summary) {
   switch (form) {
-    case RecordForm::Din: format_din_records(records, address_digits, out, summary); return;
-    case RecordForm::ExtendedDin: format_xdin_records(records, address_digits, out, summary); return;
+    case RecordForm::Din: format_din_records(records, address_digits, unit_digits, out, summary); return;
+    case RecordForm::ExtendedDin: format_xdin_records(records, address_digits, unit_digits, out, summary); return;
     case RecordForm::Binary: break;
   }
   format_binary_records(records, first_record, out);

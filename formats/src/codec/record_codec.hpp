@@ -29,6 +29,11 @@ struct RecordError {
 struct ParseSettings {
   RecordForm form = RecordForm::Din;
   bool tags_are_levels = false;
+  // More than 1 (and tags_are_levels): each record's tag is followed by its
+  // traversal unit, which must be below `units` (the header says how many).
+  // Otherwise a unit field is ignored, as Dinero IV ignores it.
+  unsigned units = 1;
+  bool reads_units() const { return tags_are_levels && units > 1; }
 };
 
 // Parses the records in `bytes`, appending to `out`. Text: every line is a
@@ -48,22 +53,22 @@ RecordForm detect_text_form(std::string_view first_bytes);
 inline constexpr std::size_t kMaxTextLine = kMaxFormattedRecord;
 
 // Appends the records in `form`: text lines with fixed-width fields, or
-// 8-byte binary records (what format_record writes with address_digits and
-// tags, faster), and counts them in `summary`. Throws base::FormatError when a
+// 8-byte binary records (what format_record writes with address_digits,
+// tags and unit_digits, faster), and counts them in `summary`. Throws base::FormatError when a
 // record cannot be written in that form (e.g. an address above 32 bits in
 // binary); `first_record` is its 0-based number in the trace, for the message.
 void format_records(std::span<const Record> records, RecordForm form, unsigned address_digits,
-                    std::uint64_t first_record, ByteBuffer& out, RecordSummary& summary);
+                    unsigned unit_digits, std::uint64_t first_record, ByteBuffer& out, RecordSummary& summary);
 
 // The codecs behind parse_records / format_records / format_record.
 bool parse_din_records(std::string_view bytes, const ParseSettings& settings, std::vector<Record>& out,
                        RecordError& error, std::uint64_t& ignored_fields);
-void format_din_records(std::span<const Record> records, unsigned address_digits, ByteBuffer& out,
-                        RecordSummary& summary);
+void format_din_records(std::span<const Record> records, unsigned address_digits, unsigned unit_digits,
+                        ByteBuffer& out, RecordSummary& summary);
 bool parse_xdin_records(std::string_view bytes, const ParseSettings& settings, std::vector<Record>& out,
                         RecordError& error, std::uint64_t& ignored_fields);
-void format_xdin_records(std::span<const Record> records, unsigned address_digits, ByteBuffer& out,
-                         RecordSummary& summary);
+void format_xdin_records(std::span<const Record> records, unsigned address_digits, unsigned unit_digits,
+                         ByteBuffer& out, RecordSummary& summary);
 bool parse_binary_records(std::string_view bytes, std::vector<Record>& out, RecordError& error);
 void format_binary_records(std::span<const Record> records, std::uint64_t first_record, ByteBuffer& out);
 // One binary record (8 bytes at `out`); throws base::FormatError, naming no record,

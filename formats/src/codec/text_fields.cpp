@@ -60,8 +60,8 @@ bool read_address(const char*& p, const char* end, std::uint64_t& address, std::
 
 namespace {
 
-// The tag field as a node level, `p` or `t`.
-bool read_tag(const char* p, const char* end, Tag& tag, std::string& message) {
+// The tag field as a node level, `p` or `t`; `p` is left after it.
+bool read_tag(const char*& p, const char* end, Tag& tag, std::string& message) {
   p = skip_blanks(p, end);
   if (p == end) {
     message = "missing tag (the trace's tags are node levels)";
@@ -69,6 +69,7 @@ bool read_tag(const char* p, const char* end, Tag& tag, std::string& message) {
   }
   const char* stop = token_end(p, end);
   const std::string_view token(p, static_cast<std::size_t>(stop - p));
+  p = stop;
   if (token == "p") {
     tag = kTagPrimitiveList;
     return true;
@@ -97,12 +98,40 @@ bool read_tag(const char* p, const char* end, Tag& tag, std::string& message) {
   return true;
 }
 
+// The unit field after the tag: decimal, below `units`.
+bool read_unit(const char* p, const char* end, unsigned units, TraversalUnit& unit, std::string& message) {
+  p = skip_blanks(p, end);
+  if (p == end) {
+    message = fmt::format("missing unit (the trace's header says its records carry one of {} traversal units)", units);
+    return false;
+  }
+  const std::string_view token(p, static_cast<std::size_t>(token_end(p, end) - p));
+  std::uint64_t value = 0;
+  for (const char c : token) {
+    if (c < '0' || c > '9' || value >= units) {
+      message = fmt::format("unit '{}' is not a traversal unit of this trace (0 to {})", shown_token(token), units - 1);
+      return false;
+    }
+    value = value * 10 + static_cast<unsigned>(c - '0');
+  }
+  if (value >= units) {
+    message = fmt::format("unit '{}' is not a traversal unit of this trace (0 to {})", shown_token(token), units - 1);
+    return false;
+  }
+  unit = traversal_unit(static_cast<unsigned>(value));
+  return true;
+}
+
 }  // namespace
 
 bool read_line_rest(const char* p, const char* end, const ParseSettings& settings, Record& record,
                     std::string& message, bool& ignored_fields) {
   record.tag = kTagNone;
-  if (settings.tags_are_levels) return read_tag(p, end, record.tag, message);
+  record.unit = TraversalUnit{};
+  if (settings.tags_are_levels) {
+    if (!read_tag(p, end, record.tag, message)) return false;
+    return !settings.reads_units() || read_unit(p, end, settings.units, record.unit, message);
+  }
   ignored_fields = skip_blanks(p, end) != end;
   return true;  // whatever follows is ignored, as Dinero IV ignores it
 }
@@ -118,11 +147,13 @@ bool parse_text_lines(std::string_view bytes, const ParseSettings& settings, Fas
   while (p < end) {
     if (fast) {
       const std::size_t before = out.size();
-      p += fast(p, end, settings.tags_are_levels, out);
+      p += fast(p, end, settings.tags_are_levels, settings.units, out);
       if (fast_ignores_tags) ignored_fields += out.size() - before;
       if (p == end) break;
     }
-    p += variable(p, end, settings.tags_are_levels, out, ignored_fields);
+    // The variable-width path takes no unit field: lines of a trace whose
+    // records carry units go to the general parser when not fixed-width.
+    if (!settings.reads_units()) p += variable(p, end, settings.tags_are_levels, out, ignored_fields);
     if (p == end) break;
     // One line the fast paths did not take.
     const char* newline = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));

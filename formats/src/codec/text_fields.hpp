@@ -70,14 +70,16 @@ std::string bad_digit(unsigned char c, const char* field);
 bool read_address(const char*& p, const char* end, std::uint64_t& address, std::string& message);
 
 // The rest of a line after its significant fields: the tag as a node level
-// when the trace's tags are levels (it must be there), else ignored (as
+// when the trace's tags are levels (it must be there) and then the unit when
+// the trace's records carry units (it must be there too), else ignored (as
 // Dinero IV ignores it), counting in `ignored_fields` that something was there.
 bool read_line_rest(const char* p, const char* end, const ParseSettings& settings, Record& record,
                     std::string& message, bool& ignored_fields);
 
 // A fast parser of a run of lines of one layout (fixed_width_lines.hpp): returns
 // the bytes of the whole lines it took, stopping at the first other line.
-using FastParser = std::size_t (*)(const char*, const char*, bool, std::vector<Record>&);
+// Takes tags_are_levels and ParseSettings::units.
+using FastParser = std::size_t (*)(const char*, const char*, bool, unsigned, std::vector<Record>&);
 // The fast parser of lines with fields of any width (variable_width_lines.hpp):
 // returns the bytes of the whole lines it took and counts the lines whose
 // ignored fields it dropped.
@@ -122,8 +124,20 @@ inline char* put_tag(char* out, Tag tag) {
   return out;
 }
 
+// A blank and the unit, zero-padded to `digits` (1 to 3).
+inline char* put_unit(char* out, TraversalUnit unit, unsigned digits) {
+  unsigned value = unit_index(unit);
+  *out = ' ';
+  for (unsigned i = digits; i > 0; --i) {
+    out[i] = static_cast<char>('0' + value % 10);
+    value /= 10;
+  }
+  return out + digits + 1;
+}
+
 // The general text line (any address, size and tag): din `LABEL ADDRESS
-// [TAG]`, extended din `TYPE ADDRESS SIZE [TAG]`, then the newline.
+// [TAG [UNIT]]`, extended din `TYPE ADDRESS SIZE [TAG [UNIT]]`, then the
+// newline.
 inline char* put_text_line(char* p, const Record& record, bool extended, const TextLayout& layout) {
   const auto type = static_cast<unsigned>(record.type);
   *p++ = extended ? kTypeLetters[type] : static_cast<char>('0' + type);
@@ -133,7 +147,10 @@ inline char* put_text_line(char* p, const Record& record, bool extended, const T
     *p++ = ' ';
     p = put_hex(p, record.size, 1);
   }
-  if (layout.tags) p = put_tag(p, record.tag);
+  if (layout.tags) {
+    p = put_tag(p, record.tag);
+    if (layout.unit_digits != 0 && record.tag != kTagNone) p = put_unit(p, record.unit, layout.unit_digits);
+  }
   *p++ = '\n';
   return p;
 }

@@ -69,9 +69,9 @@ bool parse_xdin_records(std::string_view bytes, const ParseSettings& settings, s
                           ignored_fields);
 }
 
-void format_xdin_records(std::span<const Record> records, unsigned address_digits, ByteBuffer& out,
-                         RecordSummary& summary) {
-  format_text_records<true>(records, address_digits, out, summary);
+void format_xdin_records(std::span<const Record> records, unsigned address_digits, unsigned unit_digits,
+                         ByteBuffer& out, RecordSummary& summary) {
+  format_text_records<true>(records, address_digits, unit_digits, out, summary);
 }
 
 }  // namespace nodetrace::formats::detail

@@ -153,6 +153,16 @@ bool TraceHeader::tags_are_levels() const {
   return found != json.end() && found->is_string() && found->get<std::string>() == "node-level";
 }
 
+unsigned TraceHeader::units() const {
+  const auto found = json.find("units");
+  if (found == json.end()) return 1;
+  if (!found->is_number_integer() || found->get<std::int64_t>() < 1 || found->get<std::int64_t>() > kMaxUnits) {
+    throw base::FormatError(fmt::format("header: \"units\" is {}, expected a count of traversal units from 1 to {}",
+                                        found->dump().substr(0, 40), kMaxUnits));
+  }
+  return found->get<unsigned>();
+}
+
 bool TraceHeader::announces_trailer() const {
   const auto found = json.find("trailer");
   return found != json.end() && found->is_boolean() && found->get<bool>();

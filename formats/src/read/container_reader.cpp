@@ -263,6 +263,11 @@ class ContainerReader final : public PipelinedReader {
     }
     settings_.form = *form;
     settings_.tags_are_levels = options_.tags_are_levels || header_.tags_are_levels();
+    try {
+      settings_.units = header_.units();
+    } catch (const base::FormatError& error) {
+      fail(error.what());
+    }
     header_end_ = input_->offset();
     if (input_->seekable() && header_.announces_trailer()) trailer_ = read_trailer_from_end();
     if (input_->seekable() && trailer_ && options_.keep_data_frame) {

@@ -105,6 +105,7 @@ class PipelinedReader : public TraceReader {
   const TraceHeader& header() const override { return header_; }
   RecordForm form() const override { return settings_.form; }
   bool tags_are_levels() const override { return settings_.tags_are_levels; }
+  unsigned units() const override { return settings_.reads_units() ? settings_.units : 1; }
   const std::optional<TraceTrailer>& trailer() const override { return trailer_; }
   std::uint64_t record_bytes() const override { return record_bytes_; }
   std::uint64_t records_with_ignored_fields() const override { return ignored_fields_; }

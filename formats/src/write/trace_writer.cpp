@@ -91,6 +91,16 @@ class Writer final : public TraceWriter {
     if (!header.is_object()) throw base::UsageError("the trace header must be a JSON object");
     container_ = decide_trace_output(path, options_.kind, options_.form).container;
     levels_ = container_ && options_.tags_are_levels && options_.form != RecordForm::Binary;
+    if (options_.units == 0 || options_.units > kMaxUnits) {
+      throw base::UsageError(fmt::format("traversal units must be 1 to {}, not {}", kMaxUnits, options_.units));
+    }
+    if (options_.units > 1 && (options_.form == RecordForm::Binary || (container_ && !levels_))) {
+      throw base::UsageError(fmt::format("records of {} traversal units carry the unit after a node-level tag; {}",
+                                         options_.units,
+                                         options_.form == RecordForm::Binary ? "binary records have no tag"
+                                                                             : "this trace's tags are not node levels"));
+    }
+    unit_digits_ = unit_digits_for(options_.units);
     pipeline_ = std::make_unique<base::OrderedPipeline<Item>>(options_.threads);
     XXH64_reset(record_hash_.get(), 0);
     XXH64_reset(content_hash_.get(), 0);
@@ -103,6 +113,8 @@ class Writer final : public TraceWriter {
       } else {
         header.erase("tag");
       }
+      header.erase("units");
+      if (options_.units > 1) header["units"] = options_.units;
       header["trailer"] = true;
       // The writer's, like "container": a converted archive's stale setting
       // must not travel on.
@@ -148,7 +160,8 @@ class Writer final : public TraceWriter {
         write_one_by_one(run);  // throws, naming the first bad record
       }
       const std::size_t text_before = pending_text_.size();
-      detail::format_records(run, options_.form, options_.address_digits, records_total_, pending_text_, summary_);
+      detail::format_records(run, options_.form, options_.address_digits, unit_digits_, records_total_, pending_text_,
+                             summary_);
       hash_text_from(text_before);
       pending_records_ += run.size();
       records_total_ += run.size();
@@ -200,12 +213,15 @@ class Writer final : public TraceWriter {
   bool writable(std::span<const Record> run) const {
     const bool din = options_.form == RecordForm::Din;
     const bool binary = options_.form == RecordForm::Binary;
+    // One unit writes no unit field: whatever a record's unit, it is dropped.
+    const unsigned unit_limit = options_.units > 1 ? options_.units : kMaxUnits;
     bool bad = false;
     for (const Record& record : run) {
       bad |= static_cast<unsigned>(record.type) >= static_cast<unsigned>(kAccessTypeCount);
       bad |= levels_ && record.tag == kTagNone;
       bad |= binary && (record.address > 0xFFFFFFFFu || record.size > 0xFFFFu);
       bad |= !din && record.size == 0;
+      bad |= unit_index(record.unit) >= unit_limit;
     }
     return !bad;
   }
@@ -232,12 +248,16 @@ class Writer final : public TraceWriter {
         fail(fmt::format("record {}: address {:#x} or size {} does not fit a binary record (32-bit address, 16-bit size)",
                          records_total_ + 1, record.address, record.size));
       }
+      if (options_.units > 1 && unit_index(record.unit) >= options_.units) {
+        fail(fmt::format("record {}: unit {} is not one of the trace's {} traversal units", records_total_ + 1,
+                         unit_index(record.unit), options_.units));
+      }
       if (record.size == 0 && options_.form != RecordForm::Din) {
         fail(fmt::format("record {}: size 0 (a reference is at least 1 byte)", records_total_ + 1));
       }
       const std::size_t text_before = pending_text_.size();
       detail::format_records(std::span<const Record>(&record, 1), options_.form, options_.address_digits,
-                             records_total_, pending_text_, summary_);
+                             unit_digits_, records_total_, pending_text_, summary_);
       hash_text_from(text_before);
       ++pending_records_;
       ++records_total_;
@@ -337,6 +357,7 @@ class Writer final : public TraceWriter {
   WriterOptions options_;
   bool container_ = false;
   bool levels_ = false;
+  unsigned unit_digits_ = 0;  // 0: no unit field
   bool finished_ = false;
   std::unique_ptr<base::OutputFile> out_;
   std::shared_ptr<Stock> stock_ = std::make_shared<Stock>();

@@ -110,7 +110,7 @@ std::string simulate(const Args& args, const std::vector<formats::Record>& recor
 }
 
 formats::Record ref(formats::AccessType type, std::uint64_t address) {
-  return formats::Record{address, 4, type, formats::kTagNone};
+  return formats::Record{address, 4, type, formats::TraversalUnit{}, formats::kTagNone};
 }
 
 TEST(DineroOutput, ThreeLevelsPrintOneTablePerCacheInLevelOrder) {

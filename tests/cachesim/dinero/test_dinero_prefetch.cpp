@@ -18,7 +18,7 @@ namespace {
 constexpr int kRead = 0;
 
 formats::Record read(std::uint64_t address) {
-  return formats::Record{address, 4, formats::AccessType::Read, formats::kTagNone};
+  return formats::Record{address, 4, formats::AccessType::Read, formats::TraversalUnit{}, formats::kTagNone};
 }
 
 // A 64-byte direct-mapped unified cache of 16-byte blocks.

@@ -16,13 +16,13 @@ using formats::Record;
 constexpr int kRead = 0, kWrite = 1, kInstr = 2;
 
 Record read(std::uint64_t address, std::uint32_t size = 4) {
-  return Record{address, size, AccessType::Read, formats::kTagNone};
+  return Record{address, size, AccessType::Read, formats::TraversalUnit{}, formats::kTagNone};
 }
 Record write(std::uint64_t address, std::uint32_t size = 4) {
-  return Record{address, size, AccessType::Write, formats::kTagNone};
+  return Record{address, size, AccessType::Write, formats::TraversalUnit{}, formats::kTagNone};
 }
 Record of_type(AccessType type, std::uint64_t address, std::uint32_t size = 4) {
-  return Record{address, size, type, formats::kTagNone};
+  return Record{address, size, type, formats::TraversalUnit{}, formats::kTagNone};
 }
 
 CacheConfig cache(std::uint64_t size, std::uint32_t block, std::uint32_t assoc,

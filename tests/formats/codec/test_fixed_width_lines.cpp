@@ -51,9 +51,9 @@ std::vector<Record> mixed_records() {
                                  : static_cast<Tag>(random() % 100);
     records.push_back(record);
   }
-  records.push_back({0xFFFFFFFFu, 15, AccessType::Invalidate, 99});
-  records.push_back({0x100000000ull, 16, AccessType::Read, 0});
-  records.push_back({0, 1, AccessType::Read, 100});
+  records.push_back({0xFFFFFFFFu, 15, AccessType::Invalidate, TraversalUnit{}, 99});
+  records.push_back({0x100000000ull, 16, AccessType::Read, TraversalUnit{}, 0});
+  records.push_back({0, 1, AccessType::Read, TraversalUnit{}, 100});
   return records;
 }
 
@@ -113,9 +113,9 @@ TEST(FixedWidthLines, FormatRecordWritesTheWritersBinaryRecords) {
   char bytes[kMaxFormattedRecord];
   for (const Record& record : records) formatted.append(bytes, format_record(record, RecordForm::Binary, {}, bytes));
   EXPECT_TRUE(formatted == read_file(dir / "t.bin"));
-  EXPECT_THROW(format_record({0x100000000ull, 4, AccessType::Read, kTagNone}, RecordForm::Binary, {}, bytes),
+  EXPECT_THROW(format_record({0x100000000ull, 4, AccessType::Read, TraversalUnit{}, kTagNone}, RecordForm::Binary, {}, bytes),
                base::FormatError);
-  EXPECT_THROW(format_record({0x1000, 0x10000, AccessType::Read, kTagNone}, RecordForm::Binary, {}, bytes),
+  EXPECT_THROW(format_record({0x1000, 0x10000, AccessType::Read, TraversalUnit{}, kTagNone}, RecordForm::Binary, {}, bytes),
                base::FormatError);
 }
 
@@ -124,7 +124,7 @@ TEST(FixedWidthLines, ABadRecordInABatchKeepsTheOnesBeforeItAndIsNamed) {
   WriterOptions options;
   options.kind = OutputKind::Container;
   auto writer = TraceWriter::create((dir / "t.din.zst").string(), nullptr, options);
-  std::vector<Record> records(10, Record{0x1000, 4, AccessType::Read, 3});
+  std::vector<Record> records(10, Record{0x1000, 4, AccessType::Read, TraversalUnit{}, 3});
   records[6].tag = kTagNone;
   try {
     writer->write(records);

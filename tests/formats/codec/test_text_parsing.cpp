@@ -80,7 +80,7 @@ TEST_F(TextParsing, ExtendedDinAcceptsAndRejects) {
   const auto result = read_all(write("r 100 4\nw 0x200 8 07 more\ni 300 10\nm 0 1\nc 8 4\nv 10 4\n"));
   ASSERT_EQ(result.records.size(), 6u);
   EXPECT_EQ(result.form, RecordForm::ExtendedDin);
-  EXPECT_EQ(result.records[1], (Record{0x200, 8, AccessType::Write, kTagNone}));
+  EXPECT_EQ(result.records[1], (Record{0x200, 8, AccessType::Write, TraversalUnit{}, kTagNone}));
   EXPECT_EQ(result.records[2].size, 16u);
   EXPECT_EQ(result.records[5].type, AccessType::Invalidate);
   EXPECT_NE(error_of("r 100 4\nx 100 4\n").find("record 2: unknown access type 'x'"), std::string::npos);
@@ -115,7 +115,7 @@ TEST_F(TextParsing, LevelTagErrors) {
   EXPECT_NE(error_of("0 100 7x\n", levels).find("tag '7x'"), std::string::npos);
   EXPECT_NE(error_of("0 100 99999\n", levels).find("above the largest node level"), std::string::npos);
   EXPECT_NE(error_of("r 100 4\n", levels).find("record 1: missing tag"), std::string::npos);
-  EXPECT_EQ(read_all(write("r 100 8 05\n"), levels).records.at(0), (Record{0x100, 8, AccessType::Read, 5}));
+  EXPECT_EQ(read_all(write("r 100 8 05\n"), levels).records.at(0), (Record{0x100, 8, AccessType::Read, TraversalUnit{}, 5}));
 }
 
 TEST_F(TextParsing, FastPathAndGeneralParserAgree) {
@@ -201,7 +201,7 @@ TEST_F(TextParsing, BinaryRecordsMustBeNamed) {
   binary.form = RecordForm::Binary;
   const auto result = read_all(write(bytes, "t.bin"), binary);
   ASSERT_EQ(result.records.size(), 2u);
-  EXPECT_EQ(result.records[1], (Record{0x1a38, 8, AccessType::Write, kTagNone}));
+  EXPECT_EQ(result.records[1], (Record{0x1a38, 8, AccessType::Write, TraversalUnit{}, kTagNone}));
   EXPECT_NE(read_error(write(bytes + "abc", "t.bin"), binary).find("record 3: truncated record: 3 bytes of 8"),
             std::string::npos);
   std::string bad = bytes;

@@ -165,12 +165,12 @@ TEST_F(Container, PlainOutputRoundTrips) {
     EXPECT_EQ(result.form, form);
     EXPECT_EQ(result.records, as_read_back(records, form, true));
   }
-  std::vector<Record> untagged = {{0x1a38, 4, AccessType::Write, kTagNone}};
+  std::vector<Record> untagged = {{0x1a38, 4, AccessType::Write, TraversalUnit{}, kTagNone}};
   write_trace(path("u.din"), untagged, options_for(RecordForm::Din));
   EXPECT_EQ(read_file(path("u.din")), "1 00001a38\n");
   WriterOptions wide = options_for(RecordForm::ExtendedDin);
   wide.address_digits = 16;
-  write_trace(path("w.xdin"), {{0x1a38, 8, AccessType::Read, 7}}, wide);
+  write_trace(path("w.xdin"), {{0x1a38, 8, AccessType::Read, TraversalUnit{}, 7}}, wide);
   EXPECT_EQ(read_file(path("w.xdin")), "r 0000000000001a38 8 07\n");
 }
 
@@ -248,7 +248,7 @@ TEST_F(Container, ReadsPlainZstdFromOtherToolsAndSkipsUnknownSkippableFrames) {
   ASSERT_EQ(run_command("zstd -q -c '" + path("t.din") + "' > '" + path("t.din.zst") + "'").exit_code, 0);
   auto result = read_all(path("t.din.zst"));
   ASSERT_EQ(result.records.size(), 3u);
-  EXPECT_EQ(result.records[1], (Record{0xff2f80, 4, AccessType::Read, kTagNone}));
+  EXPECT_EQ(result.records[1], (Record{0xff2f80, 4, AccessType::Read, TraversalUnit{}, kTagNone}));
   // Someone else's skippable frame in front (magic 0x184D2A53, 3 bytes).
   const std::string skippable("\x53\x2a\x4d\x18\x03\x00\x00\x00xyz", 11);
   write_file(path("s.din.zst"), skippable + read_file(path("t.din.zst")));
@@ -281,16 +281,16 @@ TEST_F(Container, WriterUsesATemporaryFileAndRemovesItWhenAbandoned) {
 
 TEST_F(Container, WriterRejectsWhatItCannotWrite) {
   auto writer = TraceWriter::create(path("t.din.zst"), {}, options_for(RecordForm::Din));
-  EXPECT_THROW(writer->write(Record{0x100, 4, AccessType::Read, kTagNone}), base::FormatError);
+  EXPECT_THROW(writer->write(Record{0x100, 4, AccessType::Read, TraversalUnit{}, kTagNone}), base::FormatError);
   auto binary = TraceWriter::create(path("t.bin"), {}, options_for(RecordForm::Binary));
-  EXPECT_THROW(binary->write(Record{0x100000000ull, 4, AccessType::Read, kTagNone}), base::FormatError);
+  EXPECT_THROW(binary->write(Record{0x100000000ull, 4, AccessType::Read, TraversalUnit{}, kTagNone}), base::FormatError);
   WriterOptions bad = options_for(RecordForm::Din);
   bad.address_digits = 12;
   EXPECT_THROW(TraceWriter::create(path("u.din.zst"), {}, bad), base::UsageError);
   // Untagged records in a container that does not claim levels are fine.
   WriterOptions untagged = options_for(RecordForm::Din);
   untagged.tags_are_levels = false;
-  write_trace(path("u.din.zst"), {{0x100, 4, AccessType::Read, kTagNone}}, untagged);
+  write_trace(path("u.din.zst"), {{0x100, 4, AccessType::Read, TraversalUnit{}, kTagNone}}, untagged);
   const auto result = read_all(path("u.din.zst"));
   EXPECT_FALSE(result.tags_are_levels);
   EXPECT_EQ(result.records.size(), 1u);
@@ -412,7 +412,7 @@ TEST_F(Container, AddedTotalsReachTheTrailer) {
 TEST_F(Container, WideAddressesAndHeaderChecks) {
   WriterOptions wide = options_for(RecordForm::Din);
   wide.address_digits = 16;
-  const std::vector<Record> records = {{0x123456789abcull, 4, AccessType::Read, 3}, {0x10, 4, AccessType::Write, 4}};
+  const std::vector<Record> records = {{0x123456789abcull, 4, AccessType::Read, TraversalUnit{}, 3}, {0x10, 4, AccessType::Write, TraversalUnit{}, 4}};
   write_trace(path("w.din.zst"), records, wide);
   EXPECT_EQ(read_all(path("w.din.zst")).records, records);
   const auto text = run_command("zstd -dc '" + path("w.din.zst") + "'");
@@ -531,7 +531,7 @@ TEST_F(Container, FramesOutOfOrderAreNamed) {
   // keeps every offset right; only the order check can tell.
   std::vector<Record> records;
   for (int frame = 0; frame < 3; ++frame) {
-    for (int i = 0; i < 100; ++i) records.push_back({0x1000u + 0x100u * frame, 4, AccessType::Read, 1});
+    for (int i = 0; i < 100; ++i) records.push_back({0x1000u + 0x100u * frame, 4, AccessType::Read, TraversalUnit{}, 1});
   }
   write_trace(path("t.din.zst"), records, options_for(RecordForm::Din, 100));
   auto reader = TraceReader::open(path("t.din.zst"));

@@ -32,8 +32,8 @@ TEST(Golden, Mm32DinReadsExactly) {
   EXPECT_EQ(counts[2], 188971u);
   EXPECT_EQ(counts[3], 8u);
   EXPECT_EQ(counts[4] + counts[5], 0u);
-  EXPECT_EQ(result.records[0], (Record{0x130, 4, AccessType::InstructionFetch, kTagNone}));
-  EXPECT_EQ(result.records[2], (Record{0xff2f80, 4, AccessType::Read, kTagNone}));
+  EXPECT_EQ(result.records[0], (Record{0x130, 4, AccessType::InstructionFetch, TraversalUnit{}, kTagNone}));
+  EXPECT_EQ(result.records[2], (Record{0xff2f80, 4, AccessType::Read, TraversalUnit{}, kTagNone}));
   std::uint64_t address_sum = 0;
   for (const auto& record : result.records) address_sum += record.address;
   EXPECT_EQ(address_sum, 370683768704u);
@@ -81,7 +81,7 @@ TEST(Golden, KdTraceLevelsReadExactly) {
     ++per_level[record.tag];
   }
   EXPECT_EQ(per_level, expected);
-  EXPECT_EQ(result.records[1], (Record{0x10000010, 4, AccessType::Read, 1}));
+  EXPECT_EQ(result.records[1], (Record{0x10000010, 4, AccessType::Read, TraversalUnit{}, 1}));
   std::uint64_t address_sum = 0;
   for (const auto& record : result.records) address_sum += record.address;
   EXPECT_EQ(address_sum, 53688366752896u);

@@ -11,11 +11,11 @@ namespace {
 
 TEST(RecordSummary, CountsByTagAndTypeWithTheTrailersKeys) {
   RecordSummary summary;
-  summary.add(Record{0x10, 4, AccessType::Read, 2});
-  summary.add(std::vector<Record>{{0x20, 4, AccessType::Write, 2},
-                                  {0x30, 4, AccessType::Read, kTagPrimitiveList},
-                                  {0x40, 4, AccessType::Invalidate, kTagNone},
-                                  {0x50, 4, AccessType::Read, 12}});
+  summary.add(Record{0x10, 4, AccessType::Read, TraversalUnit{}, 2});
+  summary.add(std::vector<Record>{{0x20, 4, AccessType::Write, TraversalUnit{}, 2},
+                                  {0x30, 4, AccessType::Read, TraversalUnit{}, kTagPrimitiveList},
+                                  {0x40, 4, AccessType::Invalidate, TraversalUnit{}, kTagNone},
+                                  {0x50, 4, AccessType::Read, TraversalUnit{}, 12}});
   EXPECT_EQ(summary.records(), 5u);
   EXPECT_EQ(summary.records_per_tag().dump(), R"({"12":1,"2":2,"none":1,"p":1})");
   EXPECT_EQ(summary.records_per_type().dump(),

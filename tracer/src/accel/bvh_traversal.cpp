@@ -18,8 +18,10 @@ BvhTraversal::BvhTraversal(const std::vector<Triangle>& triangles, const Bvh& bv
   if (slots.size() != nodes.size()) throw std::invalid_argument("layout does not match the BVH");
   node_records_.resize(nodes.size());
   for (std::size_t i = 0; i < nodes.size(); ++i) {
-    node_records_[i] = {addresses.node_base + std::uint64_t{slots[i]} * addresses.node_size, addresses.node_size,
-                        formats::AccessType::Read, static_cast<formats::Tag>(nodes[i].level)};
+    node_records_[i] = {.address = addresses.node_base + std::uint64_t{slots[i]} * addresses.node_size,
+                        .size = addresses.node_size,
+                        .type = formats::AccessType::Read,
+                        .tag = static_cast<formats::Tag>(nodes[i].level)};
   }
 }
 

@@ -30,12 +30,16 @@ struct LeafVisit {
       const std::uint32_t slot = first + i;
       const std::uint32_t id = primitives[slot];
       if (records && streams.lists) {
-        records->push_back({map.list_base + std::uint64_t{slot} * map.list_entry_size, map.list_entry_size,
-                            formats::AccessType::Read, formats::kTagPrimitiveList});
+        records->push_back({.address = map.list_base + std::uint64_t{slot} * map.list_entry_size,
+                            .size = map.list_entry_size,
+                            .type = formats::AccessType::Read,
+                            .tag = formats::kTagPrimitiveList});
       }
       if (records && streams.triangles) {
-        records->push_back({map.triangle_base + std::uint64_t{id} * map.triangle_size, map.triangle_size,
-                            formats::AccessType::Read, formats::kTagTriangle});
+        records->push_back({.address = map.triangle_base + std::uint64_t{id} * map.triangle_size,
+                            .size = map.triangle_size,
+                            .type = formats::AccessType::Read,
+                            .tag = formats::kTagTriangle});
       }
       ++tests;
       if (intersect_sheared(sheared, triangles[id], best, hit)) {

@@ -24,9 +24,10 @@ Traversal::Traversal(const std::vector<Triangle>& triangles, const KdTree& tree,
   compact_.resize(nodes.size());
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     const KdNode& n = nodes[i];
-    node_records_[i] = {addresses.node_base + std::uint64_t{slots[i]} * addresses.node_size,
-                        addresses.node_size, formats::AccessType::Read,
-                        static_cast<formats::Tag>(n.level)};
+    node_records_[i] = {.address = addresses.node_base + std::uint64_t{slots[i]} * addresses.node_size,
+                        .size = addresses.node_size,
+                        .type = formats::AccessType::Read,
+                        .tag = static_cast<formats::Tag>(n.level)};
     if (n.is_leaf()) {
       compact_[i].first = n.first;
       compact_[i].bits = (n.count << 2) | KdNode::kLeafAxis;

@@ -70,6 +70,7 @@ bool Renderer::occluded(const Ray& ray, float t_max, std::vector<Record>* record
 }
 
 RenderStats Renderer::render(const RecordSink& sink, Image* image, const Progress& progress) const {
+  if (options_.rays_in_flight > 1 || options_.units > 1) return render_in_flight(sink, image, progress);
   const PixelRun all{0, static_cast<std::uint64_t>(options_.width) * static_cast<std::uint64_t>(options_.height)};
   return render_runs({&all, 1}, {}, sink, image, progress);
 }

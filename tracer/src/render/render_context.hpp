@@ -6,6 +6,7 @@
 #include <functional>
 #include <vector>
 
+#include "nodetrace/tracer/render/ray_scheduler.hpp"
 #include "nodetrace/tracer/render/render.hpp"
 
 namespace nodetrace::tracer {
@@ -23,6 +24,21 @@ struct Renderer::Context {
   std::size_t flush_at = 0;
   void maybe_flush() {
     if (records && flush && records->size() >= flush_at) flush();
+  }
+
+  // Set when each ray's records are kept apart (rays in flight): the shader
+  // notes where each ray's records begin and end and which ray cast it.
+  std::vector<PixelRays::Ray>* rays = nullptr;
+  // The ray whose hit the next ray shade() casts depends on.
+  std::uint32_t parent = PixelRays::kNoParent;
+  // A ray cast by `caster` begins; returns its number in the pixel.
+  std::uint32_t begin_ray(std::uint32_t caster) {
+    if (!rays) return 0;
+    rays->push_back({caster, static_cast<std::uint32_t>(records->size()), 0});
+    return static_cast<std::uint32_t>(rays->size() - 1);
+  }
+  void end_ray(std::uint32_t ray) {
+    if (rays) (*rays)[ray].end = static_cast<std::uint32_t>(records->size());
   }
 };
 

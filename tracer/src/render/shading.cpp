@@ -15,8 +15,10 @@ namespace nodetrace::tracer {
 
 Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) const {
   ++context.stats.rays[static_cast<int>(kind)];
+  const std::uint32_t self = context.begin_ray(context.parent);
   const auto hit = closest_hit(ray, std::numeric_limits<float>::infinity(), context.records,
                                &context.stats);
+  context.end_ray(self);
   context.maybe_flush();
   if (!hit) return scene_.background;
 
@@ -54,7 +56,9 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
       if (dot(to_light, facing) <= 0) continue;
       ++context.stats.rays[static_cast<int>(RayKind::Shadow)];
       const Ray shadow{shadow_origin, light.position - shadow_origin};
+      const std::uint32_t shadow_ray = context.begin_ray(self);
       const bool blocked = occluded(shadow, 1.0f - 1e-4f, context.records, &context.stats);
+      context.end_ray(shadow_ray);
       context.maybe_flush();
       if (blocked) continue;
       const Vec3 l = unit_vector(to_light);
@@ -88,10 +92,12 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
     // A smooth normal can send the mirror ray under the surface: use the face.
     if (dot(direction, facing) <= 0) direction = detail::reflect(ray.direction, facing);
     const Ray reflection{offset_ray_origin(surface, facing), normalize(direction)};
+    context.parent = self;
     color += shade(reflection, RayKind::Reflection, depth + 1, context) * reflect_weight;
   }
   if (refract_weight > 0 && dot(refracted, facing) < 0) {
     const Ray refraction{offset_ray_origin(surface, -facing), refracted};
+    context.parent = self;
     color += shade(refraction, RayKind::Refraction, depth + 1, context) * refract_weight;
   }
   return color;
@@ -100,6 +106,7 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
 void Renderer::render_pixel(std::uint32_t pixel, Context& context, Image* image) const {
   const int x = static_cast<int>(pixel % static_cast<std::uint32_t>(options_.width));
   const int y = static_cast<int>(pixel / static_cast<std::uint32_t>(options_.width));
+  context.parent = PixelRays::kNoParent;
   const Vec3 color = shade(pinhole_.primary_ray(x, y), RayKind::Primary, 1, context);
   if (image) image->pixels[pixel] = color;
 }

@@ -54,6 +54,14 @@ nlohmann::json make_header(const SceneSource& source, const Scene& first_scene,
   // Written only when narrowed, so a default render's header is as before.
   if (r.rays != RayScope::Whitted) render["rays"] = ray_scope_name(r.rays);
   if (r.first_light_only) render["lights"] = "first";
+  // Written only with rays in flight, so a sequential render's header is as
+  // before; the writer adds the top-level "units" the readers go by.
+  if (r.rays_in_flight > 1 || r.units > 1) {
+    render["rays_in_flight"] = r.rays_in_flight;
+    render["units"] = r.units;
+    render["unit_pixels"] = r.unit_pixels;
+    render["ready_order"] = ready_order_name(r.ready_order);
+  }
   header["render"] = render;
   nlohmann::json layout = {{"name", layout_name(target.layout)},
                            {"node_size", r.addresses.node_size},
@@ -243,6 +251,15 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
   if (options.layout == LayoutKind::Hybrid && !options.split_level && !options.high_size) {
     throw base::UsageError("the hybrid layout needs --split-level K or --high-size SIZE");
   }
+  if (r.rays_in_flight > 1 || r.units > 1) {
+    if (options.sampling) {
+      throw base::UsageError("--sample-rows renders bands one at a time: it cannot be combined with "
+                             "--rays-in-flight or --units above 1");
+    }
+    if (r.units > 1 && options.form == formats::RecordForm::Binary && !options.output.empty()) {
+      throw base::UsageError("--units above 1: binary records have no tag field, so they cannot carry the unit");
+    }
+  }
   const Animation& animation = source.animation();
   std::vector<std::pair<std::uint64_t, double>> frames;
   if (options.time) {
@@ -317,6 +334,7 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
                           (r.streams.lists && r.addresses.list_base > 0xC0000000ull) ||
                           (r.streams.triangles && r.addresses.triangle_base > 0xC0000000ull);
         writer_options.address_digits = wide ? 16 : 8;
+        writer_options.units = r.units;
         writers[t] = formats::TraceWriter::create(targets[t].output, header, writer_options);
       }
     }

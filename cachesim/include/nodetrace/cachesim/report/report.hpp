@@ -3,9 +3,9 @@
 // aligned table (for people), CSV with a header line, or JSON. Every output is
 // one table: CSV one header and rows of its width; JSON always the object
 // {"columns": [names], "rows": [{column: value}, ...]} (numbers as numbers,
-// empty columns as null). The per-level and per-frame tables are outputs of
-// their own (`--per-level FILE`, `--per-frame FILE`), never appended to the
-// main one.
+// empty columns as null). The per-level, per-frame and per-unit tables are
+// outputs of their own (`--per-level FILE`, `--per-frame FILE`, `--per-unit
+// FILE`), never appended to the main one.
 #pragma once
 
 #include <optional>
@@ -28,6 +28,7 @@ inline constexpr std::size_t kConfigurationColumns = 10;
 // Per-level: the configuration columns, then level, refs, misses.
 const std::vector<std::string>& level_report_columns();
 const std::vector<std::string>& animation_frame_report_columns();  // the main ones, `frame` after `trace`
+const std::vector<std::string>& unit_report_columns();  // the main ones, `unit` after `trace`
 
 // misses / fetches with six decimals, rounded half up, from integer counts
 // (empty when there are no fetches: a ratio of nothing is not 0).
@@ -40,6 +41,7 @@ std::string assoc_text(const Configuration& config);
 std::vector<std::string> report_cells(const ResultRow& row);
 std::vector<std::string> level_report_cells(const LevelRow& row);
 std::vector<std::string> animation_frame_report_cells(const AnimationFrameRow& row);
+std::vector<std::string> unit_report_cells(const UnitRow& row);
 
 // Any table of text cells in `format` (the shapes above); `text_column(c)`
 // says which columns JSON quotes (others are numbers unless a cell is not one).
@@ -47,12 +49,18 @@ std::string format_cells(const std::vector<std::string>& columns,
                          const std::vector<std::vector<std::string>>& rows, ReportFormat format,
                          bool (*text_column)(std::size_t));
 
-// The main table alone.
+// Runs with a second-level cache (`--l2-size`) append these after
+// low_misses, in every row: its geometry, the first-level fetches it saw,
+// its fetches, misses and miss ratio (six decimals, empty without fetches).
+const std::vector<std::string>& second_level_columns();
+// The main table alone (with the second-level columns when its rows have them).
 std::string format_rows(const std::vector<ResultRow>& rows, ReportFormat format);
 // The per-level table alone.
 std::string format_level_rows(const std::vector<LevelRow>& rows, ReportFormat format);
 // The per-frame table alone.
 std::string format_animation_frame_rows(const std::vector<AnimationFrameRow>& rows, ReportFormat format);
+// The per-unit table alone (`cachesim run --units private --per-unit FILE`).
+std::string format_unit_rows(const std::vector<UnitRow>& rows, ReportFormat format);
 
 // Sampled runs (docs/ARCHITECTURE.md "Report columns", cachesim/SAMPLING.md): the main
 // columns, then these, in every row; then one `gain` row per split

@@ -12,6 +12,18 @@
 
 namespace nodetrace::cachesim {
 
+// A second-level cache's counts for one configuration (`--l2-size`): its
+// geometry, the first-level fetches it saw (refs), its demand fetches and
+// misses.
+struct SecondLevelCounts {
+  std::uint64_t size = 0;
+  std::uint32_t block = 0;
+  std::uint32_t assoc = 0;
+  std::uint64_t refs = 0;
+  std::uint64_t fetches = 0;
+  std::uint64_t misses = 0;
+};
+
 // One report row (DESIGN.md column list). Optional fields are the empty
 // columns (high / low columns of `single`, high_loads under `cache`).
 struct ResultRow {
@@ -26,6 +38,8 @@ struct ResultRow {
   std::optional<std::uint64_t> high_loads;
   std::uint64_t low_refs = 0;
   std::uint64_t low_misses = 0;
+  // Runs with a second-level cache only: its own columns after low_misses.
+  std::optional<SecondLevelCounts> l2;
 };
 
 // `--per-level`: references and misses of one node level in one configuration
@@ -44,6 +58,13 @@ struct LevelRow {
 // split_level is that frame's K).
 struct AnimationFrameRow {
   std::uint64_t frame = 0;
+  ResultRow row;
+};
+
+// `--per-unit`: one configuration's counts in one traversal unit's private
+// caches (`cachesim run --units private`).
+struct UnitRow {
+  unsigned unit = 0;
   ResultRow row;
 };
 

@@ -78,6 +78,10 @@ struct TraceHeader {
   std::optional<RecordForm> form() const;
   // True when the header says `"tag": "node-level"`.
   bool tags_are_levels() const;
+  // The traversal units whose records the trace holds (`"units": N`, 1 when
+  // absent); above 1 every record carries its unit after the tag. Throws
+  // base::FormatError when the key holds no count from 1 to kMaxUnits.
+  unsigned units() const;
   // True when the header announces a trailer (a missing one is truncation).
   bool announces_trailer() const;
   // The "layout" object; defaults (node_size 8, base 0, no name) for what it

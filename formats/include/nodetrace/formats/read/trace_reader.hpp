@@ -69,6 +69,10 @@ class TraceReader {
   virtual RecordForm form() const = 0;
   // True when tags are node levels (header says so, or tags_are_levels).
   virtual bool tags_are_levels() const = 0;
+  // The traversal units the records carry: above 1 when the header says
+  // `"units"` and the tags are node levels (each record's `unit` is read);
+  // 1 otherwise (a unit field is ignored, as Dinero IV ignores it).
+  virtual unsigned units() const { return 1; }
 
   // Fills `batch` with the next records (replacing its contents); returns
   // false at the end of the trace. Throws base::FormatError naming the record number

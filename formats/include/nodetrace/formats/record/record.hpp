@@ -29,12 +29,24 @@ inline constexpr Tag kTagNone = 0xFFFF;           // untagged record
 
 constexpr bool is_level(Tag tag) { return tag <= kMaxLevel; }
 
+// The traversal unit that issued a record (DESIGN.md "Trace records": a trace
+// of several units writes it as a decimal field after the tag). An enum, so
+// that a brace initialiser written before the field existed, `{address,
+// size, type, tag}`, does not compile rather than put the tag in it.
+enum class TraversalUnit : std::uint8_t {};
+inline constexpr unsigned kMaxUnits = 256;  // units 0..255
+constexpr unsigned unit_index(TraversalUnit unit) { return static_cast<unsigned>(unit); }
+constexpr TraversalUnit traversal_unit(unsigned index) { return static_cast<TraversalUnit>(index); }
+
 struct Record {
   std::uint64_t address = 0;
   // Bytes referenced. Din has no size field: din records carry 4, the size
   // Dinero IV gives them (see dinero_view).
   std::uint32_t size = 4;
   AccessType type = AccessType::Read;
+  // Unit 0 unless the trace says its records carry units (in the padding
+  // byte before the tag: a Record stays 16 bytes).
+  TraversalUnit unit{};
   Tag tag = kTagNone;
 
   friend bool operator==(const Record&, const Record&) = default;

@@ -17,7 +17,17 @@ struct TextLayout {
   unsigned address_digits = 8;
   // Write the tag field (a record with kTagNone has none either way).
   bool tags = true;
+  // 0: no unit field. Else each tagged record's traversal unit follows its
+  // tag, zero-padded to this many decimal digits (those of the trace's
+  // largest unit, so every line has the same length): `0 00001a38 07 3`.
+  unsigned unit_digits = 0;
 };
+
+// The digits of the largest unit of a trace of `units` units (1 to 3); 0 for
+// one unit, whose records carry no unit field.
+constexpr unsigned unit_digits_for(unsigned units) {
+  return units <= 1 ? 0 : units <= 10 ? 1 : units <= 100 ? 2 : 3;
+}
 
 // Our traces' lines: `0 00001a38 07`, `r 00001a38 8 07`.
 inline constexpr TextLayout kTraceTextLayout{8, true};
@@ -25,8 +35,9 @@ inline constexpr TextLayout kTraceTextLayout{8, true};
 inline constexpr TextLayout kDineroTextLayout{1, false};
 
 // The most bytes format_record writes: a text line with 16 address digits, 8
-// size digits, 5 tag digits, the blanks and the newline (binary: 8).
-inline constexpr std::size_t kMaxFormattedRecord = 1 + 1 + 16 + 1 + 8 + 1 + 5 + 1;
+// size digits, 5 tag digits, 3 unit digits, the blanks and the newline
+// (binary: 8).
+inline constexpr std::size_t kMaxFormattedRecord = 1 + 1 + 16 + 1 + 8 + 1 + 5 + 1 + 3 + 1;
 
 // Writes `record` in `form` at `out` (room for kMaxFormattedRecord bytes) and
 // returns the bytes written; text ends with its newline. The layout applies

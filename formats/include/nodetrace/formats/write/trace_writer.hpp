@@ -30,6 +30,12 @@ struct WriterOptions {
   // record must then carry a level, `p` or `t`. Binary records carry no tag,
   // so a binary container never says so.
   bool tags_are_levels = true;
+  // Traversal units of the records (1 to kMaxUnits). Above 1, every tagged
+  // text record carries its unit after the tag (fixed width, TextLayout::
+  // unit_digits), each must be below `units`, and a container's header says
+  // `"units": N` (only then: one unit writes what it always wrote). Binary
+  // records cannot carry one.
+  unsigned units = 1;
 };
 
 // The archive setting (`--archive`): compressed for size rather than speed.

@@ -24,6 +24,7 @@
 #include "nodetrace/tracer/render/pixel_order.hpp"
 #include "nodetrace/tracer/geometry/ray.hpp"
 #include "nodetrace/tracer/render/ray_kinds.hpp"
+#include "nodetrace/tracer/render/ray_scheduler.hpp"
 #include "nodetrace/tracer/render/render_stats.hpp"
 #include "nodetrace/tracer/scene/scene.hpp"
 #include "nodetrace/tracer/accel/traversal.hpp"
@@ -44,6 +45,14 @@ struct RenderOptions {
   StreamSelection streams;
   AddressMap addresses;
   int pixels_per_chunk = 512;  // unit of parallel work (does not change the output)
+  // Rays in flight (README "Rays in flight", ray_scheduler.hpp): units of
+  // this many ray slots each. Pixel-sequence positions are dealt to the
+  // units in runs of unit_pixels, run r to unit r mod units. One unit of one
+  // slot is the sequential order.
+  unsigned rays_in_flight = 1;
+  unsigned units = 1;
+  unsigned unit_pixels = 64;
+  ReadyOrder ready_order = ReadyOrder::DepthFirst;
   // A chunk's records go to the sink once this many are waiting, even in the
   // middle of a pixel, so memory does not grow with the ray tree (does not
   // change the output; a sink call may hold one traversal more).
@@ -69,9 +78,16 @@ class Renderer {
            const RenderOptions& options);
 
   // Renders every pixel. Records reach `sink` in the sequential order (pixel
-  // by pixel, each pixel's ray tree depth-first) whatever the thread count.
-  // `image` (optional) receives the picture.
+  // by pixel, each pixel's ray tree depth-first) whatever the thread count,
+  // or, with more than one ray in flight or unit, in the order of
+  // render_in_flight. `image` (optional) receives the picture.
   RenderStats render(const RecordSink& sink, Image* image, const Progress& progress = {}) const;
+  // Renders every pixel with the units and rays in flight of the options:
+  // each pixel's rays are traced on the workers, each ray's records kept
+  // apart, then RayScheduler interleaves them in order, so the records do
+  // not depend on the thread count. With one unit of one slot, the records
+  // of render().
+  RenderStats render_in_flight(const RecordSink& sink, Image* image, const Progress& progress = {}) const;
   // Renders the pixels of `runs` only (in increasing, disjoint order), the
   // others' rays never traced; their records are those the full render
   // makes for these pixels, in the same order.
