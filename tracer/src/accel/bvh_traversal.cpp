@@ -89,8 +89,9 @@ bool BvhTraversal::traverse(const std::vector<WideNode<W>>& nodes, const Ray& ra
       ++fetches;
       if (record_nodes) records->push_back(node_records_[current.index]);
       const WideNode<W>& node = nodes[current.index];
-      // Every child box at once (the slab test of detail::intersect_box_branchless,
-      // plane by plane), then the children hit, nearest first (ties: stored order).
+      // Every child box at once: detail::intersect_box's slab test (its
+      // conservative rounding, NaN bounds ignored) without its early exits,
+      // plane by plane; then the children hit, nearest first (ties: stored order).
       constexpr float kGrow = 1.0f + 2.0f * 3.0f * std::numeric_limits<float>::epsilon();
       float t_near[W], t_far[W];
       for (unsigned k = 0; k < W; ++k) {
