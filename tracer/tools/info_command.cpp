@@ -5,6 +5,7 @@
 #include <fmt/ranges.h>
 
 #include <cstdio>
+#include <map>
 #include <new>
 #include <nlohmann/json.hpp>
 
@@ -81,8 +82,18 @@ int InfoCommand::run() const {
       split_levels[std::to_string(size)] = base::split_level_for_capacity(
           s.nodes_per_level, base::LevelPlacement::contiguous_bytes(node_size), size);
     }
+    // A BVH's leaves by size: how many hold 1, 2, ... triangles.
+    std::map<std::uint32_t, std::uint64_t> leaf_sizes;
+    if (const Bvh* bvh = tree.bvh()) {
+      for (const auto& child : bvh->children()) {
+        if (child.is_leaf()) ++leaf_sizes[child.count];
+      }
+    }
+    nlohmann::json leaf_size_counts = nlohmann::json::object();
+    for (const auto& [size, count] : leaf_sizes) leaf_size_counts[std::to_string(size)] = count;
     if (kind != AccelKind::KdTree) {
       nlohmann::json accel = {{"name", accel_name(kind)},
+                              {"leaves_by_size", leaf_size_counts},
                               {"arity", accel_arity(kind)},
                               {"nodes", s.nodes},
                               {"leaves", s.leaves},
@@ -139,8 +150,10 @@ int InfoCommand::run() const {
     } else {
       fmt::print("{}: {} nodes of {} bytes ({} bytes), {}-wide, {} leaves, depth {}\n", accel_name(kind), s.nodes,
                  node_size, s.nodes * node_size, accel_arity(kind), s.leaves, s.depth);
-      fmt::print("  mean leaf size {:.2f}, SAH cost {:.2f}, built in {:.3f} s\n", s.mean_leaf_size, s.sah_cost,
-                 s.build_seconds);
+      std::string by_size;
+      for (const auto& [size, count] : leaf_sizes) by_size += fmt::format("{}{}: {}", by_size.empty() ? "" : ", ", size, count);
+      fmt::print("  mean leaf size {:.2f} (leaves by triangles {}), SAH cost {:.2f}, built in {:.3f} s\n",
+                 s.mean_leaf_size, by_size, s.sah_cost, s.build_seconds);
     }
     fmt::print("  nodes per level: {}\n", fmt::join(s.nodes_per_level, " "));
     fmt::print("  split level K for a high-level cache of 1K/2K/4K/8K/16K at {} bytes a node: {}/{}/{}/{}/{}\n",

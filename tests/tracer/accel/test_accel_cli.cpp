@@ -109,6 +109,12 @@ TEST(AccelCliTest, InfoShowsTheStructuresFigures) {
   EXPECT_GT(a.at("sah_cost").get<double>(), 0);
   EXPECT_GT(a.at("mean_leaf_size").get<double>(), 0);
   EXPECT_TRUE(a.contains("build_seconds"));
+  std::uint64_t leaves = 0;
+  for (const auto& [size, count] : a.at("leaves_by_size").items()) {
+    EXPECT_LE(std::stoul(size), 4u);  // the default largest leaf
+    leaves += count.get<std::uint64_t>();
+  }
+  EXPECT_EQ(leaves, a.at("leaves").get<std::uint64_t>());
 }
 
 }  // namespace

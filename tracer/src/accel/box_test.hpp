@@ -28,25 +28,6 @@ inline bool intersect_box(const Bounds& box, const Vec3& origin, const Vec3& inv
   return true;
 }
 
-// The same test without early exits (one branch, not three): for the
-// several boxes of a BVH node, where the exits mispredict.
-inline bool intersect_box_branchless(const Bounds& box, const Vec3& origin, const Vec3& inverse, float& t0,
-                                     float& t1) {
-  constexpr float kGrow = 1.0f + 2.0f * 3.0f * std::numeric_limits<float>::epsilon();
-  t0 = 0.0f;
-  for (int axis = 0; axis < 3; ++axis) {
-    const float a = (box.lo[axis] - origin[axis]) * inverse[axis];
-    const float b = (box.hi[axis] - origin[axis]) * inverse[axis];
-    // As intersect_box: near and far swapped when reversed; a NaN bound
-    // (0 * inf) leaves the interval as it was.
-    const float near = a > b ? b : a;
-    const float far = (a > b ? a : b) * kGrow;
-    t0 = near > t0 ? near : t0;
-    t1 = far < t1 ? far : t1;
-  }
-  return t0 <= t1;
-}
-
 // Surface area (0 for an empty box), in double so large scenes do not overflow.
 inline double box_area(const Bounds& box) {
   if (box.empty()) return 0.0;

@@ -1,6 +1,7 @@
 #include "nodetrace/tracer/accel/bvh_traversal.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "accel/box_test.hpp"
@@ -23,12 +24,43 @@ BvhTraversal::BvhTraversal(const std::vector<Triangle>& triangles, const Bvh& bv
                         .type = formats::AccessType::Read,
                         .tag = static_cast<formats::Tag>(nodes[i].level)};
   }
+  switch (bvh.arity()) {
+    case 2: fill(nodes2_); break;
+    case 4: fill(nodes4_); break;
+    default: fill(nodes8_); break;
+  }
+}
+
+template <unsigned W>
+void BvhTraversal::fill(std::vector<WideNode<W>>& wide) const {
+  const auto& nodes = bvh_.nodes();
+  wide.assign(nodes.size(), WideNode<W>{});
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    if (nodes[i].child_count > W) throw std::invalid_argument("BVH node wider than its tree's arity");
+    wide[i].child_count = nodes[i].child_count;
+    for (std::uint32_t k = 0; k < nodes[i].child_count; ++k) {
+      const BvhChild& c = bvh_.children()[nodes[i].first_child + k];
+      for (int axis = 0; axis < 3; ++axis) {
+        wide[i].lo[axis][k] = c.box.lo[axis];
+        wide[i].hi[axis][k] = c.box.hi[axis];
+      }
+      wide[i].index[k] = c.index;
+      wide[i].count[k] = c.count;
+    }
+  }
 }
 
 template <bool AnyHit>
-bool BvhTraversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records,
+bool BvhTraversal::dispatch(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records,
                             RenderStats* stats) const {
-  const auto& nodes = bvh_.nodes();
+  if (!nodes2_.empty()) return traverse<AnyHit>(nodes2_, ray, t_max, hit, records, stats);
+  if (!nodes4_.empty()) return traverse<AnyHit>(nodes4_, ray, t_max, hit, records, stats);
+  return traverse<AnyHit>(nodes8_, ray, t_max, hit, records, stats);
+}
+
+template <bool AnyHit, unsigned W>
+bool BvhTraversal::traverse(const std::vector<WideNode<W>>& nodes, const Ray& ray, float t_max, Hit& hit,
+                            std::vector<Record>* records, RenderStats* stats) const {
   if (nodes.empty()) return false;
   // A ray with a non-finite or zero part meets nothing (as the kd-tree's).
   const auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
@@ -40,7 +72,6 @@ bool BvhTraversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<R
   }
   const detail::ShearedRay sheared(ray);
   const detail::LeafVisit leaf{triangles_, bvh_.primitives(), sheared, streams_, addresses_, records};
-  const auto& children = bvh_.children();
   const bool record_nodes = records && streams_.nodes;
 
   // A node visit pushes at most arity - 1 entries (its nearest child is
@@ -59,17 +90,35 @@ bool BvhTraversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<R
     if (current.count == 0) {
       ++fetches;
       if (record_nodes) records->push_back(node_records_[current.index]);
-      const BvhNode& node = nodes[current.index];
-      // The children hit, nearest first (ties: stored order).
-      Entry hits[8];
+      const WideNode<W>& node = nodes[current.index];
+      // Every child box at once: detail::intersect_box's slab test (its
+      // conservative rounding, NaN bounds ignored) without its early exits,
+      // plane by plane; then the children hit, nearest first (ties: stored order).
+      constexpr float kGrow = 1.0f + 2.0f * 3.0f * std::numeric_limits<float>::epsilon();
+      float t_near[W], t_far[W];
+      for (unsigned k = 0; k < W; ++k) {
+        t_near[k] = 0.0f;
+        t_far[k] = best;
+      }
+      for (int axis = 0; axis < 3; ++axis) {
+        const float o = ray.origin[axis], inv = inverse[axis];
+        for (unsigned k = 0; k < W; ++k) {
+          const float a = (node.lo[axis][k] - o) * inv;
+          const float b = (node.hi[axis][k] - o) * inv;
+          const float near = a > b ? b : a;
+          const float far = (a > b ? a : b) * kGrow;
+          t_near[k] = near > t_near[k] ? near : t_near[k];
+          t_far[k] = far < t_far[k] ? far : t_far[k];
+        }
+      }
+      Entry hits[W];
       int hit_count = 0;
       for (std::uint32_t k = 0; k < node.child_count; ++k) {
-        const BvhChild& c = children[node.first_child + k];
-        float t0 = 0, t1 = best;
-        if (!detail::intersect_box_branchless(c.box, ray.origin, inverse, t0, t1)) continue;
+        if (!(t_near[k] <= t_far[k])) continue;
+        const float t0 = t_near[k];
         int j = hit_count++;
         for (; j > 0 && hits[j - 1].t > t0; --j) hits[j] = hits[j - 1];
-        hits[j] = {t0, c.index, c.count};
+        hits[j] = {t0, node.index[k], node.count[k]};
       }
       if (hit_count > 0) {
         // The nearest is visited next; the others wait, farthest deepest.
@@ -100,12 +149,12 @@ bool BvhTraversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<R
 
 bool BvhTraversal::closest_hit(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records,
                                RenderStats* stats) const {
-  return traverse<false>(ray, t_max, hit, records, stats);
+  return dispatch<false>(ray, t_max, hit, records, stats);
 }
 
 bool BvhTraversal::any_hit(const Ray& ray, float t_max, std::vector<Record>* records, RenderStats* stats) const {
   Hit hit;
-  return traverse<true>(ray, t_max, hit, records, stats);
+  return dispatch<true>(ray, t_max, hit, records, stats);
 }
 
 }  // namespace nodetrace::tracer

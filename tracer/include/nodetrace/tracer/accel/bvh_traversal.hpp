@@ -31,15 +31,32 @@ class BvhTraversal : public RayTraversal {
                RenderStats* stats) const override;
 
  private:
+  // What traversal reads of a node of arity W: its children's boxes plane
+  // by plane, so the W box tests run as one loop, and their references.
+  template <unsigned W>
+  struct WideNode {
+    float lo[3][W], hi[3][W];
+    std::uint32_t index[W], count[W];
+    std::uint32_t child_count;
+  };
+  template <unsigned W>
+  void fill(std::vector<WideNode<W>>& wide) const;
   template <bool AnyHit>
-  bool traverse(const Ray& ray, float t_max, Hit& hit, std::vector<formats::Record>* records,
+  bool dispatch(const Ray& ray, float t_max, Hit& hit, std::vector<formats::Record>* records,
                 RenderStats* stats) const;
+  template <bool AnyHit, unsigned W>
+  bool traverse(const std::vector<WideNode<W>>& wide, const Ray& ray, float t_max, Hit& hit,
+                std::vector<formats::Record>* records, RenderStats* stats) const;
 
   const std::vector<Triangle>& triangles_;
   const Bvh& bvh_;
   StreamSelection streams_;
   AddressMap addresses_;
   std::vector<formats::Record> node_records_;  // the fetch record of each node
+  // The nodes for traversal; only the one of the tree's arity is filled.
+  std::vector<WideNode<2>> nodes2_;
+  std::vector<WideNode<4>> nodes4_;
+  std::vector<WideNode<8>> nodes8_;
 };
 
 }  // namespace nodetrace::tracer
