@@ -7,6 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
 
 #include <map>
 #include <sstream>
@@ -174,6 +177,34 @@ TEST_F(UnitCaches, SecondLevelIsDineroIvOnTheFirstLevelsFetches) {
       EXPECT_FALSE(row.at("l2_miss_ratio").empty());
     }
   }
+}
+
+// DESIGN.md's shapes: the per-unit rows are a table of their own (`unit`
+// after `trace`), and the L2 columns follow low_misses in every row, in CSV
+// and JSON alike.
+TEST_F(UnitCaches, PerUnitAndSecondLevelTablesHaveOneShape) {
+  const std::string run = tool("cachesim") + " run " + trace() + " --size 1k --scheme single,split --split-level 4";
+  const auto per_unit = run_command(run + " --units private --per-unit - --format json");
+  ASSERT_EQ(per_unit.exit_code, 0) << per_unit.err;
+  const auto units = nlohmann::json::parse(per_unit.out);
+  ASSERT_EQ(units.at("columns").at(0), "trace");
+  EXPECT_EQ(units.at("columns").at(1), "unit");
+  ASSERT_EQ(units.at("rows").size(), 2u * kUnits);
+  EXPECT_EQ(units.at("rows").at(3).at("unit"), 1);
+  const auto l2 = run_command(run + " --l2-size 8k --format json");
+  ASSERT_EQ(l2.exit_code, 0) << l2.err;
+  const auto table = nlohmann::json::parse(l2.out);
+  const auto& columns = table.at("columns");
+  const auto low = std::find(columns.begin(), columns.end(), "low_misses");
+  ASSERT_NE(low, columns.end());
+  EXPECT_EQ(*(low + 1), "l2_size");
+  EXPECT_EQ(columns.back(), "l2_miss_ratio");
+  for (const auto& row : table.at("rows")) {
+    EXPECT_EQ(row.size(), columns.size());
+    EXPECT_TRUE(row.at("l2_miss_ratio").is_number());
+  }
+  const auto csv = run_command(run + " --units private --l2-size 8k --format csv");
+  EXPECT_EQ(nodetrace::testing::one_csv_table(csv.out), "");
 }
 
 TEST_F(UnitCaches, UsageErrors) {
