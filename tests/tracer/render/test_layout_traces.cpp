@@ -59,6 +59,13 @@ TEST(LayoutTraces, EachBvhTraceEqualsItsOwnRender) {
       {{"treelet", "--layout treelet"}, {"bfl", "--layout bfl"}, {"hybrid-k2", "--split-level 2"}}, ".xdin.zst");
 }
 
+TEST(LayoutTraces, EachTraceOfRaysInFlightOnSeveralUnitsEqualsItsOwnRender) {
+  expect_each_layout_as_rendered_alone(
+      tracer() + " render mountain:6 --width 24 --height 16 -q --rays-in-flight 4 --units 2 --unit-pixels 16",
+      "--layout veb,hybrid --split-level 4", {{"veb", "--layout veb"}, {"hybrid-k4", "--split-level 4"}},
+      ".din.zst");
+}
+
 TEST(LayoutTraces, EachPlainTraceEqualsItsOwnRenderAtHighSizes) {
   expect_each_layout_as_rendered_alone(tracer() + " render mountain:6 --width 24 --height 16 -q",
                                        "--layout hybrid,dfl --high-size 512,2k",
