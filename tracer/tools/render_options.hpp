@@ -126,12 +126,17 @@ inline void add_scene_options(CLI::App& app, SceneCommandOptions& o, bool frame_
       ->capture_default_str();
 }
 
-inline BvhBuildOptions make_bvh_options(const SceneCommandOptions& s) {
-  cli::check_finite(s.bvh_traversal_cost, "--bvh-traversal-cost");
-  cli::check_finite(s.bvh_intersection_cost, "--bvh-intersection-cost");
-  if (!(s.bvh_traversal_cost > 0) || !(s.bvh_intersection_cost > 0)) {
-    throw base::UsageError("--bvh-traversal-cost and --bvh-intersection-cost must be positive");
+// A tree build's two SAH costs: finite and positive.
+inline void check_sah_costs(float traversal, float intersection, const std::string& prefix) {
+  cli::check_finite(traversal, prefix + "traversal-cost");
+  cli::check_finite(intersection, prefix + "intersection-cost");
+  if (!(traversal > 0) || !(intersection > 0)) {
+    throw base::UsageError(prefix + "traversal-cost and " + prefix + "intersection-cost must be positive");
   }
+}
+
+inline BvhBuildOptions make_bvh_options(const SceneCommandOptions& s) {
+  check_sah_costs(s.bvh_traversal_cost, s.bvh_intersection_cost, "--bvh-");
   return {s.bvh_traversal_cost, s.bvh_intersection_cost, s.bvh_max_leaf_size, s.bvh_bins};
 }
 
@@ -261,11 +266,7 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
 }
 
 inline KdBuildOptions make_build_options(const SceneCommandOptions& s) {
-  cli::check_finite(s.traversal_cost, "--traversal-cost");
-  cli::check_finite(s.intersection_cost, "--intersection-cost");
-  if (!(s.traversal_cost > 0) || !(s.intersection_cost > 0)) {
-    throw base::UsageError("--traversal-cost and --intersection-cost must be positive");
-  }
+  check_sah_costs(s.traversal_cost, s.intersection_cost, "--");
   if (!(s.empty_bonus >= 0 && s.empty_bonus <= 1)) {
     throw base::UsageError(fmt::format("--empty-bonus {}: expected a number from 0 to 1", s.empty_bonus));
   }
