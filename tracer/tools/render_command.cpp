@@ -103,25 +103,6 @@ struct RenderCommand {
   void check_outputs(const TraceJobOptions& options) const;
 };
 
-// -o's {layout} replaced by each layout's name: one trace per layout.
-void assign_outputs(TraceJobOptions& options, const std::vector<LayoutChoice>& choices, const std::string& output) {
-  constexpr std::string_view kPlaceholder = "{layout}";
-  const auto place = output.find(kPlaceholder);
-  if (choices.size() > 1 && place == std::string::npos) {
-    throw base::UsageError(fmt::format("{} layouts: -o needs {{layout}} in the file name, which each layout's name "
-                                       "replaces (e.g. -o out/{{layout}}.din.zst)",
-                                       choices.size()));
-  }
-  const auto name_for = [&](const LayoutChoice& choice) {
-    if (place == std::string::npos) return output;
-    std::string name = output;
-    name.replace(place, kPlaceholder.size(), choice.name);
-    return name;
-  };
-  options.output = name_for(choices.front());
-  for (std::size_t i = 1; i < choices.size(); ++i) options.other_layouts[i - 1].output = name_for(choices[i]);
-}
-
 // An empty name is no output, and an output whose folder is missing would
 // fail only after the whole render: both are refused before it starts.
 void RenderCommand::check_outputs(const TraceJobOptions& options) const {
@@ -210,10 +191,7 @@ void RenderCommand::add_options(CLI::App& app) {
 
 int RenderCommand::run() const {
   return cli::exit_status_of("tracer render", [&] {
-    TraceJobOptions options = make_job_options(render_options, scene_options);
-    if (output_option->count() != 0 || !options.other_layouts.empty()) {
-      assign_outputs(options, layout_choices(render_options), output);
-    }
+    TraceJobOptions options = make_job_options(render_options, scene_options, output);
     check_outputs(options);
     options.image = image;
     options.zstd_level = zstd_level;

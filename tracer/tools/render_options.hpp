@@ -346,7 +346,28 @@ inline std::vector<LayoutChoice> layout_choices(const RenderCommandOptions& r) {
   return choices;
 }
 
-inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const SceneCommandOptions& s) {
+// -o's {layout} replaced by each layout's name: one trace per layout.
+inline void assign_outputs(TraceJobOptions& options, const std::vector<LayoutChoice>& choices, const std::string& output) {
+  constexpr std::string_view kPlaceholder = "{layout}";
+  const auto place = output.find(kPlaceholder);
+  if (choices.size() > 1 && place == std::string::npos) {
+    throw base::UsageError(fmt::format("{} layouts: -o needs {{layout}} in the file name, which each layout's name "
+                                       "replaces (e.g. -o out/{{layout}}.din.zst)",
+                                       choices.size()));
+  }
+  const auto name_for = [&](const LayoutChoice& choice) {
+    if (place == std::string::npos) return output;
+    std::string name = output;
+    name.replace(place, kPlaceholder.size(), choice.name);
+    return name;
+  };
+  options.output = name_for(choices.front());
+  for (std::size_t i = 1; i < choices.size(); ++i) options.other_layouts[i - 1].output = name_for(choices[i]);
+}
+
+// `output`: -o as given, a pattern with {layout} for several layouts.
+inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const SceneCommandOptions& s,
+                                        const std::string& output) {
   check_image_size(r.width, r.height);
   TraceJobOptions options;
   options.build = make_build_options(s);
@@ -409,6 +430,7 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
   options.split_level = choices.front().trace.split_level;
   options.high_size = choices.front().trace.high_size;
   for (std::size_t i = 1; i < choices.size(); ++i) options.other_layouts.push_back(choices[i].trace);
+  assign_outputs(options, choices, output);
   return options;
 }
 

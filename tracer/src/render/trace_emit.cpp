@@ -175,11 +175,6 @@ std::uint32_t layout_split_level_for(const LayoutTrace& trace, std::uint32_t nod
   throw base::UsageError("the hybrid layout needs --split-level K or --high-size SIZE");
 }
 
-std::uint32_t layout_split_level_for(const TraceJobOptions& options, const KdTreeStats& stats) {
-  return layout_split_level_for(LayoutTrace{options.layout, options.split_level, options.high_size, options.output},
-                                options.render.addresses.node_size, stats);
-}
-
 namespace {
 
 // A stream's addresses, base + i * size for i < count, must not wrap past
@@ -196,9 +191,15 @@ void check_address_range(const char* option, std::uint64_t base, std::uint64_t c
   }
 }
 
-// Several traces of one render: each needs a file of its own, and all but a
-// lone trace need a file name (standard output holds one stream).
+// Checked before the scene is loaded: a hybrid layout needs its K; several
+// traces of one render need a file each, and none can be standard output
+// (it holds one stream).
 void check_layout_traces(const std::vector<LayoutTrace>& targets, bool discard_records) {
+  for (const auto& target : targets) {
+    if (target.layout == LayoutKind::Hybrid && !target.split_level && !target.high_size) {
+      throw base::UsageError("the hybrid layout needs --split-level K or --high-size SIZE");
+    }
+  }
   if (targets.size() == 1) return;
   if (discard_records) throw base::UsageError("--discard-records writes no trace: it takes one layout");
   std::vector<std::string> seen;
@@ -248,9 +249,6 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
   if (!r.streams.nodes && !r.streams.lists && !r.streams.triangles) {
     throw base::UsageError("--streams selects no stream");
   }
-  if (options.layout == LayoutKind::Hybrid && !options.split_level && !options.high_size) {
-    throw base::UsageError("the hybrid layout needs --split-level K or --high-size SIZE");
-  }
   if (r.rays_in_flight > 1 || r.units > 1) {
     if (options.sampling) {
       throw base::UsageError("--sample-rows renders bands one at a time: it cannot be combined with "
@@ -260,6 +258,10 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
       throw base::UsageError("--units above 1: binary records have no tag field, so they cannot carry the unit");
     }
   }
+  // The traces to write: the render's own layout first, then the others.
+  std::vector<LayoutTrace> targets{{options.layout, options.split_level, options.high_size, options.output}};
+  targets.insert(targets.end(), options.other_layouts.begin(), options.other_layouts.end());
+  check_layout_traces(targets, options.discard_records);
   const Animation& animation = source.animation();
   std::vector<std::pair<std::uint64_t, double>> frames;
   if (options.time) {
@@ -269,10 +271,6 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
     for (const auto f : options.frames.frames()) frames.emplace_back(f, animation.time_of_frame(f));
   }
 
-  // The traces to write: the render's own layout first, then the others.
-  std::vector<LayoutTrace> targets{{options.layout, options.split_level, options.high_size, options.output}};
-  targets.insert(targets.end(), options.other_layouts.begin(), options.other_layouts.end());
-  check_layout_traces(targets, options.discard_records);
 
   TraceJobResult result;
   std::vector<std::unique_ptr<formats::TraceWriter>> writers(targets.size());

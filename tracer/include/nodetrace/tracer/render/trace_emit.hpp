@@ -78,7 +78,6 @@ struct TraceJobResult {
 
 // The split level of a layout for a tree: the fixed one, or the one derived
 // from the high cache size (hybrid only; 0 for the other layouts).
-std::uint32_t layout_split_level_for(const TraceJobOptions& options, const KdTreeStats& stats);
 std::uint32_t layout_split_level_for(const LayoutTrace& trace, std::uint32_t node_size, const KdTreeStats& stats);
 
 // Throws base::UsageError for options that cannot work, SceneError from the
