@@ -13,9 +13,10 @@
 # of the scene's folder, the tracer options), a simulation's name a hash of
 # its trace's name, the cachesim binary and its options. A trace exists or is
 # rendered; it is never stale, and never rendered twice. Traces that differ
-# only in their layout are written by one render (scripts/render-layouts.sh). Each target's list of
-# inputs (its manifest) is rewritten only when its content changes, so a
-# table is remade exactly when its set of inputs or one of them changes.
+# only in their layout are written by one render (scripts/render-layouts.sh).
+# Each target's list of inputs (its manifest) is rewritten only when its
+# content changes, so a table is remade exactly when its set of inputs or one
+# of them changes.
 #
 # Every recipe that renders or simulates runs through $(RUN) (empty: here);
 # recipes share nothing but the files under $(OUT), so a cluster can run them.
@@ -391,9 +392,12 @@ endif
 # (split level auto). A kd-tree's options and traces are table1's.
 accel_figures := accel.png
 ifneq ($(call wanted,accel),)
-# --treelet-bytes on every render, so the treelet trace is one more layout of
-# the same render (scripts/render-layouts.sh).
-accel_render = $(render_default)$(if $(filter kdtree,$1),, --accel $1) --treelet-bytes $(TREELET_BYTES)
+# --treelet-bytes, when not the tracer's default of 64, goes on every render of
+# a structure, so the treelet trace stays one more layout of the same render
+# (scripts/render-layouts.sh) and, at the default, the kd-tree's traces are
+# table1's.
+accel_render = $(render_default)$(if $(filter kdtree,$1),, --accel $1)$(if $(filter 64,$(TREELET_BYTES)),, \
+  --treelet-bytes $(TREELET_BYTES))
 accel_grid = --block $(call join_commas,$(ACCEL_BLOCKS)) --assoc $(call join_commas,$(ACCEL_ASSOCS))
 accel_layout = --layout $1
 accel_row = row;scene=$1;accel=$2;layout=$3;trace=$4;file=$(call sim,accel,$4,$5)
