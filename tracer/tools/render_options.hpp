@@ -200,7 +200,7 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
   app.add_option("--up", o.up, "camera up direction X Y Z")->expected(3);
   app.add_option("--fov", o.fov, "vertical field of view in degrees, 0.01 to 179");
   app.add_option("--threads", o.threads,
-                 "rendering threads (default: one per core; at most 16 per core); the output does not depend on it");
+                 "threads rendering and building the kd-tree (default: one per core; at most 16 per core); the output does not depend on it");
   app.add_option("--layout", o.layouts,
                  "tree layout: dfl, bfl, hybrid, veb or treelet, or several, comma-separated, for one trace "
                  "each from one render (-o with {layout}) (default: hybrid when --split-level or --high-size "
@@ -390,6 +390,7 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
   render.unit_pixels = r.unit_pixels;
   render.ready_order = *parse_ready_order(r.ready_order);
   render.threads = cli::check_thread_count(r.threads, "--threads");
+  options.build.threads = render.threads;
   render.addresses.node_size = r.node_size.value_or(default_node_size(options.accel));
   render.addresses.node_base = parse_address(r.node_base, "--node-base");
   if (!r.list_base.empty()) render.addresses.list_base = parse_address(r.list_base, "--list-base");

@@ -9,6 +9,7 @@
 #include "nodetrace/tracer/accel/kdtree.hpp"
 #include "nodetrace/tracer/accel/layout.hpp"
 #include "nodetrace/tracer/render/render.hpp"
+#include "nodetrace/tracer/scene/scene_loader.hpp"
 #include "test_render_scenes.hpp"
 
 namespace nodetrace::tracer {
@@ -139,6 +140,46 @@ TEST(KdTreeTest, BuildIsDeterministic) {
     EXPECT_EQ(a.nodes()[i].count, b.nodes()[i].count);
   }
   EXPECT_EQ(a.primitives(), b.primitives());
+}
+
+// FNV-1a 64 over every node field and the leaves' triangle lists.
+std::uint64_t tree_hash(const KdTree& tree) {
+  std::uint64_t hash = 1469598103934665603ull;
+  auto mix = [&](const void* data, std::size_t size) {
+    for (std::size_t i = 0; i < size; ++i) {
+      hash ^= static_cast<const unsigned char*>(data)[i];
+      hash *= 1099511628211ull;
+    }
+  };
+  for (const KdNode& n : tree.nodes()) {
+    mix(&n.split, 4), mix(&n.left, 4), mix(&n.right, 4), mix(&n.first, 4), mix(&n.count, 4);
+    mix(&n.level, 2), mix(&n.axis, 1);
+  }
+  mix(tree.primitives().data(), tree.primitives().size() * 4);
+  return hash;
+}
+
+TEST(KdTreeTest, TreeIsTheSameForAnyThreadCount) {
+  // Enough triangles that subtrees go to threads of their own.
+  const Scene scene = test_scenes::random_triangles(15000, 5);
+  KdBuildOptions one;
+  one.threads = 1;
+  const KdTree reference = KdTree::build(scene.triangles, one);
+  ASSERT_GT(reference.nodes().size(), 5000u);
+  for (unsigned threads : {2u, 5u}) {
+    KdBuildOptions options;
+    options.threads = threads;
+    const KdTree tree = KdTree::build(scene.triangles, options);
+    EXPECT_EQ(tree_hash(tree), tree_hash(reference)) << threads << " threads";
+    EXPECT_EQ(tree.stats().sah_cost, reference.stats().sah_cost) << threads << " threads";
+  }
+}
+
+TEST(KdTreeTest, BuiltInMountainTreeIsTheOneTracesWereRecordedWith) {
+  // The hash of the tree the event-sweep build of 2026-12-02 made: a faster
+  // build must make the very same tree, or traces change.
+  const Scene scene = open_scene("mountain")->at_frame(0);
+  EXPECT_EQ(tree_hash(KdTree::build(scene.triangles)), 0x002c8cf2868b36c6u);
 }
 
 TEST(KdTreeTest, EmptySceneIsOneEmptyLeaf) {

@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <future>
-#include <memory>
 #include <limits>
+#include <memory>
+#include <stdexcept>
+#include <thread>
 #include <utility>
 
 namespace nodetrace::tracer {
@@ -15,23 +19,35 @@ namespace {
 
 // Event order at one position: ends before planars before starts, so a sweep
 // sees a plane with the triangles ending on it already counted left.
-enum EventType : std::uint8_t { kEnd = 0, kPlanar = 1, kStart = 2 };
+enum EventType : std::uint32_t { kEnd = 0, kPlanar = 1, kStart = 2 };
 
+// Triangle indices take the low 30 bits of an event, its type the top two.
+constexpr unsigned kTriangleBits = 30;
+constexpr std::uint32_t kTriangleMask = (std::uint32_t{1} << kTriangleBits) - 1;
+
+// Where a triangle's (clipped) extent starts, ends, or lies flat on one axis.
 struct Event {
   float position;
-  std::uint32_t triangle;
-  std::uint8_t axis;
-  std::uint8_t type;
+  std::uint32_t type_and_triangle;
+  std::uint32_t triangle() const { return type_and_triangle & kTriangleMask; }
+  std::uint32_t type() const { return type_and_triangle >> kTriangleBits; }
 };
 
-// Total order (axis, position, type, triangle): events of one axis are
-// contiguous, and ties are broken by triangle so sorting is deterministic.
-bool event_less(const Event& a, const Event& b) {
-  if (a.axis != b.axis) return a.axis < b.axis;
-  if (a.position != b.position) return a.position < b.position;
-  if (a.type != b.type) return a.type < b.type;
-  return a.triangle < b.triangle;
+// Total order (position, type, triangle) within an axis; ties are broken by
+// triangle, so sorting is deterministic.
+inline bool event_less(const Event& a, const Event& b) {
+  return a.position < b.position || (a.position == b.position && a.type_and_triangle < b.type_and_triangle);
 }
+
+// A node's events: those of axis a, sorted, are [begin[a], begin[a + 1]).
+struct NodeEvents {
+  std::vector<Event> events;
+  std::array<std::size_t, 4> begin{};
+  std::span<const Event> axis(int a) const { return {events.data() + begin[a], events.data() + begin[a + 1]}; }
+};
+
+// Events of triangles clipped in one node, one list per axis.
+using AxisEvents = std::array<std::vector<Event>, 3>;
 
 enum Side : std::uint8_t { kBoth = 0, kLeftOnly = 1, kRightOnly = 2 };
 
@@ -41,14 +57,53 @@ double surface_area(const Bounds& box) {
   return 2.0 * (dx * dy + dy * dz + dz * dx);
 }
 
-void add_events(std::vector<Event>& events, std::uint32_t triangle, const Bounds& box) {
-  for (std::uint8_t axis = 0; axis < 3; ++axis) {
+void add_events(AxisEvents& events, std::uint32_t triangle, const Bounds& box) {
+  for (int axis = 0; axis < 3; ++axis) {
+    auto& list = events[axis];
     if (box.lo[axis] == box.hi[axis]) {
-      events.push_back({box.lo[axis], triangle, axis, kPlanar});
+      list.push_back({box.lo[axis], kPlanar << kTriangleBits | triangle});
     } else {
-      events.push_back({box.lo[axis], triangle, axis, kStart});
-      events.push_back({box.hi[axis], triangle, axis, kEnd});
+      list.push_back({box.lo[axis], kStart << kTriangleBits | triangle});
+      list.push_back({box.hi[axis], kEnd << kTriangleBits | triangle});
     }
+  }
+}
+
+// The event order as one integer: the position's bits made to sort as the
+// float does (-0 and +0 as one), then type and triangle.
+std::uint64_t sort_key(const Event& e) {
+  const float position = e.position == 0.0f ? 0.0f : e.position;
+  std::uint32_t bits = std::bit_cast<std::uint32_t>(position);
+  bits = (bits & 0x80000000u) != 0 ? ~bits : bits | 0x80000000u;
+  return std::uint64_t{bits} << 32 | e.type_and_triangle;
+}
+
+// LSD radix sort on sort_key, a byte per pass; passes where every event has
+// the same byte are skipped.
+void radix_sort(std::vector<Event>& events) {
+  constexpr int kPasses = 8;
+  std::vector<std::array<std::uint32_t, 256>> counts(kPasses, std::array<std::uint32_t, 256>{});
+  for (const Event& e : events) {
+    const std::uint64_t key = sort_key(e);
+    for (int pass = 0; pass < kPasses; ++pass) ++counts[pass][(key >> (8 * pass)) & 0xff];
+  }
+  std::vector<Event> buffer(events.size());
+  for (int pass = 0; pass < kPasses; ++pass) {
+    auto& count = counts[pass];
+    if (std::find(count.begin(), count.end(), events.size()) != count.end()) continue;
+    std::uint32_t offset = 0;
+    for (auto& c : count) offset += std::exchange(c, offset);
+    for (const Event& e : events) buffer[count[(sort_key(e) >> (8 * pass)) & 0xff]++] = e;
+    events.swap(buffer);
+  }
+}
+
+void sort_events(std::vector<Event>& events) {
+  // Radix sorting pays off for long lists only.
+  if (events.size() >= 4096) {
+    radix_sort(events);
+  } else {
+    std::sort(events.begin(), events.end(), event_less);
   }
 }
 
@@ -59,6 +114,30 @@ struct SplitChoice {
   bool planar_left = true;
 };
 
+// Threads a build may still start, shared by the builders of one tree.
+class ThreadSlots {
+ public:
+  explicit ThreadSlots(unsigned threads) : free_(static_cast<int>(threads) - 1) {}
+  bool try_take() {
+    int free = free_.load(std::memory_order_relaxed);
+    while (free > 0) {
+      if (free_.compare_exchange_weak(free, free - 1, std::memory_order_acquire)) return true;
+    }
+    return false;
+  }
+  void give_back() { free_.fetch_add(1, std::memory_order_release); }
+  // Taken back after a wait whatever is free: briefly one thread too many.
+  void take() { free_.fetch_sub(1, std::memory_order_acquire); }
+
+ private:
+  std::atomic<int> free_;
+};
+
+unsigned build_threads(unsigned requested) {
+  if (requested > 0) return requested;
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
 }  // namespace
 
 int default_max_depth(std::size_t triangle_count) {
@@ -68,18 +147,24 @@ int default_max_depth(std::size_t triangle_count) {
 
 Bounds clip_triangle_to_box(const Triangle& triangle, const Bounds& box) {
   // Up to 3 + 6 vertices after clipping a triangle by six planes.
-  std::array<Vec3, 10> polygon{triangle.v0, triangle.v1, triangle.v2};
-  std::array<Vec3, 10> clipped{};
+  std::array<std::array<Vec3, 10>, 2> buffers;
+  Vec3* polygon = buffers[0].data();
+  Vec3* clipped = buffers[1].data();
+  polygon[0] = triangle.v0;
+  polygon[1] = triangle.v1;
+  polygon[2] = triangle.v2;
   std::size_t count = 3;
   for (int axis = 0; axis < 3 && count > 0; ++axis) {
     for (int face = 0; face < 2 && count > 0; ++face) {
       const float plane = face == 0 ? box.lo[axis] : box.hi[axis];
       // Inside: >= plane for the low face, <= plane for the high face.
       auto inside = [&](const Vec3& p) { return face == 0 ? p[axis] >= plane : p[axis] <= plane; };
+      // A plane with every vertex inside leaves the polygon as it is.
+      if (std::all_of(polygon, polygon + count, inside)) continue;
       std::size_t out = 0;
       for (std::size_t i = 0; i < count; ++i) {
         const Vec3& a = polygon[i];
-        const Vec3& b = polygon[(i + 1) % count];
+        const Vec3& b = polygon[i + 1 == count ? 0 : i + 1];
         const bool a_in = inside(a), b_in = inside(b);
         if (a_in) clipped[out++] = a;
         if (a_in != b_in) {
@@ -105,10 +190,14 @@ Bounds clip_triangle_to_box(const Triangle& triangle, const Bounds& box) {
 
 class KdTreeBuilder {
  public:
-  KdTreeBuilder(std::span<const Triangle> triangles, const KdBuildOptions& options, KdTree& tree)
-      : triangles_(triangles), options_(options), tree_(tree), side_(triangles.size(), kBoth) {}
+  KdTreeBuilder(std::span<const Triangle> triangles, const KdBuildOptions& options, KdTree& tree,
+                ThreadSlots& slots)
+      : triangles_(triangles), options_(options), tree_(tree), slots_(slots), side_(triangles.size(), kBoth) {}
 
   void run() {
+    if (triangles_.size() > kTriangleMask) {
+      throw std::length_error("kd-tree build: more than 2^30 triangles");
+    }
     Bounds root_box;
     for (const auto& t : triangles_) {
       root_box.extend(t.v0);
@@ -118,11 +207,10 @@ class KdTreeBuilder {
     tree_.bounds_ = root_box;
     max_depth_ = options_.max_depth > 0 ? options_.max_depth : default_max_depth(triangles_.size());
     max_depth_ = std::min(max_depth_, kMaxLevelLimit);  // traversal stacks are sized for it
-    root_area_ = root_box.empty() ? 0.0 : surface_area(root_box);
 
-    std::vector<Event> events;
+    AxisEvents events;
     std::vector<std::uint32_t> ids;
-    events.reserve(triangles_.size() * 6);
+    for (auto& list : events) list.reserve(triangles_.size() * 2);
     ids.reserve(triangles_.size());
     for (std::uint32_t i = 0; i < triangles_.size(); ++i) {
       const Triangle& t = triangles_[i];
@@ -133,106 +221,112 @@ class KdTreeBuilder {
       add_events(events, i, box);
       ids.push_back(i);
     }
-    std::sort(events.begin(), events.end(), event_less);
-    build_node(std::move(events), std::move(ids), root_box, 0);
+    // The three axes sort apart; the first two on threads of their own when free.
+    std::array<std::future<void>, 2> sorts;
+    std::array<bool, 2> on_thread{};
+    for (int axis = 0; axis < 2; ++axis) {
+      on_thread[axis] = slots_.try_take();
+      if (on_thread[axis]) sorts[axis] = std::async(std::launch::async, sort_events, std::ref(events[axis]));
+    }
+    sort_events(events[2]);
+    for (int axis = 0; axis < 2; ++axis) {
+      if (on_thread[axis]) {
+        sorts[axis].get();
+        slots_.give_back();
+      } else {
+        sort_events(events[axis]);
+      }
+    }
+    NodeEvents root;
+    root.events.reserve(events[0].size() + events[1].size() + events[2].size());
+    for (int axis = 0; axis < 3; ++axis) {
+      root.begin[axis] = root.events.size();
+      root.events.insert(root.events.end(), events[axis].begin(), events[axis].end());
+      std::vector<Event>().swap(events[axis]);
+    }
+    root.begin[3] = root.events.size();
+    build_node(std::move(root), std::move(ids), root_box, 0);
   }
 
-  double sah_cost() const { return sah_cost_; }
   int max_depth() const { return max_depth_; }
 
  private:
-  SplitChoice find_split(const std::vector<Event>& events, std::size_t n, const Bounds& box) const {
+  SplitChoice find_split(const NodeEvents& events, std::size_t n, const Bounds& box) const {
     SplitChoice best;
     const double area = surface_area(box);
     if (!(area > 0)) return best;
     const double kt = options_.traversal_cost, ki = options_.intersection_cost;
     const double bonus = 1.0 - options_.empty_bonus;
-    std::size_t left = 0, right = n;
-    int current_axis = -1;
-    std::size_t i = 0;
-    while (i < events.size()) {
-      const int axis = events[i].axis;
-      const float position = events[i].position;
-      if (axis != current_axis) {
-        current_axis = axis;
-        left = 0;
-        right = n;
+    for (int axis = 0; axis < 3; ++axis) {
+      const std::span<const Event> list = events.axis(axis);
+      const Event* e = list.data();
+      const Event* const last = e + list.size();
+      std::size_t left = 0, right = n;
+      while (e != last) {
+        const float position = e->position;
+        std::size_t ending = 0, planar = 0, starting = 0;
+        for (; e != last && e->position == position && e->type() == kEnd; ++e) ++ending;
+        for (; e != last && e->position == position && e->type() == kPlanar; ++e) ++planar;
+        for (; e != last && e->position == position; ++e) ++starting;
+        right -= planar + ending;
+        // Planes on the box faces cut nothing off; both children need volume.
+        if (position > box.lo[axis] && position < box.hi[axis]) {
+          Bounds lbox = box, rbox = box;
+          lbox.hi[axis] = position;
+          rbox.lo[axis] = position;
+          const double pl = surface_area(lbox) / area, pr = surface_area(rbox) / area;
+          auto cost = [&](std::size_t nl, std::size_t nr) {
+            const double c = kt + ki * (pl * double(nl) + pr * double(nr));
+            return (nl == 0 || nr == 0) ? c * bonus : c;
+          };
+          const double with_left = cost(left + planar, right);
+          const double with_right = cost(left, right + planar);
+          const bool planar_left = with_left <= with_right;
+          const double c = planar_left ? with_left : with_right;
+          if (c < best.cost) best = {c, position, axis, planar_left};
+        }
+        left += starting + planar;
       }
-      std::size_t ending = 0, planar = 0, starting = 0;
-      while (i < events.size() && events[i].axis == axis && events[i].position == position &&
-             events[i].type == kEnd) {
-        ++ending, ++i;
-      }
-      while (i < events.size() && events[i].axis == axis && events[i].position == position &&
-             events[i].type == kPlanar) {
-        ++planar, ++i;
-      }
-      while (i < events.size() && events[i].axis == axis && events[i].position == position &&
-             events[i].type == kStart) {
-        ++starting, ++i;
-      }
-      right -= planar + ending;
-      // Planes on the box faces cut nothing off; both children need volume.
-      if (position > box.lo[axis] && position < box.hi[axis]) {
-        Bounds lbox = box, rbox = box;
-        lbox.hi[axis] = position;
-        rbox.lo[axis] = position;
-        const double pl = surface_area(lbox) / area, pr = surface_area(rbox) / area;
-        auto cost = [&](std::size_t nl, std::size_t nr) {
-          const double c = kt + ki * (pl * double(nl) + pr * double(nr));
-          return (nl == 0 || nr == 0) ? c * bonus : c;
-        };
-        const double with_left = cost(left + planar, right);
-        const double with_right = cost(left, right + planar);
-        const bool planar_left = with_left <= with_right;
-        const double c = planar_left ? with_left : with_right;
-        if (c < best.cost) best = {c, position, axis, planar_left};
-      }
-      left += starting + planar;
     }
     return best;
   }
 
-  std::uint32_t make_leaf(std::uint32_t index, const std::vector<std::uint32_t>& ids,
-                          const Bounds& box) {
+  std::uint32_t make_leaf(std::uint32_t index, const std::vector<std::uint32_t>& ids) {
     KdNode& node = tree_.nodes_[index];
     node.axis = KdNode::kLeafAxis;
     node.first = static_cast<std::uint32_t>(tree_.primitives_.size());
     node.count = static_cast<std::uint32_t>(ids.size());
     tree_.primitives_.insert(tree_.primitives_.end(), ids.begin(), ids.end());
-    if (root_area_ > 0) {
-      sah_cost_ += options_.intersection_cost * double(ids.size()) * surface_area(box) / root_area_;
-    }
     return index;
   }
 
-  std::uint32_t build_node(std::vector<Event> events, std::vector<std::uint32_t> ids,
-                           const Bounds& box, int level, int unproductive = 0) {
+  std::uint32_t build_node(NodeEvents events, std::vector<std::uint32_t> ids, const Bounds& box, int level,
+                           int unproductive = 0) {
     const auto index = static_cast<std::uint32_t>(tree_.nodes_.size());
     tree_.nodes_.emplace_back();
     tree_.nodes_[index].level = static_cast<std::uint16_t>(level);
     const std::size_t n = ids.size();
     if (n == 0 || n <= options_.leaf_size || level >= max_depth_ || unproductive >= kMaxUnproductiveSplits) {
-      return make_leaf(index, ids, box);
+      return make_leaf(index, ids);
     }
     const SplitChoice split = find_split(events, n, box);
     if (split.axis < 0 || split.cost >= options_.intersection_cost * double(n)) {
-      return make_leaf(index, ids, box);
+      return make_leaf(index, ids);
     }
 
     // Classify: which triangles lie only left, only right, or on both sides.
     for (auto id : ids) side_[id] = kBoth;
-    for (const Event& e : events) {
-      if (e.axis != split.axis) continue;
-      if (e.type == kEnd && e.position <= split.position) {
-        side_[e.triangle] = kLeftOnly;
-      } else if (e.type == kStart && e.position >= split.position) {
-        side_[e.triangle] = kRightOnly;
-      } else if (e.type == kPlanar) {
+    for (const Event& e : events.axis(split.axis)) {
+      const std::uint32_t type = e.type();
+      if (type == kEnd && e.position <= split.position) {
+        side_[e.triangle()] = kLeftOnly;
+      } else if (type == kStart && e.position >= split.position) {
+        side_[e.triangle()] = kRightOnly;
+      } else if (type == kPlanar) {
         if (e.position < split.position || (e.position == split.position && split.planar_left)) {
-          side_[e.triangle] = kLeftOnly;
+          side_[e.triangle()] = kLeftOnly;
         } else {
-          side_[e.triangle] = kRightOnly;
+          side_[e.triangle()] = kRightOnly;
         }
       }
     }
@@ -241,24 +335,9 @@ class KdTreeBuilder {
     left_box.hi[split.axis] = split.position;
     right_box.lo[split.axis] = split.position;
 
-    std::vector<Event> left_events, right_events, new_left, new_right;
     std::vector<std::uint32_t> left_ids, right_ids;
-    {
-      std::size_t left_count = 0, right_count = 0;
-      for (const Event& e : events) {
-        left_count += side_[e.triangle] == kLeftOnly;
-        right_count += side_[e.triangle] == kRightOnly;
-      }
-      left_events.reserve(left_count);
-      right_events.reserve(right_count);
-    }
-    for (const Event& e : events) {
-      if (side_[e.triangle] == kLeftOnly) {
-        left_events.push_back(e);
-      } else if (side_[e.triangle] == kRightOnly) {
-        right_events.push_back(e);
-      }
-    }
+    for (auto& list : new_left_) list.clear();
+    for (auto& list : new_right_) list.clear();
     for (auto id : ids) {
       if (side_[id] == kLeftOnly) {
         left_ids.push_back(id);
@@ -268,53 +347,61 @@ class KdTreeBuilder {
         // Straddling: clip to each child (perfect splits), new events per side.
         const Bounds l = clip_triangle_to_box(triangles_[id], left_box);
         if (!l.empty()) {
-          add_events(new_left, id, l);
+          add_events(new_left_, id, l);
           left_ids.push_back(id);
         }
         const Bounds r = clip_triangle_to_box(triangles_[id], right_box);
         if (!r.empty()) {
-          add_events(new_right, id, r);
+          add_events(new_right_, id, r);
           right_ids.push_back(id);
         }
       }
     }
-    const int left_unproductive = unproductive + unproductive_for(box, split, n, left_ids.size(), right_ids.size());
-    const int right_unproductive = unproductive + unproductive_for(box, split, n, right_ids.size(), left_ids.size());
-    // Release the parent's lists before going down.
-    std::vector<Event>().swap(events);
-    std::vector<std::uint32_t>().swap(ids);
-    merge_into(left_events, new_left);
-    merge_into(right_events, new_right);
+    NodeEvents left_events, right_events;
+    // At most two events per triangle and axis.
+    left_events.events.reserve(6 * left_ids.size());
+    right_events.events.reserve(6 * right_ids.size());
+    for (int axis = 0; axis < 3; ++axis) {
+      sort_events(new_left_[axis]);
+      sort_events(new_right_[axis]);
+      left_events.begin[axis] = left_events.events.size();
+      right_events.begin[axis] = right_events.events.size();
+      split_events(events.axis(axis), new_left_[axis], new_right_[axis], left_events.events, right_events.events);
+    }
+    left_events.begin[3] = left_events.events.size();
+    right_events.begin[3] = right_events.events.size();
+    std::vector<Event>().swap(events.events);  // release the parent's list before going down
     // Triangle ids stay ascending in every list (filtered in order), so
     // leaves list them in order.
-
-    if (root_area_ > 0) sah_cost_ += options_.traversal_cost * surface_area(box) / root_area_;
+    const int left_unproductive = unproductive + unproductive_for(box, split, n, left_ids.size(), right_ids.size());
+    const int right_unproductive = unproductive + unproductive_for(box, split, n, right_ids.size(), left_ids.size());
+    std::vector<std::uint32_t>().swap(ids);
     {
       KdNode& node = tree_.nodes_[index];
       node.axis = static_cast<std::uint8_t>(split.axis);
       node.split = split.position;
     }
-    new_left.clear();
-    new_right.clear();
     std::uint32_t left, right;
-    if (level < kParallelLevels) {
-      // The right subtree is built by its own builder on another thread while
-      // this one builds the left; it is then appended in pre-order. The split
-      // into tasks is fixed, so the tree does not depend on the thread count.
+    if (right_ids.size() >= kMinTrianglesPerThread && slots_.try_take()) {
+      // The right subtree is built by a builder of its own on another thread
+      // while this one builds the left, then appended: pre-order either way,
+      // so the tree does not depend on the threads.
       auto fragment = std::async(std::launch::async, [this, events = std::move(right_events),
-                                                      ids = std::move(right_ids), right_box,
-                                                      level, right_unproductive]() mutable {
+                                                      ids = std::move(right_ids), right_box, level,
+                                                      right_unproductive]() mutable {
         auto part = std::make_unique<KdTree>();
-        KdTreeBuilder builder(triangles_, options_, *part);
+        KdTreeBuilder builder(triangles_, options_, *part, slots_);
         builder.max_depth_ = max_depth_;
-        builder.root_area_ = root_area_;
         builder.build_node(std::move(events), std::move(ids), right_box, level + 1, right_unproductive);
-        return std::make_pair(std::move(part), builder.sah_cost_);
+        slots_.give_back();
+        return part;
       });
       left = build_node(std::move(left_events), std::move(left_ids), left_box, level + 1, left_unproductive);
-      auto [part, cost] = fragment.get();
+      // While this thread waits, the other builders may start one in its place.
+      slots_.give_back();
+      const std::unique_ptr<KdTree> part = fragment.get();
+      slots_.take();
       right = append(*part);
-      sah_cost_ += cost;
     } else {
       left = build_node(std::move(left_events), std::move(left_ids), left_box, level + 1, left_unproductive);
       right = build_node(std::move(right_events), std::move(right_ids), right_box, level + 1, right_unproductive);
@@ -368,34 +455,82 @@ class KdTreeBuilder {
     return node_offset;
   }
 
-  // Levels whose right subtrees are built on their own threads (up to 7 tasks).
-  static constexpr int kParallelLevels = 3;
+  // Subtrees of fewer triangles are not worth a thread.
+  static constexpr std::size_t kMinTrianglesPerThread = 4096;
 
-  static void merge_into(std::vector<Event>& sorted, std::vector<Event>& extra) {
-    if (extra.empty()) return;
-    std::sort(extra.begin(), extra.end(), event_less);
-    std::vector<Event> merged(sorted.size() + extra.size());
-    std::merge(sorted.begin(), sorted.end(), extra.begin(), extra.end(), merged.begin(), event_less);
-    sorted.swap(merged);
+  // Appends a node's events of one axis to its children's lists, each merged
+  // with the sorted events of its clipped triangles, so both stay sorted.
+  void split_events(std::span<const Event> events, const std::vector<Event>& clipped_left,
+                    const std::vector<Event>& clipped_right, std::vector<Event>& left,
+                    std::vector<Event>& right) const {
+    const Event* next_left = clipped_left.data();
+    const Event* const left_end = next_left + clipped_left.size();
+    const Event* next_right = clipped_right.data();
+    const Event* const right_end = next_right + clipped_right.size();
+    for (const Event& e : events) {
+      const std::uint8_t side = side_[e.triangle()];
+      if (side == kLeftOnly) {
+        for (; next_left != left_end && event_less(*next_left, e); ++next_left) left.push_back(*next_left);
+        left.push_back(e);
+      } else if (side == kRightOnly) {
+        for (; next_right != right_end && event_less(*next_right, e); ++next_right) right.push_back(*next_right);
+        right.push_back(e);
+      }
+    }
+    left.insert(left.end(), next_left, left_end);
+    right.insert(right.end(), next_right, right_end);
   }
 
   std::span<const Triangle> triangles_;
   KdBuildOptions options_;
   KdTree& tree_;
+  ThreadSlots& slots_;
   std::vector<std::uint8_t> side_;
+  AxisEvents new_left_, new_right_;  // scratch: events of the triangles one node clips
   int max_depth_ = 0;
-  double root_area_ = 0;
-  double sah_cost_ = 0;
 };
+
+namespace {
+
+// The expected cost of a ray through the root box: each interior node's
+// traversal and each leaf's tests, weighted by the node box's area, summed
+// in pre-order.
+double sah_cost(const KdTree& tree, const KdBuildOptions& options) {
+  const auto& nodes = tree.nodes();
+  if (nodes.empty() || tree.bounds().empty()) return 0;
+  const double root_area = surface_area(tree.bounds());
+  if (!(root_area > 0)) return 0;
+  double cost = 0;
+  std::vector<std::pair<std::uint32_t, Bounds>> stack{{0, tree.bounds()}};
+  while (!stack.empty()) {
+    const auto [index, box] = stack.back();
+    stack.pop_back();
+    const KdNode& node = nodes[index];
+    if (node.is_leaf()) {
+      cost += options.intersection_cost * double(node.count) * surface_area(box) / root_area;
+      continue;
+    }
+    cost += options.traversal_cost * surface_area(box) / root_area;
+    Bounds left = box, right = box;
+    left.hi[node.axis] = node.split;
+    right.lo[node.axis] = node.split;
+    stack.push_back({node.right, right});
+    stack.push_back({node.left, left});
+  }
+  return cost;
+}
+
+}  // namespace
 
 KdTree KdTree::build(std::span<const Triangle> triangles, const KdBuildOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   KdTree tree;
-  KdTreeBuilder builder(triangles, options, tree);
+  ThreadSlots slots(build_threads(options.threads));
+  KdTreeBuilder builder(triangles, options, tree, slots);
   builder.run();
 
   tree.stats_.depth_limit = builder.max_depth();
-  tree.stats_.sah_cost = builder.sah_cost();
+  tree.stats_.sah_cost = sah_cost(tree, options);
   tree.compute_stats();
   tree.stats_.build_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -1,7 +1,10 @@
 // SAH kd-tree over a scene's triangles: O(N log N) event-sorting build
 // (Wald and Havran 2006, "On building fast kd-trees for ray tracing, and on
 // doing that in O(N log N)"), with perfect splits (triangles clipped to the
-// node box) and an empty-space bonus.
+// node box) and an empty-space bonus. Events are kept per axis and radix
+// sorted; subtrees of at least a few thousand triangles are built on threads
+// of their own when one is free, and appended in pre-order, so the tree is
+// the same for any number of threads.
 #pragma once
 
 #include <cstdint>
@@ -20,6 +23,8 @@ struct KdBuildOptions {
   // A node of at most this many triangles is a leaf whatever the SAH says
   // (the minimum to split is one more); 0: the SAH alone decides.
   std::uint32_t leaf_size = 0;
+  // Threads building the tree (0: one per core). The tree does not depend on it.
+  unsigned threads = 0;
 };
 
 // The depth limit used when KdBuildOptions::max_depth is 0.
