@@ -114,6 +114,29 @@ struct SplitChoice {
   bool planar_left = true;
 };
 
+// Lists a builder has done with, for its next nodes: the build allocates
+// (and the system zeroes) far less. Depth-first, few are spare at a time;
+// long lists, from the few nodes near the root, are freed.
+template <typename T>
+class SpareVectors {
+ public:
+  static constexpr std::size_t kLongest = std::size_t{1} << 15;
+  std::vector<T> take() {
+    if (spare_.empty()) return {};
+    std::vector<T> list = std::move(spare_.back());
+    spare_.pop_back();
+    return list;
+  }
+  void give(std::vector<T>&& list) {
+    if (list.capacity() > kLongest) return;
+    list.clear();
+    spare_.push_back(std::move(list));
+  }
+
+ private:
+  std::vector<std::vector<T>> spare_;
+};
+
 // Threads a build may still start, shared by the builders of one tree.
 class ThreadSlots {
  public:
@@ -310,12 +333,14 @@ class KdTreeBuilder {
     return best;
   }
 
-  std::uint32_t make_leaf(std::uint32_t index, const std::vector<std::uint32_t>& ids) {
+  std::uint32_t make_leaf(std::uint32_t index, NodeEvents events, std::vector<std::uint32_t> ids) {
     KdNode& node = tree_.nodes_[index];
     node.axis = KdNode::kLeafAxis;
     node.first = static_cast<std::uint32_t>(tree_.primitives_.size());
     node.count = static_cast<std::uint32_t>(ids.size());
     tree_.primitives_.insert(tree_.primitives_.end(), ids.begin(), ids.end());
+    spare_events_.give(std::move(events.events));
+    spare_ids_.give(std::move(ids));
     return index;
   }
 
@@ -326,11 +351,11 @@ class KdTreeBuilder {
     tree_.nodes_[index].level = static_cast<std::uint16_t>(level);
     const std::size_t n = ids.size();
     if (n == 0 || n <= options_.leaf_size || level >= max_depth_ || unproductive >= kMaxUnproductiveSplits) {
-      return make_leaf(index, ids);
+      return make_leaf(index, std::move(events), std::move(ids));
     }
     const SplitChoice split = find_split(events, n, box);
     if (split.axis < 0 || split.cost >= options_.intersection_cost * double(n)) {
-      return make_leaf(index, ids);
+      return make_leaf(index, std::move(events), std::move(ids));
     }
 
     // Classify: which triangles lie only left, only right, or on both sides.
@@ -354,7 +379,7 @@ class KdTreeBuilder {
     left_box.hi[split.axis] = split.position;
     right_box.lo[split.axis] = split.position;
 
-    std::vector<std::uint32_t> left_ids, right_ids;
+    std::vector<std::uint32_t> left_ids = spare_ids_.take(), right_ids = spare_ids_.take();
     for (auto& list : new_left_) list.clear();
     for (auto& list : new_right_) list.clear();
     for (auto id : ids) {
@@ -376,7 +401,7 @@ class KdTreeBuilder {
         }
       }
     }
-    NodeEvents left_events, right_events;
+    NodeEvents left_events{spare_events_.take()}, right_events{spare_events_.take()};
     // At most two events per triangle and axis.
     left_events.events.reserve(6 * left_ids.size());
     right_events.events.reserve(6 * right_ids.size());
@@ -389,12 +414,12 @@ class KdTreeBuilder {
     }
     left_events.begin[3] = left_events.events.size();
     right_events.begin[3] = right_events.events.size();
-    std::vector<Event>().swap(events.events);  // release the parent's list before going down
+    spare_events_.give(std::move(events.events));  // the parent's list, for the children's children
     // Triangle ids stay ascending in every list (filtered in order), so
     // leaves list them in order.
     const int left_unproductive = unproductive + unproductive_for(box, split, n, left_ids.size(), right_ids.size());
     const int right_unproductive = unproductive + unproductive_for(box, split, n, right_ids.size(), left_ids.size());
-    std::vector<std::uint32_t>().swap(ids);
+    spare_ids_.give(std::move(ids));
     {
       KdNode& node = tree_.nodes_[index];
       node.axis = static_cast<std::uint8_t>(split.axis);
@@ -506,6 +531,8 @@ class KdTreeBuilder {
   ThreadSlots& slots_;
   std::vector<std::uint8_t> side_;
   AxisEvents new_left_, new_right_;  // scratch: events of the triangles one node clips
+  SpareVectors<Event> spare_events_;
+  SpareVectors<std::uint32_t> spare_ids_;
   int max_depth_ = 0;
 };
 
