@@ -272,7 +272,7 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path) {
                           material >= 0 && static_cast<std::size_t>(material) < obj_materials.size()
                               ? static_cast<std::uint32_t>(material)
                               : default_material};
-        const bool keep = checks.keep(triangle, where());
+        const bool keep = checks.keep(triangle, where);
         ++triangle_index;
         if (!keep) {
           offset += corners;

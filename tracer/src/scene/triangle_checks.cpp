@@ -17,13 +17,13 @@ std::string number(float value) {
 
 }  // namespace
 
-void check_coordinates_in_range(const Triangle& triangle, const std::string& where) {
+void check_coordinates_in_range(const Triangle& triangle, const std::function<std::string()>& where) {
   for (const Vec3* v : {&triangle.v0, &triangle.v1, &triangle.v2}) {
     for (int axis = 0; axis < 3; ++axis) {
       const float x = (*v)[axis];
-      if (std::isnan(x)) throw SceneError(where + ": triangle vertex coordinate is not a number");
+      if (std::isnan(x)) throw SceneError(where() + ": triangle vertex coordinate is not a number");
       if (!(std::fabs(x) <= kMaxSceneCoordinate)) {
-        throw SceneError(where + ": triangle vertex coordinate " + number(x) +
+        throw SceneError(where() + ": triangle vertex coordinate " + number(x) +
                          " is beyond the supported range of -2^62 to 2^62 (about +-4.6e18)" +
                          (std::isinf(x) ? " (it overflows single precision)" : ""));
       }
@@ -31,7 +31,7 @@ void check_coordinates_in_range(const Triangle& triangle, const std::string& whe
   }
 }
 
-bool TriangleChecks::keep(const Triangle& triangle, const std::string& where) {
+bool TriangleChecks::keep(const Triangle& triangle, const std::function<std::string()>& where) {
   check_coordinates_in_range(triangle, where);
   // Zero area exactly: in double, so a tiny triangle (a 1e-30 sliver) whose
   // float cross product underflows is kept.
@@ -41,7 +41,7 @@ bool TriangleChecks::keep(const Triangle& triangle, const std::string& where) {
                bz = double(triangle.v2.z) - triangle.v0.z;
   const double nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
   if (nx != 0 || ny != 0 || nz != 0) return true;
-  if (dropped_++ == 0) first_dropped_ = where;
+  if (dropped_++ == 0) first_dropped_ = where();
   return false;
 }
 

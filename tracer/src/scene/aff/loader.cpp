@@ -59,7 +59,8 @@ class AffSceneSource final : public SceneSource {
         scene.triangles.push_back({m.point(batch.corners[c]), m.point(batch.corners[c + 1]),
                                    m.point(batch.corners[c + 2]), batch.material});
         // Transforms may carry a vertex out of range (or to inf).
-        check_coordinates_in_range(scene.triangles.back(), parsed_.name + " at time " + std::to_string(time));
+        check_coordinates_in_range(scene.triangles.back(),
+                                   [&] { return parsed_.name + " at time " + std::to_string(time); });
       }
       if (any_vertex_normals) {
         const Affine& n = normal[batch.node];

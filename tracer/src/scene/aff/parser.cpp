@@ -219,7 +219,7 @@ class AffParser {
     if (++triangles_ > kMaxTriangles) {
       tokens.fail(fmt::format("the scene makes more than {} triangles (the limit of a scene)", kMaxTriangles));
     }
-    if (!checks_.keep({a, b, c, 0}, tokens.file() + ":" + std::to_string(tokens.line()))) return;
+    if (!checks_.keep({a, b, c, 0}, [&] { return tokens.file() + ":" + std::to_string(tokens.line()); })) return;
     target.corners.insert(target.corners.end(), {a, b, c});
     if (normals) {
       target.normals.insert(target.normals.end(), {normals[0], normals[1], normals[2]});
