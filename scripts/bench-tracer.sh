@@ -128,13 +128,28 @@ echo "render_s: rendering only; recorded_s: also making every record (then disca
 echo "the trace; ratio = traced_s / render_s (target <= 2.0), render-loop seconds; B/record = compressed"
 echo "din bytes per record (tracer's default zstd level, 3); vs_zstd3 = trace bytes / \`zstd -3\` of its text (target <= 1)"
 
-# The kd-tree build on about 250K triangles (the forest built-in at size 5).
-builds=()
-for ((run = 0; run < runs; run++)); do
-  builds+=("$("$tracer" info forest:5 --format json | sed -n 's/.*"build_seconds": \([0-9.e+-]*\),*/\1/p')")
+# The kd-tree build (wall and CPU, `tracer info`'s build_seconds and
+# build_cpu_seconds) on one thread and on every core, for the forest built-in
+# at size 5 (about 250K triangles) and the BART scenes; goal: Kitchen at most
+# 0.35 s wall on 2 cores.
+build_figure() {  # SCENE THREADS KEY: the median of $runs builds
+  for ((run = 0; run < runs; run++)); do
+    "$tracer" info "$1" --threads "$2" --format json 2>/dev/null | sed -n "s/.*\"$3\": \([0-9.e+-]*\),*/\1/p"
+  done | median
+}
+cores="$(nproc)"
+printf '%-14s %9s %12s %11s %12s %11s %8s\n' scene triangles wall_1thread cpu_1thread "wall_${cores}threads" \
+  "cpu_${cores}threads" speedup
+build_scenes="forest:5"
+for bart in robots/Robot.aff kitchen/kitchen.aff; do [ -f "$shared/$bart" ] && build_scenes="$build_scenes $shared/$bart"; done
+for scene in $build_scenes; do
+  triangles="$("$tracer" info "$scene" --format json 2>/dev/null | sed -n 's/^    "triangles": \([0-9]*\),*/\1/p')"
+  wall1="$(build_figure "$scene" 1 build_seconds)" cpu1="$(build_figure "$scene" 1 build_cpu_seconds)"
+  walln="$(build_figure "$scene" "$cores" build_seconds)" cpun="$(build_figure "$scene" "$cores" build_cpu_seconds)"
+  awk -v n="$(basename "$scene")" -v t="$triangles" -v a="$wall1" -v b="$cpu1" -v c="$walln" -v d="$cpun" \
+    'BEGIN { printf "%-14s %9d %12.3f %11.3f %12.3f %11.3f %8.2f\n", n, t, a, b, c, d, a / c }'
 done
-triangles="$("$tracer" info forest:5 --format json | sed -n 's/^    "triangles": \([0-9]*\),*/\1/p')"
-echo "kd-tree build, forest:5 ($triangles triangles): median $(printf '%s\n' "${builds[@]}" | median) s wall over $runs run(s)"
+echo "kd-tree build: medians of $runs run(s); speedup = wall on 1 thread / wall on $cores (load: $(cut -d' ' -f1-3 /proc/loadavg))"
 
 # The binary BVH against the kd-tree on the BART scenes: build wall time
 # (goal: at most 0.3 s for Kitchen's BVH on 2 cores) and rays per second of

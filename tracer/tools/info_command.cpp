@@ -25,6 +25,7 @@ namespace {
 struct InfoCommand {
   std::string scene_spec, format = "text";
   int max_depth = 10;
+  unsigned threads = 0;
   std::optional<std::uint32_t> node_size_option;  // default: the acceleration structure's
   SceneCommandOptions scene_options;
 
@@ -41,6 +42,7 @@ void InfoCommand::add_options(CLI::App& app) {
   app.add_option("--node-size", node_size_option,
                  "bytes per node, for the bytes and split levels shown (at most 65535; default: the structure's)")
       ->check(CLI::Range(1, kMaxNodeSize));
+  app.add_option("--threads", threads, "threads building the kd-tree (default: one per core); the tree does not depend on it");
   add_scene_options(app, scene_options, /*frame_runs=*/false);
 }
 
@@ -48,7 +50,8 @@ int InfoCommand::run() const {
   return cli::exit_status_of("tracer info", [&] {
     // Options first, before a scene is loaded.
     if (scene_options.time) cli::check_finite(*scene_options.time, "--time");
-    const KdBuildOptions build_options = make_build_options(scene_options);
+    KdBuildOptions build_options = make_build_options(scene_options);
+    build_options.threads = cli::check_thread_count(threads, "--threads");
     const auto source = open_scene(scene_spec);
     for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer info: warning: %s\n", warning.c_str());
     const Animation& animation = source->animation();
@@ -105,6 +108,8 @@ int InfoCommand::run() const {
                               {"primitive_references", s.primitive_references},
                               {"sah_cost", s.sah_cost},
                               {"build_seconds", s.build_seconds},
+                   {"build_cpu_seconds", s.build_cpu_seconds},
+                              {"build_cpu_seconds", s.build_cpu_seconds},
                               {"split_level_for_high_size", split_levels}};
       j["accel"] = accel;
     } else {
@@ -120,6 +125,7 @@ int InfoCommand::run() const {
                    {"primitive_references", s.primitive_references},
                    {"sah_cost", s.sah_cost},
                    {"build_seconds", s.build_seconds},
+                   {"build_cpu_seconds", s.build_cpu_seconds},
                    {"node_size", node_size},
                    {"split_level_for_high_size", split_levels}};
     }
@@ -145,8 +151,8 @@ int InfoCommand::run() const {
     if (kind == AccelKind::KdTree) {
       fmt::print("kd-tree: {} nodes ({} interior, {} leaves, {} empty), depth {} (limit {})\n", s.nodes,
                  s.interior, s.leaves, s.empty_leaves, s.depth, s.depth_limit);
-      fmt::print("  mean leaf size {:.2f} ({:.2f} over non-empty leaves), SAH cost {:.2f}, built in {:.3f} s\n",
-                 s.mean_leaf_size, s.mean_nonempty_leaf_size, s.sah_cost, s.build_seconds);
+      fmt::print("  mean leaf size {:.2f} ({:.2f} over non-empty leaves), SAH cost {:.2f}, built in {:.3f} s ({:.3f} s CPU)\n",
+                 s.mean_leaf_size, s.mean_nonempty_leaf_size, s.sah_cost, s.build_seconds, s.build_cpu_seconds);
     } else {
       fmt::print("{}: {} nodes of {} bytes ({} bytes), {}-wide, {} leaves, depth {}\n", accel_name(kind), s.nodes,
                  node_size, s.nodes * node_size, accel_arity(kind), s.leaves, s.depth);

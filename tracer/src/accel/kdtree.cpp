@@ -5,6 +5,7 @@
 #include <atomic>
 #include <bit>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <future>
 #include <limits>
@@ -570,6 +571,7 @@ double sah_cost(const KdTree& tree, const KdBuildOptions& options) {
 
 KdTree KdTree::build(std::span<const Triangle> triangles, const KdBuildOptions& options) {
   const auto start = std::chrono::steady_clock::now();
+  const std::clock_t cpu_start = std::clock();
   KdTree tree;
   ThreadSlots slots(build_threads(options.threads));
   KdTreeBuilder builder(triangles, options, tree, slots);
@@ -580,6 +582,7 @@ KdTree KdTree::build(std::span<const Triangle> triangles, const KdBuildOptions& 
   tree.compute_stats();
   tree.stats_.build_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  tree.stats_.build_cpu_seconds = double(std::clock() - cpu_start) / CLOCKS_PER_SEC;
   return tree;
 }
 

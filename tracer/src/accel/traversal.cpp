@@ -61,20 +61,27 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
   };
   Pending stack[kMaxLevelLimit + 2];
   int top = 0;
+  // Locals the compiler can keep in registers: the record vector's writes
+  // could otherwise alias the members.
+  const CompactNode* const nodes = compact_.data();
+  const formats::Record* const node_records = node_records_.data();
+  const float origin[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
+  const float inverse_direction[3] = {inverse.x, inverse.y, inverse.z};
+  const bool direction_not_positive[3] = {ray.direction.x <= 0, ray.direction.y <= 0, ray.direction.z <= 0};
   std::uint32_t node_index = 0;
   float best = t_max;
   bool found = false;
   std::uint64_t fetches = 0, leaves = 0, tests = 0;
 
   while (true) {
-    const CompactNode node = compact_[node_index];
+    const CompactNode node = nodes[node_index];
     ++fetches;
-    if (record_nodes) records->push_back(node_records_[node_index]);
+    if (record_nodes) records->push_back(node_records[node_index]);
     const std::uint32_t axis = node.bits & 3u;
     if (axis != KdNode::kLeafAxis) {
-      const float o = ray.origin[static_cast<int>(axis)];
-      const float t_split = (node.split - o) * inverse[static_cast<int>(axis)];
-      const bool below_first = o < node.split || (o == node.split && ray.direction[static_cast<int>(axis)] <= 0);
+      const float o = origin[axis];
+      const float t_split = (node.split - o) * inverse_direction[axis];
+      const bool below_first = o < node.split || (o == node.split && direction_not_positive[axis]);
       const std::uint32_t left = node_index + 1, right = node.bits >> 2;
       const std::uint32_t first = below_first ? left : right;
       const std::uint32_t second = below_first ? right : left;

@@ -54,6 +54,7 @@ struct KdTreeStats {
   double mean_nonempty_leaf_size = 0;  // over leaves holding a triangle
   double sah_cost = 0;                 // expected cost of a ray through the root box
   double build_seconds = 0;            // wall time; never written into traces
+  double build_cpu_seconds = 0;        // the process's CPU time (every thread) during the build
 };
 
 class KdTree {
