@@ -40,7 +40,7 @@ Traversal::Traversal(const std::vector<Triangle>& triangles, const KdTree& tree,
   }
 }
 
-template <bool AnyHit>
+template <bool AnyHit, bool Recording>
 bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records,
                          RenderStats* stats) const {
   if (compact_.empty() || tree_.bounds().empty()) return false;
@@ -52,9 +52,10 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
   float t_min = 0, t_far = t_max;
   if (!intersect_box(tree_.bounds(), ray.origin, inverse, t_min, t_far)) return false;
 
+  if constexpr (!Recording) records = nullptr;
   const detail::ShearedRay sheared(ray);
   const detail::LeafVisit leaf{triangles_, tree_.primitives(), sheared, streams_, addresses_, records};
-  const bool record_nodes = records && streams_.nodes;
+  const bool record_nodes = Recording && streams_.nodes;
   struct Pending {
     std::uint32_t node;
     float t_min, t_max;
@@ -121,12 +122,14 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
 
 bool Traversal::closest_hit(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records,
                             RenderStats* stats) const {
-  return traverse<false>(ray, t_max, hit, records, stats);
+  return records ? traverse<false, true>(ray, t_max, hit, records, stats)
+                 : traverse<false, false>(ray, t_max, hit, nullptr, stats);
 }
 
 bool Traversal::any_hit(const Ray& ray, float t_max, std::vector<Record>* records, RenderStats* stats) const {
   Hit hit;
-  return traverse<true>(ray, t_max, hit, records, stats);
+  return records ? traverse<true, true>(ray, t_max, hit, records, stats)
+                 : traverse<true, false>(ray, t_max, hit, nullptr, stats);
 }
 
 }  // namespace nodetrace::tracer

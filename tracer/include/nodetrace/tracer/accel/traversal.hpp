@@ -48,7 +48,9 @@ class Traversal : public RayTraversal {
                RenderStats* stats) const override;
 
  private:
-  template <bool AnyHit>
+  // Recording: records is not null (a walk that records nothing is compiled
+  // without the recording, for speed).
+  template <bool AnyHit, bool Recording>
   bool traverse(const Ray& ray, float t_max, Hit& hit, std::vector<formats::Record>* records,
                 RenderStats* stats) const;
 
