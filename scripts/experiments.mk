@@ -70,6 +70,10 @@ LEAF_SIZE ?= 0
 RAYS ?= whitted
 LIGHTS ?= all
 INTERPRETATION ?=
+# zstd level of the traces the studies write (results do not depend on it):
+# a render of BART Kitchen at 400x300 writing three traces takes 0.76x the
+# CPU at level 1 as at level 3, for traces of 1.1x the bytes.
+TRACE_ZSTD_LEVEL ?= 1
 
 # --- Studies ------------------------------------------------------------------
 # Acceleration structures (the accel target): Table 1's grid for each
@@ -265,8 +269,9 @@ interp_files = $(call interp_check,$2)single=$(call interp_single_file,$1,$2,$3,
 # group from one render: the group's members are complete when the recipe
 # runs, after make has read every study.
 # A BVH's trace (--accel) is extended din: its records carry the node's size.
-trace = $(call define_trace,$(TRACES)/$1-$(call hash_text,$(tracer_hash) $(call scene_hash,$1) $2).$(if $(findstring \
-  --accel ,$2),xdin,din).zst,$1,$2)
+trace = $(call named_trace,$1,$2 --zstd-level $(TRACE_ZSTD_LEVEL))
+named_trace = $(call define_trace,$(TRACES)/$1-$(call hash_text,$(tracer_hash) $(call scene_hash,$1) $2).$(if \
+  $(findstring --accel ,$2),xdin,din).zst,$1,$2)
 define_trace = $(if $(defined_$1),,$(call define_member,$1,$2,$3,$(call trace_group,$2,$3)))$1
 # The first trace of a group leads it: its recipe renders the whole group, and
 # the others wait for it (they render only when their file went missing).
