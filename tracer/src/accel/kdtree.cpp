@@ -427,26 +427,40 @@ class KdTreeBuilder {
       node.split = split.position;
     }
     std::uint32_t left, right;
-    if (right_ids.size() >= kMinTrianglesPerThread && slots_.try_take()) {
-      // The right subtree is built by a builder of its own on another thread
-      // while this one builds the left, then appended: pre-order either way,
-      // so the tree does not depend on the threads.
-      auto fragment = std::async(std::launch::async, [this, events = std::move(right_events),
-                                                      ids = std::move(right_ids), right_box, level,
-                                                      right_unproductive]() mutable {
-        auto part = std::make_unique<KdTree>();
-        KdTreeBuilder builder(triangles_, options_, *part, slots_);
-        builder.max_depth_ = max_depth_;
-        builder.build_node(std::move(events), std::move(ids), right_box, level + 1, right_unproductive);
-        slots_.give_back();
-        return part;
-      });
-      left = build_node(std::move(left_events), std::move(left_ids), left_box, level + 1, left_unproductive);
+    const bool right_larger = right_ids.size() >= left_ids.size();
+    if (std::max(left_ids.size(), right_ids.size()) >= kMinTrianglesPerThread && slots_.try_take()) {
+      // The larger child is built by a builder of its own on another thread
+      // while this one builds the other, then appended in pre-order: the tree
+      // does not depend on the threads.
+      auto on_thread = [this](NodeEvents&& events, std::vector<std::uint32_t>&& ids, const Bounds& box, int level,
+                              int unproductive) {
+        return std::async(std::launch::async, [this, events = std::move(events), ids = std::move(ids), box, level,
+                                               unproductive]() mutable {
+          auto part = build_fragment(std::move(events), std::move(ids), box, level, unproductive);
+          slots_.give_back();
+          return part;
+        });
+      };
       // While this thread waits, the other builders may start one in its place.
-      slots_.give_back();
-      const std::unique_ptr<KdTree> part = fragment.get();
-      slots_.take();
-      right = append(*part);
+      auto wait_for = [this](std::future<std::unique_ptr<KdTree>>& fragment) {
+        slots_.give_back();
+        std::unique_ptr<KdTree> part = fragment.get();
+        slots_.take();
+        return part;
+      };
+      if (right_larger) {
+        auto fragment = on_thread(std::move(right_events), std::move(right_ids), right_box, level + 1,
+                                  right_unproductive);
+        left = build_node(std::move(left_events), std::move(left_ids), left_box, level + 1, left_unproductive);
+        right = append(*wait_for(fragment));
+      } else {
+        auto fragment = on_thread(std::move(left_events), std::move(left_ids), left_box, level + 1,
+                                  left_unproductive);
+        const std::unique_ptr<KdTree> right_part = build_fragment(
+            std::move(right_events), std::move(right_ids), right_box, level + 1, right_unproductive);
+        left = append(*wait_for(fragment));
+        right = append(*right_part);
+      }
     } else {
       left = build_node(std::move(left_events), std::move(left_ids), left_box, level + 1, left_unproductive);
       right = build_node(std::move(right_events), std::move(right_ids), right_box, level + 1, right_unproductive);
@@ -482,6 +496,16 @@ class KdTreeBuilder {
     return copies_most || keeps_nearly_all ? 1 : 0;
   }
   static constexpr int kMaxUnproductiveSplits = 4;
+
+  // A subtree built apart by a builder of its own, for append().
+  std::unique_ptr<KdTree> build_fragment(NodeEvents events, std::vector<std::uint32_t> ids, const Bounds& box,
+                                         int level, int unproductive) const {
+    auto part = std::make_unique<KdTree>();
+    KdTreeBuilder builder(triangles_, options_, *part, slots_);
+    builder.max_depth_ = max_depth_;
+    builder.build_node(std::move(events), std::move(ids), box, level, unproductive);
+    return part;
+  }
 
   // Appends a subtree built apart; returns the index of its root.
   std::uint32_t append(const KdTree& part) {
