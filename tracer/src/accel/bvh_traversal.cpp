@@ -13,7 +13,10 @@ using formats::Record;
 
 BvhTraversal::BvhTraversal(const std::vector<Triangle>& triangles, const Bvh& bvh, const Layout& layout,
                            const StreamSelection& streams, const AddressMap& addresses)
-    : triangles_(triangles), bvh_(bvh), streams_(streams), addresses_(addresses) {
+    : listed_triangles_(detail::triangles_in_list_order(triangles, bvh.primitives())),
+      bvh_(bvh),
+      streams_(streams),
+      addresses_(addresses) {
   const auto& slots = layout.slot_of_node;
   const auto& nodes = bvh.nodes();
   if (slots.size() != nodes.size()) throw std::invalid_argument("layout does not match the BVH");
@@ -71,7 +74,7 @@ bool BvhTraversal::traverse(const std::vector<WideNode<W>>& nodes, const Ray& ra
     if (!detail::intersect_box(bvh_.bounds(), ray.origin, inverse, t0, t1)) return false;
   }
   const detail::ShearedRay sheared(ray);
-  const detail::LeafVisit leaf{triangles_, bvh_.primitives(), sheared, streams_, addresses_, records};
+  const detail::LeafVisit leaf{listed_triangles_, bvh_.primitives(), sheared, streams_, addresses_, records};
   const bool record_nodes = records && streams_.nodes;
 
   // A node visit pushes at most arity - 1 entries (its nearest child is

@@ -11,8 +11,18 @@
 
 namespace nodetrace::tracer::detail {
 
+// The triangles in leaf-list order (the one at slot i is primitives[i]'s):
+// a leaf's triangles lie side by side, read without an indirection.
+inline std::vector<Triangle> triangles_in_list_order(const std::vector<Triangle>& triangles,
+                                                     const std::vector<std::uint32_t>& primitives) {
+  std::vector<Triangle> ordered;
+  ordered.reserve(primitives.size());
+  for (const std::uint32_t id : primitives) ordered.push_back(triangles[id]);
+  return ordered;
+}
+
 struct LeafVisit {
-  const std::vector<Triangle>& triangles;
+  const std::vector<Triangle>& listed_triangles;  // triangles_in_list_order
   const std::vector<std::uint32_t>& primitives;
   const ShearedRay& sheared;
   const StreamSelection& streams;
@@ -42,7 +52,7 @@ struct LeafVisit {
                             .tag = formats::kTagTriangle});
       }
       ++tests;
-      if (intersect_sheared(sheared, triangles[id], best, hit)) {
+      if (intersect_sheared(sheared, listed_triangles[slot], best, hit)) {
         best = hit.t;
         hit.triangle = id;
         found = true;

@@ -16,7 +16,10 @@ using detail::intersect_box;
 
 Traversal::Traversal(const std::vector<Triangle>& triangles, const KdTree& tree, const Layout& layout,
                      const StreamSelection& streams, const AddressMap& addresses)
-    : triangles_(triangles), tree_(tree), streams_(streams), addresses_(addresses) {
+    : listed_triangles_(detail::triangles_in_list_order(triangles, tree.primitives())),
+      tree_(tree),
+      streams_(streams),
+      addresses_(addresses) {
   const auto& slots = layout.slot_of_node;
   const auto& nodes = tree.nodes();
   if (slots.size() != nodes.size()) throw std::invalid_argument("layout does not match the kd-tree");
@@ -54,7 +57,7 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
 
   if constexpr (!Recording) records = nullptr;
   const detail::ShearedRay sheared(ray);
-  const detail::LeafVisit leaf{triangles_, tree_.primitives(), sheared, streams_, addresses_, records};
+  const detail::LeafVisit leaf{listed_triangles_, tree_.primitives(), sheared, streams_, addresses_, records};
   const bool record_nodes = Recording && streams_.nodes;
   struct Pending {
     std::uint32_t node;

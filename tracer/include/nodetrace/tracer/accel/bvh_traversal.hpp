@@ -48,7 +48,7 @@ class BvhTraversal : public RayTraversal {
   bool traverse(const std::vector<WideNode<W>>& wide, const Ray& ray, float t_max, Hit& hit,
                 std::vector<formats::Record>* records, RenderStats* stats) const;
 
-  const std::vector<Triangle>& triangles_;
+  std::vector<Triangle> listed_triangles_;  // in leaf-list order, for the leaf visits
   const Bvh& bvh_;
   StreamSelection streams_;
   AddressMap addresses_;

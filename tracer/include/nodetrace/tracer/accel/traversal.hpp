@@ -54,7 +54,7 @@ class Traversal : public RayTraversal {
   bool traverse(const Ray& ray, float t_max, Hit& hit, std::vector<formats::Record>* records,
                 RenderStats* stats) const;
 
-  const std::vector<Triangle>& triangles_;
+  std::vector<Triangle> listed_triangles_;  // in leaf-list order, for the leaf visits
   const KdTree& tree_;
   StreamSelection streams_;
   AddressMap addresses_;
