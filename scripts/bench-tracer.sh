@@ -2,22 +2,27 @@
 # Tracer speed: rays per second rendering only, the cost of writing the trace
 # as the ratio (render + trace) / render only (target: at most 2.0), and
 # compressed bytes per record, for each built-in scene and the two BART
-# scenes; the binary BVH against the kd-tree (build time, rays per second). Medians of --runs runs; each run is one `tracer render`. Then, for
-# the BART scenes, the same ratio for the whole command (wall and CPU user +
-# sys of `tracer render ... --high-size 4k` with and without -o, runs
-# alternating), with peak RSS; then, for the BART scenes, writing the trace
-# with 32 rays in flight against 1 (wall and CPU, target at most 1.3x CPU)
-# and the peak RSS at 1, 32 and 128; last, primary rays per second against
-# Embree where libembree-dev is installed (a benchmark-only reference).
+# scenes; the kd-tree build on one thread and on every core; the binary BVH
+# against the kd-tree (build time, rays per second). Medians of --runs runs;
+# each run is one `tracer render`. Then, for the BART scenes, the same ratio
+# for the whole command (wall and CPU user + sys of `tracer render ...
+# --high-size 4k` with and without -o, runs alternating), with peak RSS;
+# writing the trace with 32 rays in flight against 1 (wall and CPU, target at
+# most 1.3x CPU) and the peak RSS at 1, 32 and 128; a row-sampled run (1/8)
+# against the full run (render + simulate, target at most 0.25x CPU); last,
+# primary rays per second against Embree where libembree-dev is installed (a
+# benchmark-only reference).
 #   scripts/bench-tracer.sh [--build-dir build] [--runs 3] [--width 400 --height 300]
-#                           [--max-depth 10] [--threads N] [--scenes "a b c"] [--in-flight-only]
+#                           [--max-depth 10] [--threads N] [--scenes "a b c"]
+#                           [--in-flight-only | --sampled-only]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-build_dir=build runs=3 width=400 height=300 max_depth=10 threads=0 scenes="" in_flight_only=0
+build_dir=build runs=3 width=400 height=300 max_depth=10 threads=0 scenes="" in_flight_only=0 sampled_only=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --in-flight-only) in_flight_only=1; shift ;;
+    --sampled-only) sampled_only=1; shift ;;
     --build-dir) build_dir="$2"; shift 2 ;;
     --runs) runs="$2"; shift 2 ;;
     --width) width="$2"; shift 2 ;;
@@ -25,7 +30,7 @@ while [ $# -gt 0 ]; do
     --max-depth) max_depth="$2"; shift 2 ;;
     --threads) threads="$2"; shift 2 ;;
     --scenes) scenes="$2"; shift 2 ;;
-    -h|--help) sed -n '2,13s/^# \{0,1\}//p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,17s/^# \{0,1\}//p' "$0"; exit 0 ;;
     *) echo "bench-tracer.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -88,8 +93,47 @@ rays_in_flight() {
   echo "in CPU time); MiB_N: peak RSS"
 }
 
+# A row-sampled run against the full run, for the BART scenes: `tracer render
+# --high-size 4k` then `cachesim run --size 4k,8k,16k --scheme single,split`,
+# at --sample-rows 1/8 and in full; wall and CPU (user + sys) of the two
+# commands together, medians of alternating runs; goal: the sampled run at
+# most 0.25 of the full run's CPU (the fixed costs, scene loading and the
+# tree build, are what keeps it above 1/8).
+sampled_run() {
+  local cachesim="$build_dir/bin/cachesim" bart scene kind run
+  echo "row-sampled run (1/8) against the full run, ${width}x${height}, medians of $runs alternating run(s); load average $(cut -d' ' -f1 /proc/loadavg)"
+  printf '%-12s %9s %9s %12s %12s %10s %9s\n' scene full_wall full_cpu sampled_wall sampled_cpu wall_ratio cpu_ratio
+  for bart in robots/Robot.aff kitchen/kitchen.aff; do
+    scene="$shared/$bart"
+    [ -f "$scene" ] || continue
+    : > "$work/full.all"
+    : > "$work/sampled.all"
+    for ((run = 0; run < runs; run++)); do
+      for kind in full sampled; do
+        local sample_args=()
+        [ "$kind" = sampled ] && sample_args=(--sample-rows 1/8)
+        /usr/bin/time -f '%e %U %S' -o "$work/render.t" "$tracer" render "$scene" --width "$width" --height "$height" \
+          --max-depth "$max_depth" --high-size 4k "${sample_args[@]}" "${thread_args[@]}" -q -o "$work/sampled.din.zst" \
+          >/dev/null 2>/dev/null
+        /usr/bin/time -f '%e %U %S' -o "$work/simulate.t" "$cachesim" run "$work/sampled.din.zst" --size 4k,8k,16k \
+          --scheme single,split >/dev/null
+        cat "$work/render.t" "$work/simulate.t" | awk '{w += $1; c += $2 + $3} END {print w, c}' >> "$work/$kind.all"
+      done
+    done
+    awk -v n="$(basename "$scene")" \
+        -v fw="$(awk '{print $1}' "$work/full.all" | median)" -v fc="$(awk '{print $2}' "$work/full.all" | median)" \
+        -v sw="$(awk '{print $1}' "$work/sampled.all" | median)" -v sc="$(awk '{print $2}' "$work/sampled.all" | median)" \
+        'BEGIN { printf "%-12s %9.2f %9.2f %12.2f %12.2f %10.3f %9.3f\n", n, fw, fc, sw, sc, sw / fw, sc / fc }'
+  done
+  echo "ratios sampled / full (target: cpu_ratio <= 0.25)"
+}
+
 if [ "$in_flight_only" = 1 ]; then
   rays_in_flight
+  exit 0
+fi
+if [ "$sampled_only" = 1 ]; then
+  sampled_run
   exit 0
 fi
 
@@ -226,6 +270,7 @@ echo "render: tracer render without -o (nothing recorded); traced: with -o T.din
 echo "ratios traced / render (target <= 2.0 in wall and CPU time)"
 
 rays_in_flight
+sampled_run
 
 # Primary rays against Embree's rtcIntersect1 (a benchmark-only reference,
 # where libembree-dev is installed): the same rays and triangles, one thread
