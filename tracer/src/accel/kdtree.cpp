@@ -5,8 +5,8 @@
 #include <atomic>
 #include <bit>
 #include <chrono>
-#include <ctime>
 #include <cmath>
+#include <ctime>
 #include <future>
 #include <limits>
 #include <memory>
