@@ -90,6 +90,7 @@ void decode_data_frame(const std::string& frame, ParseSettings settings, bool ke
   bool have_bad = false;
   const auto parse_text = [&](const char* text, std::size_t size) {
     if (piece.records.capacity() == 0) piece.records = stock.records.take();
+    if (keep_text && piece.bytes.empty()) piece.bytes = stock.bytes.take();
     const std::size_t before = piece.records.size();
     piece.records.reserve(before + size / 14 + 16);
     if (!parse_records(std::string_view(text, size), settings, piece.records, piece.record_error,
@@ -148,7 +149,6 @@ void decode_data_frame(const std::string& frame, ParseSettings settings, bool ke
     if (piece.records.size() >= kPieceRecords) {
       if (!out.push(std::move(piece))) return;  // abandoned
       piece = Chunk{};
-      if (keep_text) piece.bytes = stock.bytes.take();
     }
   }
   if (src_left != 0) return fail_frame("damaged zstd frame (bytes after its end)");
