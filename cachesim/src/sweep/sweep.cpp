@@ -305,7 +305,7 @@ void Sweep::feed_part(const formats::RecordBatch& batch, std::size_t part_index)
   for (std::size_t begin = 0; begin < count; begin += kChunk) {
     const std::size_t chunk = std::min(kChunk, count - begin);
     const std::uint64_t first_record = batch.first_record + begin;
-    prepare(records + begin, chunk, first_record, part);
+    prepare(records + begin, chunk, first_record, batch.demand_fetches_of_levels, part);
     const bool timed = parts_.size() > 1 && (first_record / kChunk) % kTimedEvery == 0;
     double started = timed ? thread_cpu_seconds() : 0;
     for (const std::size_t u : part.units) {
@@ -320,7 +320,7 @@ void Sweep::feed_part(const formats::RecordBatch& batch, std::size_t part_index)
   }
 }
 
-void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t first_record,
+void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t first_record, bool demand_levels,
                     Part& part) const {
   // Din records are 4 bytes at a multiple of 4 as Dinero IV reads them.
   std::uint64_t span_bits = 3;
@@ -331,9 +331,11 @@ void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t firs
       span_bits |= address ^ (address + std::max<std::uint32_t>(records[i].size, 1) - 1);
     }
   }
+  // What the reader found as it parsed them spares a pass over records
+  // that have left the processor's cache.
   unsigned not_demand = 0;
   unsigned not_level = 0;
-  for (std::size_t i = 0; i < count; ++i) {
+  for (std::size_t i = 0; i < count && !demand_levels; ++i) {
     not_demand |= static_cast<unsigned>(records[i].type > AccessType::Misc);
     not_level |= static_cast<unsigned>(records[i].tag > formats::kMaxLevel);
   }

@@ -154,6 +154,35 @@ TEST_F(Container, TheRecordHashIsCheckedWhateverTheDecodingThreads) {
   }
 }
 
+TEST_F(Container, BatchesSayWhetherEveryRecordIsADemandFetchOfALevel) {
+  // 100000 reads of levels, a copy-back at record 30000 and a leaf-list
+  // record at 70000, as a container and as plain text: each batch's flag is
+  // what its records are, and both answers occur.
+  auto records = sample_records(100000, 4);
+  records[30000].type = AccessType::CopyBack;
+  records[70000].tag = kTagPrimitiveList;
+  const std::string container = path("flags.din.zst");
+  const std::string plain = path("flags.din");
+  write_trace(container, records, options_for(RecordForm::Din, 50000));
+  write_trace(plain, records, options_for(RecordForm::Din, 50000));
+  ReaderOptions levels;
+  levels.tags_are_levels = true;
+  for (const std::string& file : {container, plain}) {
+    auto reader = TraceReader::open(file, levels);
+    RecordBatch batch;
+    std::size_t read = 0, flagged = 0, unflagged = 0;
+    while (reader->next(batch)) {
+      EXPECT_EQ(batch.demand_fetches_of_levels, demand_fetches_of_levels(batch.records.data(), batch.records.size()))
+          << file << ", batch at record " << batch.first_record;
+      (batch.demand_fetches_of_levels ? flagged : unflagged) += 1;
+      read += batch.records.size();
+    }
+    EXPECT_EQ(read, records.size()) << file;
+    EXPECT_GT(flagged, 0u) << file;
+    EXPECT_GE(unflagged, 2u) << file;
+  }
+}
+
 TEST_F(Container, RoundTripsEveryFormWithMarkers) {
   const auto records = sample_records(5500);
   const std::vector<std::pair<std::uint64_t, AnimationFrameMarker>> markers = {{0, marker(0)}, {2000, marker(1)},

@@ -93,7 +93,9 @@ class Sweep {
   // marker, the next begins with that frame's K.
   void change_frame(std::size_t simulator, const formats::AnimationFrameMarker* marker);
   // Fills part.prepared (and counts p / t records; throws for untagged ones).
-  void prepare(const formats::Record* records, std::size_t count, std::uint64_t first_record,
+  // `demand_levels`: the reader found every record a demand fetch of a
+  // node level (RecordBatch::demand_fetches_of_levels).
+  void prepare(const formats::Record* records, std::size_t count, std::uint64_t first_record, bool demand_levels,
                Part& part) const;
 
   std::vector<Configuration> configs_;

@@ -1,6 +1,7 @@
 // The record model: one memory reference of a trace.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -51,6 +52,17 @@ struct Record {
 
   friend bool operator==(const Record&, const Record&) = default;
 };
+
+// Whether every record is one of Dinero IV's demand fetches (types 0-3:
+// read, write, instruction fetch, misc) tagged with a node level.
+constexpr bool demand_fetches_of_levels(const Record* records, std::size_t count) {
+  bool all = true;
+  for (std::size_t i = 0; i < count; ++i) {
+    all &= static_cast<unsigned>(records[i].type) <= static_cast<unsigned>(AccessType::Misc) &&
+           is_level(records[i].tag);
+  }
+  return all;
+}
 
 // The three record forms of docs/ARCHITECTURE.md "Trace records".
 enum class RecordForm : std::uint8_t {
