@@ -25,8 +25,13 @@ namespace {
 // pieces may wait: with 2 the two workers took turns (cachesim on the BART
 // Kitchen trace 114% CPU use, 0.84-1.07 s; 21 MB), with 32 they overlap
 // (165%, 0.49-0.68 s, as zstd -dc; 40-43 MB): the memory buys the second core.
+// With the record hash, what a worker decodes ahead is text it must hold
+// for the hash (record_hash_chain.hpp): with 8 pieces `tracetool verify` of
+// that trace took 1.2-1.3x the CPU of `zstd -t` and 1.1-1.2x its wall time,
+// with 32 1.45-1.6x and 0.85-0.9x (medians of runs on a loaded machine).
 constexpr std::size_t kPieceRecords = 1u << 14;
 constexpr std::size_t kPiecesWaiting = 32;
+constexpr std::size_t kPiecesWaitingHashed = 8;
 // Frames whose zstd window is larger than this (archives) are decoded one
 // at a time, so only one such window is held.
 constexpr std::uint64_t kSmallWindow = 8u << 20;
@@ -343,7 +348,11 @@ class ContainerReader final : public PipelinedReader {
       unit.entry.checksum = size >= 4 ? load_le32(input_->data() + size - 4) : 0;
       std::string frame(input_->data(), size);
       consume_hashed(size);
-      auto stream = std::make_shared<PieceStream>(kPiecesWaiting);
+      // The record hash, unless frames are skipped or were (seek): it is
+      // then not checked, and its chain would wait for them.
+      std::shared_ptr<RecordHashChain> hash = hashes_valid_ && !skips_some_ ? record_hash_ : nullptr;
+      if (!hash) unhashed_frames_ = true;
+      auto stream = std::make_shared<PieceStream>(hash ? kPiecesWaitingHashed : kPiecesWaiting);
       // Large windows one at a time: each waits for the previous one.
       std::shared_ptr<PieceStream> earlier;
       ZSTD_frameHeader frame_header{};
@@ -354,10 +363,6 @@ class ContainerReader final : public PipelinedReader {
       unit.stream = stream;
       const std::uint64_t hash_frame = unit.data_frame;
       pipeline_->push_ready(std::move(unit));
-      // The record hash, unless frames are skipped or were (seek): it is
-      // then not checked, and its chain would wait for them.
-      std::shared_ptr<RecordHashChain> hash = hashes_valid_ && !skips_some_ ? record_hash_ : nullptr;
-      if (!hash) unhashed_frames_ = true;
       post_stream_job(stream, [frame = std::move(frame), settings = settings_, hash = std::move(hash), hash_frame,
                                stock = stock_, stream, earlier = std::move(earlier)] {
         decode_into(frame, settings, hash.get(), hash_frame, *stock, *stream, earlier.get());
