@@ -341,7 +341,10 @@ void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t firs
   }
   bool demand_only = not_demand == 0;
   const bool all_levels = not_level == 0;
-  if (!all_levels) {
+  // A trace whose tags are not levels has only untagged records (readers
+  // read no tag then): no other streams, and nothing that needs levels (the
+  // sweep refused those at its start).
+  if (!all_levels && context_.tags_are_levels) {
     // Other streams (counted apart), or untagged records where levels are needed.
     for (std::size_t i = 0; i < count; ++i) {
       const Tag tag = records[i].tag;
