@@ -157,7 +157,7 @@ bool decode_data_frame(const std::string& frame, ParseSettings settings, RecordH
     if (have_bad) continue;
     parse += cut;
     if (piece.records.size() >= kPieceRecords) {
-      piece.demand_fetches_of_levels = demand_fetches_of_levels(piece.records.data(), piece.records.size());
+      piece.kinds = record_kinds(piece.records.data(), piece.records.size());
       if (!out.push(std::move(piece))) return false;  // abandoned
       piece = Chunk{};
     }
@@ -168,7 +168,7 @@ bool decode_data_frame(const std::string& frame, ParseSettings settings, RecordH
   const bool whole = settings.form == RecordForm::Binary ? total % 8 == 0 : total == 0 || last_byte == '\n';
   if (!whole) return fail_frame("data frame does not end at a record boundary");
   if (hash && !have_bad) hash->end_frame(hash_frame, held_text);
-  piece.demand_fetches_of_levels = demand_fetches_of_levels(piece.records.data(), piece.records.size());
+  piece.kinds = record_kinds(piece.records.data(), piece.records.size());
   return out.push(std::move(have_bad ? bad : piece)) && !have_bad;
 }
 

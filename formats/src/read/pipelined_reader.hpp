@@ -24,7 +24,7 @@ namespace nodetrace::formats::detail {
 // What a worker hands back for one data frame or text chunk.
 struct Chunk {
   std::vector<Record> records;
-  bool demand_fetches_of_levels = false;  // of every record (found on the worker, where they are in cache)
+  RecordKinds kinds;  // of the records (found on the worker, where they are in cache)
   std::uint64_t decoded_bytes = 0;   // record bytes these records came from
   bool bad_record = false;
   RecordError record_error;

@@ -154,10 +154,10 @@ TEST_F(Container, TheRecordHashIsCheckedWhateverTheDecodingThreads) {
   }
 }
 
-TEST_F(Container, BatchesSayWhetherEveryRecordIsADemandFetchOfALevel) {
+TEST_F(Container, BatchesSayWhetherEveryRecordIsADemandFetchAndALevel) {
   // 100000 reads of levels, a copy-back at record 30000 and a leaf-list
-  // record at 70000, as a container and as plain text: each batch's flag is
-  // what its records are, and both answers occur.
+  // record at 70000, as a container and as plain text: each batch's kinds
+  // are what its records are, and both answers occur.
   auto records = sample_records(100000, 4);
   records[30000].type = AccessType::CopyBack;
   records[70000].tag = kTagPrimitiveList;
@@ -172,15 +172,26 @@ TEST_F(Container, BatchesSayWhetherEveryRecordIsADemandFetchOfALevel) {
     RecordBatch batch;
     std::size_t read = 0, flagged = 0, unflagged = 0;
     while (reader->next(batch)) {
-      EXPECT_EQ(batch.demand_fetches_of_levels, demand_fetches_of_levels(batch.records.data(), batch.records.size()))
-          << file << ", batch at record " << batch.first_record;
-      (batch.demand_fetches_of_levels ? flagged : unflagged) += 1;
+      const RecordKinds kinds = record_kinds(batch.records.data(), batch.records.size());
+      EXPECT_EQ(batch.kinds.demand_fetches, kinds.demand_fetches) << file << ", batch at record " << batch.first_record;
+      EXPECT_EQ(batch.kinds.levels, kinds.levels) << file << ", batch at record " << batch.first_record;
+      (batch.kinds.demand_fetches && batch.kinds.levels ? flagged : unflagged) += 1;
       read += batch.records.size();
     }
     EXPECT_EQ(read, records.size()) << file;
     EXPECT_GT(flagged, 0u) << file;
     EXPECT_GE(unflagged, 2u) << file;
   }
+  // Read untagged, the plain text's records are demand fetches but no levels.
+  auto reader = TraceReader::open(plain);
+  RecordBatch batch;
+  std::size_t demand_batches = 0;
+  while (reader->next(batch)) {
+    EXPECT_FALSE(batch.kinds.levels);
+    EXPECT_EQ(batch.kinds.demand_fetches, record_kinds(batch.records.data(), batch.records.size()).demand_fetches);
+    demand_batches += batch.kinds.demand_fetches;
+  }
+  EXPECT_GT(demand_batches, 0u);
 }
 
 TEST_F(Container, RoundTripsEveryFormWithMarkers) {

@@ -93,10 +93,10 @@ class Sweep {
   // marker, the next begins with that frame's K.
   void change_frame(std::size_t simulator, const formats::AnimationFrameMarker* marker);
   // Fills part.prepared (and counts p / t records; throws for untagged ones).
-  // `demand_levels`: the reader found every record a demand fetch of a
-  // node level (RecordBatch::demand_fetches_of_levels).
-  void prepare(const formats::Record* records, std::size_t count, std::uint64_t first_record, bool demand_levels,
-               Part& part) const;
+  // `known`: what the reader found every record of the batch to be
+  // (RecordBatch::kinds).
+  void prepare(const formats::Record* records, std::size_t count, std::uint64_t first_record,
+               formats::RecordKinds known, Part& part) const;
 
   std::vector<Configuration> configs_;
   TraceContext context_;

@@ -55,9 +55,15 @@ struct Record {
   friend bool operator==(const Record&, const Record&) = default;
 };
 
-// Whether every record is one of Dinero IV's demand fetches (types 0-3:
-// read, write, instruction fetch, misc) tagged with a node level.
-inline bool demand_fetches_of_levels(const Record* records, std::size_t count) {
+// What every record of a run is, found in one pass: one of Dinero IV's
+// demand fetches (types 0-3: read, write, instruction fetch, misc), and
+// tagged with a node level.
+struct RecordKinds {
+  bool demand_fetches = false;
+  bool levels = false;
+};
+
+inline RecordKinds record_kinds(const Record* records, std::size_t count) {
   // Without a branch per record: a type above 3 sets a bit above the two
   // low ones, a tag above kMaxLevel carries into bit 16 when 15 is added.
   static_assert(static_cast<unsigned>(AccessType::Misc) == 3 && kMaxLevel == 0xFFFF - 15);
@@ -80,7 +86,7 @@ inline bool demand_fetches_of_levels(const Record* records, std::size_t count) {
       tags |= records[i].tag + 15u;
     }
   }
-  return (types & 0xFC) == 0 && (tags & 0x10000) == 0;
+  return {(types & 0xFC) == 0, (tags & 0x10000) == 0};
 }
 
 // The three record forms of docs/ARCHITECTURE.md "Trace records".
