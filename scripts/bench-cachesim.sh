@@ -10,6 +10,13 @@
 #     against `zstd -dcq | dineroIV` for the same configuration (goal 10 x in
 #     CPU), and `zstd -dcq | cachesim dinero` against `zstd -dcq | dineroIV`
 #     with the same options (goal 3 x in CPU)
+#   - reading speed on the BART Kitchen trace (issue 25), CPU and wall
+#     medians of paired runs and their ratios: `cachesim run` (one
+#     configuration) of the container against `zstd -dc` (goal 1.5 x in CPU);
+#     `tracetool verify` against `zstd -t` (goal 1.3 x); and, for the same
+#     records as another tool writes them (variable-width fields, `0 1a38 7`),
+#     `cachesim run` of them compressed by plain `zstd` and of their plain
+#     text, both against `zstd -dc` of the plain zstd file (goal 1.5 x)
 #   - zstd -dc FILE >/dev/null                      (the reference)
 #   - one configuration (8k, block 8, direct mapped, single)
 #   - the Table 1 grid (4k,8k,16k x single,split) in one pass; ratio grid / one
@@ -26,8 +33,10 @@
 #
 #   scripts/bench-cachesim.sh [--build-dir DIR] [--repeat N] [--trace FILE]
 #                             [--split-level K|auto] [--no-500m] [--one-only]
+#                             [--reading-only]
 #
-# --one-only stops after the one-configuration comparison.
+# --one-only stops after the one-configuration and reading comparisons;
+# --reading-only runs the reading comparison alone.
 #
 # Without --trace it renders (once) DIR/bench/render75m.din.zst: the default
 # built-in scene at 400x300, depth 10, hybrid layout for a 4 KB high cache
@@ -45,6 +54,7 @@ trace=
 split_level=auto
 big=1
 one_only=0
+reading_only=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --build-dir) build_dir=$2; shift 2 ;;
@@ -53,7 +63,8 @@ while [ $# -gt 0 ]; do
     --split-level) split_level=$2; shift 2 ;;
     --no-500m) big=0; shift ;;
     --one-only) one_only=1; shift ;;
-    -h|--help) sed -n '2,31p' "$0"; exit 0 ;;
+    --reading-only) reading_only=1; shift ;;
+    -h|--help) sed -n '2,47p' "$0"; exit 0 ;;
     *) echo "bench-cachesim.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -76,7 +87,7 @@ elif command -v dineroIV >/dev/null; then
 elif [ -f ../shared/dinero-iv/d4-7.tar.gz ]; then
   dinero=$(scripts/build-dinero.sh) || dinero=
 fi
-if [ -z "$trace" ]; then
+if [ -z "$trace" ] && [ "$reading_only" = 0 ]; then
   trace=$build_dir/bench/render75m.din.zst
   if [ ! -s "$trace" ]; then
     mkdir -p "$build_dir/bench"
@@ -84,7 +95,7 @@ if [ -z "$trace" ]; then
     "$tracer" render --width 400 --height 300 --max-depth 10 --high-size 4k -q -o "$trace"
   fi
 fi
-records=$("$tracetool" info "$trace" | awk '$1 == "records" && $2 ~ /^[0-9]+$/ { print $2; exit }')
+[ -n "$trace" ] && records=$("$tracetool" info "$trace" | awk '$1 == "records" && $2 ~ /^[0-9]+$/ { print $2; exit }')
 
 # Seconds taken by a command (wall clock), output discarded.
 seconds() {
@@ -160,8 +171,57 @@ compare_one_config() {
   fi
 }
 
+# Medians of paired runs, taken in turn, of commands given as "label|command"
+# (the first is the reference): CPU (user + sys) and wall of each, and each
+# one's median ratio to the reference over the rounds.
+compare_reading_pairs() {
+  local goal=$1; shift
+  local dir i load0 load1
+  dir=$(mktemp -d)
+  load0=$(cut -d' ' -f1 /proc/loadavg)
+  for _ in $(seq "$repeat"); do
+    for i in $(seq 0 $(($# - 1))); do
+      local entry=${*:$((i + 1)):1}
+      wall_cpu_rss bash -c "${entry#*|}" | cut -d' ' -f1,2 >>"$dir/$i"
+    done
+  done
+  load1=$(cut -d' ' -f1 /proc/loadavg)
+  echo "  load average before $load0, after $load1; medians of $repeat paired runs; goal $goal x in cpu"
+  for i in $(seq 0 $(($# - 1))); do
+    local entry=${*:$((i + 1)):1}
+    local wm cm rw rc
+    wm=$(cut -d' ' -f1 "$dir/$i" | median) cm=$(cut -d' ' -f2 "$dir/$i" | median)
+    rw=$(paste -d' ' "$dir/$i" "$dir/0" | awk '{ printf "%.3f\n", $1 / $3 }' | median)
+    rc=$(paste -d' ' "$dir/$i" "$dir/0" | awk '{ printf "%.3f\n", $2 / $4 }' | median)
+    printf '    %-34s wall %6s s  cpu %6s s  ratio wall %5s x  cpu %5s x\n' "${entry%%|*}" "$wm" "$cm" "$rw" "$rc"
+  done
+  rm -rf "$dir"
+}
+
+# Issue 25's reading goals on one trace (a container): the container, its
+# verification, and the same records as another tool writes them.
+compare_reading() {
+  local file=$1 one="--size 8k --block 8 --assoc 1 --scheme single --format csv"
+  local variable=${file%.din.zst}.variable.din
+  if [ ! -s "$variable.zst" ] || [ ! -s "$variable" ]; then
+    echo "making $variable(.zst) (its records with fields unpadded, as other tools write them) ..." >&2
+    "$tracetool" cat "$file" |
+      awk '{ a = $2; sub(/^0+/, "", a); if (a == "") a = "0"; print $1, a, $3 + 0 }' >"$variable"
+    zstd -q -f -T2 "$variable" -o "$variable.zst"
+  fi
+  echo "reading speed (issue 25) on $file and $variable(.zst), CPU (user + sys) and wall:"
+  echo "  the container, one configuration:"
+  compare_reading_pairs 1.5 "zstd -dc FILE|zstd -q -dc '$file'" "cachesim run FILE|'$cachesim' run '$file' $one"
+  echo "  verification:"
+  compare_reading_pairs 1.3 "zstd -t FILE|zstd -q -t '$file'" "tracetool verify FILE|'$tracetool' verify '$file'"
+  echo "  another tool's trace, variable-width fields (plain zstd, plain text):"
+  compare_reading_pairs 1.5 "zstd -dc VARIABLE.zst|zstd -q -dc '$variable.zst'" \
+    "cachesim run VARIABLE.zst|'$cachesim' run '$variable.zst' $one" \
+    "cachesim run VARIABLE|'$cachesim' run '$variable' $one"
+}
+
 kitchen_scene=../shared/scenes/bart/kitchen/kitchen.aff
-compare_one_config "$trace" "the trace"
+[ "$reading_only" = 1 ] || compare_one_config "$trace" "the trace"
 if [ -r "$kitchen_scene" ]; then
   kitchen=$build_dir/bench/kitchen400.din.zst
   if [ ! -s "$kitchen" ]; then
@@ -169,10 +229,12 @@ if [ -r "$kitchen_scene" ]; then
     echo "making $kitchen (BART Kitchen, 400x300, high cache 4k) ..." >&2
     "$tracer" render "$kitchen_scene" --width 400 --height 300 --high-size 4k -q -o "$kitchen"
   fi
-  compare_one_config "$kitchen" "BART Kitchen"
+  [ "$reading_only" = 1 ] || compare_one_config "$kitchen" "BART Kitchen"
+  compare_reading "$kitchen"
 else
-  echo "no BART Kitchen scene at $kitchen_scene: the Kitchen comparison is skipped"
+  echo "no BART Kitchen scene at $kitchen_scene: the Kitchen comparisons are skipped"
 fi
+[ "$reading_only" = 1 ] && exit 0
 [ "$one_only" = 1 ] && exit 0
 
 one_config=(run "$trace" --size 8k --block 8 --assoc 1 --scheme single --format csv)

@@ -305,7 +305,7 @@ void Sweep::feed_part(const formats::RecordBatch& batch, std::size_t part_index)
   for (std::size_t begin = 0; begin < count; begin += kChunk) {
     const std::size_t chunk = std::min(kChunk, count - begin);
     const std::uint64_t first_record = batch.first_record + begin;
-    prepare(records + begin, chunk, first_record, part);
+    prepare(records + begin, chunk, first_record, batch.kinds, part);
     const bool timed = parts_.size() > 1 && (first_record / kChunk) % kTimedEvery == 0;
     double started = timed ? thread_cpu_seconds() : 0;
     for (const std::size_t u : part.units) {
@@ -321,7 +321,7 @@ void Sweep::feed_part(const formats::RecordBatch& batch, std::size_t part_index)
 }
 
 void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t first_record,
-                    Part& part) const {
+                    formats::RecordKinds known, Part& part) const {
   // Din records are 4 bytes at a multiple of 4 as Dinero IV reads them.
   std::uint64_t span_bits = 3;
   if (context_.form != formats::RecordForm::Din) {
@@ -331,15 +331,22 @@ void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t firs
       span_bits |= address ^ (address + std::max<std::uint32_t>(records[i].size, 1) - 1);
     }
   }
+  // What the reader found as it parsed them spares a pass over records
+  // that have left the processor's cache. A trace whose tags are not levels
+  // has only untagged records (readers read no tag then): no other streams,
+  // and nothing that needs levels (the sweep refused those at its start).
+  const bool levels_wanted = context_.tags_are_levels && !known.levels;
   unsigned not_demand = 0;
-  unsigned not_level = 0;
-  for (std::size_t i = 0; i < count; ++i) {
-    not_demand |= static_cast<unsigned>(records[i].type > AccessType::Misc);
-    not_level |= static_cast<unsigned>(records[i].tag > formats::kMaxLevel);
+  unsigned not_level = context_.tags_are_levels ? 0 : 1;
+  if (!known.demand_fetches || levels_wanted) {
+    for (std::size_t i = 0; i < count; ++i) {
+      not_demand |= static_cast<unsigned>(records[i].type > AccessType::Misc);
+      not_level |= static_cast<unsigned>(records[i].tag > formats::kMaxLevel);
+    }
   }
   bool demand_only = not_demand == 0;
   const bool all_levels = not_level == 0;
-  if (!all_levels) {
+  if (!all_levels && context_.tags_are_levels) {
     // Other streams (counted apart), or untagged records where levels are needed.
     for (std::size_t i = 0; i < count; ++i) {
       const Tag tag = records[i].tag;

@@ -6,6 +6,7 @@
 // (tests/formats/test_fixed_width_lines.cpp).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cstddef>
@@ -44,44 +45,72 @@ inline bool parse_hex8(const char* p, std::uint32_t& value) {
   return true;
 }
 
+// The vector units a fast path may use: the best the processor has, or a
+// lesser one (tests run every one the processor has).
+enum class VectorUnits { Scalar, Avx2, Avx512 };
+
+inline VectorUnits best_vector_units() {
 #if defined(__x86_64__)
-// Two lines of the commonest layout at once, one per 128-bit lane (AVX2,
-// chosen at run time): every byte checked by compares, the digits turned
-// into the address, level and type by multiply-adds, and each lane shuffled
-// into a Record. Stops before the first pair with a line it does not take
-// (the caller reads that line) and needs 30 bytes from a pair's start.
+  static const VectorUnits best = __builtin_cpu_supports("avx512vbmi") && __builtin_cpu_supports("avx512bw")
+                                      ? VectorUnits::Avx512
+                                  : __builtin_cpu_supports("avx2") ? VectorUnits::Avx2
+                                                                   : VectorUnits::Scalar;
+  return best;
+#else
+  return VectorUnits::Scalar;
+#endif
+}
+
+// The commonest layout, `0 00001a38 07\n`: 14 bytes a line.
+inline constexpr std::size_t kDin8TaggedLine = 14;
+
+#if defined(__x86_64__)
+// Several lines of the commonest layout at once, one per 128-bit lane:
+// every byte checked by compares, the digits turned into the address, level
+// and type by multiply-adds, and each lane shuffled into a Record written
+// straight to `out` (room for `room` records). Both stop before the first
+// group with a line they do not take (the caller reads that line) and
+// return the bytes taken.
 static_assert(sizeof(Record) == 16 && offsetof(Record, size) == 8 && offsetof(Record, type) == 12 &&
               offsetof(Record, tag) == 14);
+// Per lane: digit values in place for the multiply-adds (address digits
+// 0-7, tag tens and ones, type), their weights, and the bytes of a Record
+// from the words packed from the sums (high address half, low half, level,
+// type).
+inline constexpr char kLaneZero = static_cast<char>(0x80);
+inline constexpr char kGatherDigits[16] = {2, 3, 4, 5, 6, 7, 8, 9, 11, 12, kLaneZero, kLaneZero, 0, kLaneZero,
+                                           kLaneZero, kLaneZero};
+inline constexpr char kPairWeights[16] = {16, 1, 16, 1, 16, 1, 16, 1, 10, 1, 0, 0, 1, 0, 0, 0};
+inline constexpr char kRecordBytes[16] = {2, 3, 0, 1, kLaneZero, kLaneZero, kLaneZero, kLaneZero, kLaneZero,
+                                          kLaneZero, kLaneZero, kLaneZero, 6, kLaneZero, 4, 5};
+// Word weights per dword: (256, 1) for the address halves, (1, 0) for level and type.
+inline constexpr std::int32_t kQuadWeights[4] = {0x00010100, 0x00010100, 1, 1};
+
 // 16 bytes repeated in both lanes.
 __attribute__((target("avx2"))) inline __m256i both_lanes(const char* bytes) {
   return _mm256_broadcastsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(bytes)));
 }
 
+// Two lines at a time; needs 30 bytes from a pair's start.
 __attribute__((target("avx2"))) inline std::size_t din8_tagged_pairs_avx2(const char* begin, const char* end,
-                                                                          bool tags_are_levels,
-                                                                          std::vector<Record>& out) {
-  constexpr char F = static_cast<char>(0xFF), Z = static_cast<char>(0x80);
+                                                                          bool tags_are_levels, Record* out,
+                                                                          std::size_t room) {
+  constexpr char F = static_cast<char>(0xFF);
   static constexpr char kSeparators[16] = {0, ' ', 0, 0, 0, 0, 0, 0, 0, 0, ' ', 0, 0, '\n', 0, 0};
   static constexpr char kSeparatorAt[16] = {0, F, 0, 0, 0, 0, 0, 0, 0, 0, F, 0, 0, F, 0, 0};
   static constexpr char kHexAt[16] = {0, 0, F, F, F, F, F, F, F, F, 0, 0, 0, 0, 0, 0};
   static constexpr char kDigitAt[16] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, F, F, 0, 0, 0};
   static constexpr char kTypeAt[16] = {F, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-  // Digit values in place for the multiply-adds: address digits 0-7, tag
-  // tens and ones, type.
-  static constexpr char kGather[16] = {2, 3, 4, 5, 6, 7, 8, 9, 11, 12, Z, Z, 0, Z, Z, Z};
-  static constexpr char kPairWeights[16] = {16, 1, 16, 1, 16, 1, 16, 1, 10, 1, 0, 0, 1, 0, 0, 0};
-  // Words packed from dwords: high address half, low half, level, type.
-  static constexpr char kRecord[16] = {2, 3, 0, 1, Z, Z, Z, Z, Z, Z, Z, Z, 6, Z, 4, 5};
   const char no_tag = tags_are_levels ? 0 : F;
   const char fixed[16] = {0, 0, 0, 0, 0, 0, 0, 0, 4, 0, 0, 0, 0, 0, no_tag, no_tag};
   const __m256i separators = both_lanes(kSeparators), separator_at = both_lanes(kSeparatorAt);
   const __m256i hex_at = both_lanes(kHexAt), digit_at = both_lanes(kDigitAt), type_at = both_lanes(kTypeAt);
-  const __m256i gather = both_lanes(kGather), pair_weights = both_lanes(kPairWeights), record = both_lanes(kRecord);
-  const __m256i fixed_fields = both_lanes(fixed);
-  // Word weights per dword: (256, 1) for the address halves, (1, 0) for level and type.
-  const __m256i quad_weights = _mm256_set_epi32(1, 1, 0x00010100, 0x00010100, 1, 1, 0x00010100, 0x00010100);
+  const __m256i gather = both_lanes(kGatherDigits), pair_weights = both_lanes(kPairWeights);
+  const __m256i record = both_lanes(kRecordBytes), fixed_fields = both_lanes(fixed);
+  const __m256i quad_weights = both_lanes(reinterpret_cast<const char*>(kQuadWeights));
   const char* p = begin;
-  while (end - p >= 30) {
+  Record* const out_end = out + room - room % 2;
+  for (; end - p >= 30 && out != out_end; out += 2) {
     const __m256i c = _mm256_loadu2_m128i(reinterpret_cast<const __m128i*>(p + 14), reinterpret_cast<const __m128i*>(p));
     const __m256i digit = _mm256_and_si256(_mm256_cmpgt_epi8(c, _mm256_set1_epi8('0' - 1)),
                                            _mm256_cmpgt_epi8(_mm256_set1_epi8('9' + 1), c));
@@ -98,59 +127,133 @@ __attribute__((target("avx2"))) inline std::size_t din8_tagged_pairs_avx2(const 
     const __m256i value = _mm256_add_epi8(_mm256_and_si256(c, _mm256_set1_epi8(0x0F)),
                                           _mm256_add_epi8(_mm256_slli_epi16(letters, 3), letters));
     const __m256i pairs = _mm256_maddubs_epi16(_mm256_shuffle_epi8(value, gather), pair_weights);
-    // Dwords: address digits 0-3, 4-7 (both * 256 + next), level, type.
     const __m256i quads = _mm256_madd_epi16(pairs, quad_weights);
     const __m256i records = _mm256_or_si256(_mm256_shuffle_epi8(_mm256_packus_epi32(quads, quads), record), fixed_fields);
-    Record two[2];
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(two), records);
-    out.push_back(two[0]);
-    out.push_back(two[1]);
-    p += 28;
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), records);
+    p += 2 * kDin8TaggedLine;
   }
   return static_cast<std::size_t>(p - begin);
 }
 
-inline bool have_avx2() {
-  static const bool have = __builtin_cpu_supports("avx2");
-  return have;
+// 16 bytes repeated in all four lanes. (The masked forms of the AVX-512
+// intrinsics here: GCC 12's unmasked ones warn of an uninitialised value.)
+__attribute__((target("avx512f,avx512bw"))) inline __m512i all_lanes(const char* bytes) {
+  return _mm512_maskz_broadcast_i32x4(0xFFFF, _mm_loadu_si128(reinterpret_cast<const __m128i*>(bytes)));
+}
+
+// Four lines at a time (AVX-512 with VBMI): one 64-byte load spread into
+// the lanes, each byte checked against its position's range (the hex
+// letters apart); needs 64 bytes from a group's start.
+__attribute__((target("avx512f,avx512bw,avx512vbmi"))) inline std::size_t din8_tagged_quads_avx512(
+    const char* begin, const char* end, bool tags_are_levels, Record* out, std::size_t room) {
+  // Lane k, byte j: the line's byte j (bytes 14 and 15 repeat the newline).
+  alignas(64) static constexpr auto kSpread = [] {
+    std::array<char, 64> spread{};
+    for (int k = 0; k < 4; ++k) {
+      for (int j = 0; j < 16; ++j) spread[16 * k + j] = static_cast<char>(14 * k + std::min(j, 13));
+    }
+    return spread;
+  }();
+  // Accepted bytes per position: lowest value and the span above it
+  // (type 0-5, blanks, hex digits 0-9, level digits, newline).
+  static constexpr char kLowest[16] = {'0', ' ', '0', '0', '0', '0', '0', '0', '0', '0', ' ', '0', '0', '\n', 0, 0};
+  static constexpr char kSpan[16] = {5, 0, 9, 9, 9, 9, 9, 9, 9, 9, 0, 9, 9, 0, static_cast<char>(0xFF),
+                                     static_cast<char>(0xFF)};
+  constexpr __mmask64 kHexAt = 0x03FC03FC03FC03FCull;  // bytes 2-9 of each lane: a-f and A-F too
+  const char no_tag = tags_are_levels ? 0 : static_cast<char>(0xFF);
+  const char fixed[16] = {0, 0, 0, 0, 0, 0, 0, 0, 4, 0, 0, 0, 0, 0, no_tag, no_tag};
+  const __m512i spread = _mm512_load_si512(kSpread.data());
+  const __m512i lowest = all_lanes(kLowest), span = all_lanes(kSpan);
+  const __m512i gather = all_lanes(kGatherDigits), pair_weights = all_lanes(kPairWeights);
+  const __m512i record = all_lanes(kRecordBytes), fixed_fields = all_lanes(fixed);
+  const __m512i quad_weights = all_lanes(reinterpret_cast<const char*>(kQuadWeights));
+  const __m512i case_bit = _mm512_set1_epi8(0x20), letter_a = _mm512_set1_epi8('a');
+  const __m512i letter_span = _mm512_set1_epi8(5), low_nibble = _mm512_set1_epi8(0x0F);
+  const __m512i nine = _mm512_set1_epi8(9);
+  const char* p = begin;
+  Record* const out_end = out + room - room % 4;
+  for (; end - p >= 64 && out != out_end; out += 4) {
+    const __m512i c = _mm512_maskz_permutexvar_epi8(~__mmask64{0}, spread, _mm512_loadu_si512(p));
+    const __mmask64 in_range = _mm512_cmple_epu8_mask(_mm512_sub_epi8(c, lowest), span);
+    const __mmask64 letter =
+        _mm512_mask_cmple_epu8_mask(kHexAt, _mm512_sub_epi8(_mm512_or_si512(c, case_bit), letter_a), letter_span);
+    if ((in_range | letter) != ~__mmask64{0}) break;
+    __m512i value = _mm512_and_si512(c, low_nibble);
+    value = _mm512_mask_add_epi8(value, letter, value, nine);
+    const __m512i pairs = _mm512_maddubs_epi16(_mm512_shuffle_epi8(value, gather), pair_weights);
+    const __m512i quads = _mm512_madd_epi16(pairs, quad_weights);
+    const __m512i records = _mm512_or_si512(_mm512_shuffle_epi8(_mm512_packus_epi32(quads, quads), record), fixed_fields);
+    _mm512_storeu_si512(out, records);
+    p += 4 * kDin8TaggedLine;
+  }
+  return static_cast<std::size_t>(p - begin);
 }
 #endif
 
-// fast_lines for the commonest layout, `0 00001a38 07\n` (din, 8 address
-// digits, a level): two loads per line and every field checked at once.
-// Needs two bytes past a line (it reads 16); the last line is left to the
-// caller. Little-endian hosts.
-inline std::size_t din8_tagged_lines(const char* begin, const char* end, bool tags_are_levels,
-                                     std::vector<Record>& out) {
+// One line of the commonest layout, without a loop per field; needs two
+// bytes past the line (it reads 16). False when the line is of another
+// layout. Little-endian hosts.
+inline bool din8_tagged_line(const char* p, bool tags_are_levels, Record& record) {
   constexpr std::uint64_t kOnes = 0x0101010101010101ull;
+  std::uint64_t a, b;
+  std::memcpy(&a, p, 8);      // type, ' ', digits 1-6
+  std::memcpy(&b, p + 8, 8);  // digits 7-8, ' ', tag, '\n', next line
+  // Separators: bytes 1 (' '), 10 (' ') and 13 ('\n').
+  if (((a >> 8) & 0xFF) != ' ' || ((b >> 16) & 0xFF) != ' ' || ((b >> 40) & 0xFF) != '\n') return false;
+  // Type and the two tag digits as values 0-9 (type 0-5).
+  const std::uint64_t type = (a & 0xFF) ^ '0';
+  const std::uint64_t tag = ((b >> 24) & 0xFFFF) ^ 0x3030;
+  if (type > 5 || (tag & 0xF0F0) != 0 || ((tag + 0x0606) & 0x1010) != 0) return false;
+  const std::uint64_t x = (a >> 16) | (b << 48);
+  const std::uint64_t lower = x | (kOnes * 0x20);
+  const std::uint64_t digit = (x + kOnes * (0x80 - '0')) & ~(x + kOnes * (0x7f - '9'));
+  const std::uint64_t letter = (lower + kOnes * (0x80 - 'a')) & ~(lower + kOnes * (0x7f - 'f'));
+  if (((x & (kOnes * 0x80)) | (~(digit | letter) & (kOnes * 0x80))) != 0) return false;
+  std::uint64_t v = (x & (kOnes * 0x0F)) + ((x >> 6) & kOnes) * 9;
+  v = __builtin_bswap64(v);
+  v = (v | (v >> 4)) & 0x00FF00FF00FF00FFull;
+  v = (v | (v >> 8)) & 0x0000FFFF0000FFFFull;
+  v = (v | (v >> 16)) & 0x00000000FFFFFFFFull;
+  const Tag level = static_cast<Tag>((tag & 0xFF) * 10 + (tag >> 8));
+  record = Record{v, 4, static_cast<AccessType>(type), TraversalUnit{}, tags_are_levels ? level : kTagNone};
+  return true;
+}
+
+// fast_lines for the commonest layout, `0 00001a38 07\n` (din, 8 address
+// digits, a level), with `units` (by default the best the processor has):
+// lines in groups while a group's bytes are there, then one at a time.
+// Records are written a block at a time into a buffer that stays in the
+// processor's cache and appended to `out` in one copy (a push_back per
+// record, or making room in `out` first, cost more than parsing). The last
+// line is left to the caller. Little-endian hosts.
+inline std::size_t din8_tagged_lines(const char* begin, const char* end, bool tags_are_levels,
+                                     std::vector<Record>& out, VectorUnits units = best_vector_units()) {
+  constexpr std::size_t kBlock = 256;  // records
+  Record block[kBlock];
   const char* p = begin;
   for (;;) {
+    const std::size_t lines = static_cast<std::size_t>(end - p) / kDin8TaggedLine;
+    if (lines < 2) break;
+    const std::size_t room = std::min(lines, kBlock);
+    std::size_t taken = 0;  // records
 #if defined(__x86_64__)
-    if (have_avx2()) p += din8_tagged_pairs_avx2(p, end, tags_are_levels, out);
+    if (units == VectorUnits::Avx512) {
+      taken = din8_tagged_quads_avx512(p, end, tags_are_levels, block, room) / kDin8TaggedLine;
+    } else if (units == VectorUnits::Avx2) {
+      taken = din8_tagged_pairs_avx2(p, end, tags_are_levels, block, room) / kDin8TaggedLine;
+    }
+#else
+    (void)units;
 #endif
-    if (end - p < 16) break;
-    std::uint64_t a, b;
-    std::memcpy(&a, p, 8);      // type, ' ', digits 1-6
-    std::memcpy(&b, p + 8, 8);  // digits 7-8, ' ', tag, '\n', next line
-    // Separators: bytes 1 (' '), 10 (' ') and 13 ('\n').
-    if (((a >> 8) & 0xFF) != ' ' || ((b >> 16) & 0xFF) != ' ' || ((b >> 40) & 0xFF) != '\n') break;
-    // Type and the two tag digits as values 0-9 (type 0-5).
-    const std::uint64_t type = (a & 0xFF) ^ '0';
-    const std::uint64_t tag = ((b >> 24) & 0xFFFF) ^ 0x3030;
-    if (type > 5 || (tag & 0xF0F0) != 0 || ((tag + 0x0606) & 0x1010) != 0) break;
-    const std::uint64_t x = (a >> 16) | (b << 48);
-    const std::uint64_t lower = x | (kOnes * 0x20);
-    const std::uint64_t digit = (x + kOnes * (0x80 - '0')) & ~(x + kOnes * (0x7f - '9'));
-    const std::uint64_t letter = (lower + kOnes * (0x80 - 'a')) & ~(lower + kOnes * (0x7f - 'f'));
-    if (((x & (kOnes * 0x80)) | (~(digit | letter) & (kOnes * 0x80))) != 0) break;
-    std::uint64_t v = (x & (kOnes * 0x0F)) + ((x >> 6) & kOnes) * 9;
-    v = __builtin_bswap64(v);
-    v = (v | (v >> 4)) & 0x00FF00FF00FF00FFull;
-    v = (v | (v >> 8)) & 0x0000FFFF0000FFFFull;
-    v = (v | (v >> 16)) & 0x00000000FFFFFFFFull;
-    const Tag level = static_cast<Tag>((tag & 0xFF) * 10 + (tag >> 8));
-    out.push_back(Record{v, 4, static_cast<AccessType>(type), TraversalUnit{}, tags_are_levels ? level : kTagNone});
-    p += 14;
+    // The rest of the block (where a group stopped, or what a group needs
+    // more bytes for) a line at a time.
+    while (taken < room && end - (p + taken * kDin8TaggedLine) >= 16 &&
+           din8_tagged_line(p + taken * kDin8TaggedLine, tags_are_levels, block[taken])) {
+      ++taken;
+    }
+    out.insert(out.end(), block, block + taken);
+    p += taken * kDin8TaggedLine;
+    if (taken < room) break;
   }
   return static_cast<std::size_t>(p - begin);
 }

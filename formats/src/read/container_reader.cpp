@@ -15,6 +15,7 @@
 #include "container/container.hpp"
 #include "nodetrace/base/error.hpp"
 #include "read/reader_kinds.hpp"
+#include "read/record_hash_chain.hpp"
 
 namespace nodetrace::formats::detail {
 namespace {
@@ -24,8 +25,13 @@ namespace {
 // pieces may wait: with 2 the two workers took turns (cachesim on the BART
 // Kitchen trace 114% CPU use, 0.84-1.07 s; 21 MB), with 32 they overlap
 // (165%, 0.49-0.68 s, as zstd -dc; 40-43 MB): the memory buys the second core.
+// With the record hash, what a worker decodes ahead is text it must hold
+// for the hash (record_hash_chain.hpp): with 8 pieces `tracetool verify` of
+// that trace took 1.2-1.3x the CPU of `zstd -t` and 1.1-1.2x its wall time,
+// with 32 1.45-1.6x and 0.85-0.9x (medians of runs on a loaded machine).
 constexpr std::size_t kPieceRecords = 1u << 14;
 constexpr std::size_t kPiecesWaiting = 32;
+constexpr std::size_t kPiecesWaitingHashed = 8;
 // Frames whose zstd window is larger than this (archives) are decoded one
 // at a time, so only one such window is held.
 constexpr std::uint64_t kSmallWindow = 8u << 20;
@@ -41,15 +47,18 @@ std::size_t whole_records(const char* text, std::size_t size, RecordForm form) {
 }
 
 // Decompresses and parses one data frame (on a worker) step by step into
-// pieces; damage goes into a piece's frame_error for the reader to report
-// with the frame's place. A bad record is reported only once the rest of
-// the frame has decompressed without damage (damage is the better answer).
-void decode_data_frame(const std::string& frame, ParseSettings settings, bool keep_text, Stock& stock,
-                       PieceStream& out) {
+// pieces, its text into `hash` (when not nullptr) as data frame
+// `hash_frame`; damage goes into a piece's frame_error for the reader to
+// report with the frame's place. A bad record is reported only once the
+// rest of the frame has decompressed without damage (damage is the better
+// answer). True when the whole frame was handed over without damage.
+bool decode_data_frame(const std::string& frame, ParseSettings settings, RecordHashChain* hash,
+                       std::uint64_t hash_frame, Stock& stock, PieceStream& out) {
   const auto fail_frame = [&](std::string message) {
     Chunk chunk;
     chunk.frame_error = std::move(message);
     out.push(std::move(chunk));
+    return false;
   };
   ZSTD_frameHeader header{};
   const std::size_t status = ZSTD_getFrameHeader(&header, frame.data(), frame.size());
@@ -69,6 +78,8 @@ void decode_data_frame(const std::string& frame, ParseSettings settings, bool ke
   // stream buffer. A record cut by the ring's wrap is joined in `seam`.
   thread_local std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> context(ZSTD_createDCtx(), &ZSTD_freeDCtx);
   thread_local ByteBuffer small_window_ring;
+  thread_local ByteBuffer held_text;  // text the record hash cannot take yet
+  held_text.clear();
   ByteBuffer& ring = header.windowSize > kSmallWindow ? stock.large_window_ring : small_window_ring;
   const std::size_t ring_size = ZSTD_decodingBufferSize_min(header.windowSize, header.frameContentSize);
   if (ZSTD_isError(ring_size)) return fail_frame("damaged zstd frame (its window does not fit in memory)");
@@ -101,7 +112,7 @@ void decode_data_frame(const std::string& frame, ParseSettings settings, bool ke
       return;
     }
     piece.decoded_bytes += size;
-    if (keep_text) piece.bytes.append(text, size);
+    if (hash) hash->add(hash_frame, text, size, held_text);
   };
   for (;;) {
     const std::size_t need = ZSTD_nextSrcSizeToDecompress(context.get());
@@ -146,9 +157,9 @@ void decode_data_frame(const std::string& frame, ParseSettings settings, bool ke
     if (have_bad) continue;
     parse += cut;
     if (piece.records.size() >= kPieceRecords) {
-      if (!out.push(std::move(piece))) return;  // abandoned
+      piece.kinds = record_kinds(piece.records.data(), piece.records.size());
+      if (!out.push(std::move(piece))) return false;  // abandoned
       piece = Chunk{};
-      if (keep_text) piece.bytes = stock.bytes.take();
     }
   }
   if (src_left != 0) return fail_frame("damaged zstd frame (bytes after its end)");
@@ -156,21 +167,26 @@ void decode_data_frame(const std::string& frame, ParseSettings settings, bool ke
   if (total != header.frameContentSize) return fail_frame("damaged zstd frame (wrong content size)");
   const bool whole = settings.form == RecordForm::Binary ? total % 8 == 0 : total == 0 || last_byte == '\n';
   if (!whole) return fail_frame("data frame does not end at a record boundary");
-  out.push(std::move(have_bad ? bad : piece));
+  if (hash && !have_bad) hash->end_frame(hash_frame, held_text);
+  piece.kinds = record_kinds(piece.records.data(), piece.records.size());
+  return out.push(std::move(have_bad ? bad : piece)) && !have_bad;
 }
 
 // Decodes a data frame into `stream` once `earlier` (the previous frame with
-// a large window, if this one has one too) is done, then closes it.
-void decode_into(const std::string& frame, ParseSettings settings, bool keep_text, Stock& stock,
-                 PieceStream& stream, PieceStream* earlier) {
+// a large window, if this one has one too) is done, then closes it. A frame
+// that does not end whole ends the record hash's chain.
+void decode_into(const std::string& frame, ParseSettings settings, RecordHashChain* hash, std::uint64_t hash_frame,
+                 Stock& stock, PieceStream& stream, PieceStream* earlier) {
+  bool whole = false;
   try {
     if (earlier) earlier->wait_closed();
-    decode_data_frame(frame, settings, keep_text, stock, stream);
+    whole = decode_data_frame(frame, settings, hash, hash_frame, stock, stream);
   } catch (const std::exception& error) {
     Chunk chunk;
     chunk.frame_error = fmt::format("cannot decode: {}", error.what());
     stream.push(std::move(chunk));
   }
+  if (hash && !whole) hash->abandon();
   stream.close();
 }
 
@@ -229,7 +245,6 @@ class ContainerReader final : public PipelinedReader {
 
   void open_container() {
     XXH64_reset(content_hash_.get(), 0);
-    XXH64_reset(record_hash_.get(), 0);
     std::string payload;
     read_skippable(payload, "header");
     try {
@@ -273,6 +288,7 @@ class ContainerReader final : public PipelinedReader {
     if (input_->seekable() && trailer_ && options_.keep_data_frame) {
       skip_.reserve(trailer_->index.size());
       for (const DataFrameIndexEntry& entry : trailer_->index) skip_.push_back(!options_.keep_data_frame(entry));
+      skips_some_ = std::find(skip_.begin(), skip_.end(), true) != skip_.end();
     }
   }
 
@@ -332,7 +348,11 @@ class ContainerReader final : public PipelinedReader {
       unit.entry.checksum = size >= 4 ? load_le32(input_->data() + size - 4) : 0;
       std::string frame(input_->data(), size);
       consume_hashed(size);
-      auto stream = std::make_shared<PieceStream>(kPiecesWaiting);
+      // The record hash, unless frames are skipped or were (seek): it is
+      // then not checked, and its chain would wait for them.
+      std::shared_ptr<RecordHashChain> hash = hashes_valid_ && !skips_some_ ? record_hash_ : nullptr;
+      if (!hash) unhashed_frames_ = true;
+      auto stream = std::make_shared<PieceStream>(hash ? kPiecesWaitingHashed : kPiecesWaiting);
       // Large windows one at a time: each waits for the previous one.
       std::shared_ptr<PieceStream> earlier;
       ZSTD_frameHeader frame_header{};
@@ -341,11 +361,11 @@ class ContainerReader final : public PipelinedReader {
         earlier = std::exchange(last_large_window_, stream);
       }
       unit.stream = stream;
+      const std::uint64_t hash_frame = unit.data_frame;
       pipeline_->push_ready(std::move(unit));
-      const bool keep_text = hashes_valid_ && options_.check_record_hash;  // for the record hash
-      post_stream_job(stream, [frame = std::move(frame), settings = settings_, keep_text, stock = stock_, stream,
-                               earlier = std::move(earlier)] {
-        decode_into(frame, settings, keep_text, *stock, *stream, earlier.get());
+      post_stream_job(stream, [frame = std::move(frame), settings = settings_, hash = std::move(hash), hash_frame,
+                               stock = stock_, stream, earlier = std::move(earlier)] {
+        decode_into(frame, settings, hash.get(), hash_frame, *stock, *stream, earlier.get());
       });
       return;
     }
@@ -440,11 +460,6 @@ class ContainerReader final : public PipelinedReader {
     if (!chunk.frame_error.empty()) fail(fmt::format("{}: {}", where(unit), chunk.frame_error));
     frame_records_ += chunk.records.size();
     record_bytes_ += chunk.decoded_bytes;
-    if (chunk.bad_record) return;
-    if (hashes_valid_ && options_.check_record_hash) {
-      XXH64_update(record_hash_.get(), chunk.bytes.data(), chunk.bytes.size());
-    }
-    if (!chunk.bytes.empty()) stock_->bytes.give(std::move(chunk.bytes));
   }
 
   void end_stream(const DecodeUnit& unit) override {
@@ -503,7 +518,7 @@ class ContainerReader final : public PipelinedReader {
       fail(fmt::format("the trailer's totals say {} records but the data frames hold {}", totals->dump(), records_read_));
     }
     if (skipped_bytes_) return;  // the hashes cover the skipped data frames
-    if (options_.check_record_hash && XXH64_digest(record_hash_.get()) != trailer_->record_hash) {
+    if (record_hash_ && !unhashed_frames_ && record_hash_->digest() != trailer_->record_hash) {
       fail("record hash mismatch: the records are not the ones the trailer describes");
     }
     if (stream_content_hash_ != trailer_->content_hash) {
@@ -524,6 +539,8 @@ class ContainerReader final : public PipelinedReader {
   std::vector<bool> skip_;     // keep_data_frame's answer per index entry (true: skip)
   std::size_t next_skip_ = 0;  // the first skipped data frame not yet passed
   bool skipped_bytes_ = false;
+  bool skips_some_ = false;       // keep_data_frame skips a data frame
+  bool unhashed_frames_ = false;  // a data frame was decoded without the record hash
   bool saw_trailer_ = false;
   bool hashes_valid_ = true;
   std::uint64_t data_frames_decompressed_ = 0;
@@ -536,7 +553,9 @@ class ContainerReader final : public PipelinedReader {
   std::shared_ptr<PieceStream> last_large_window_;  // the last frame posted with a large window
   std::vector<DataFrameIndexEntry> seen_;
   std::unique_ptr<XXH64_state_t, HashStateDeleter> content_hash_{XXH64_createState()};
-  std::unique_ptr<XXH64_state_t, HashStateDeleter> record_hash_{XXH64_createState()};
+  // Fed by the workers (nullptr when the options leave the record hash unchecked).
+  std::shared_ptr<RecordHashChain> record_hash_ =
+      options_.check_record_hash ? std::make_shared<RecordHashChain>() : nullptr;
   std::uint64_t stream_content_hash_ = 0;
 };
 

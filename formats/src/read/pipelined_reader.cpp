@@ -10,6 +10,7 @@ Chunk parse_chunk(const std::string& bytes, ParseSettings settings, Stock& stock
   Chunk chunk;
   chunk.records = stock.records.take();
   chunk.bad_record = !parse_records(bytes, settings, chunk.records, chunk.record_error, chunk.ignored_fields);
+  chunk.kinds = record_kinds(chunk.records.data(), chunk.records.size());
   return chunk;
 }
 
@@ -78,6 +79,7 @@ void PipelinedReader::seek_to_record(std::uint64_t) { cannot_seek(); }
 bool PipelinedReader::next(RecordBatch& batch) {
   if (batch.records.capacity() > 0) stock_->records.give(std::move(batch.records));
   batch.records.clear();
+  batch.kinds = RecordKinds{};
   batch.marker.reset();
   batch.window.reset();
   for (;;) {
@@ -150,6 +152,7 @@ bool PipelinedReader::deliver_chunk(const DecodeUnit& unit, Chunk& chunk, Record
   batch.first_record = records_delivered_;
   records_delivered_ += chunk.records.size();
   batch.records = std::move(chunk.records);
+  batch.kinds = chunk.kinds;
   deliver_pending(batch);
   return true;
 }

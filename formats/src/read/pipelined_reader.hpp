@@ -24,7 +24,7 @@ namespace nodetrace::formats::detail {
 // What a worker hands back for one data frame or text chunk.
 struct Chunk {
   std::vector<Record> records;
-  ByteBuffer bytes;  // the decompressed record bytes, when the record hash is checked (hashed in order)
+  RecordKinds kinds;  // of the records (found on the worker, where they are in cache)
   std::uint64_t decoded_bytes = 0;   // record bytes these records came from
   bool bad_record = false;
   RecordError record_error;
@@ -36,7 +36,6 @@ struct Chunk {
 // record buffers as pieces may wait, so waiting pieces reuse memory rather
 // than touching fresh pages; spare buffers are memory held).
 struct Stock {
-  Recycler<ByteBuffer> bytes{8};
   Recycler<std::vector<Record>> records{40};
   // The ring of data frames with a large zstd window (archives): they are
   // decoded one at a time, so one ring serves them all and memory holds one

@@ -3,6 +3,7 @@
 // damage / truncation detection.
 #include <gtest/gtest.h>
 #include <unistd.h>
+#include <xxhash.h>
 
 #include <cstdio>
 #include <thread>
@@ -119,6 +120,78 @@ TEST_F(Container, DataFramesOfManyRecordsAreDeliveredInSmallerBatchesWithMarkers
   std::vector<Record> rest(batch.records.begin(), batch.records.end());
   while (reader->next(batch)) rest.insert(rest.end(), batch.records.begin(), batch.records.end());
   EXPECT_EQ(rest, std::vector<Record>(expected.begin() + 200000, expected.end()));
+}
+
+TEST_F(Container, TheRecordHashIsCheckedWhateverTheDecodingThreads) {
+  // Fifteen data frames, decoded by one to three workers that hash their
+  // text in frame order: the true record hash passes, and a trailer that
+  // names another one (footer made to match) is a record hash mismatch.
+  const auto records = sample_records(300000, 3);
+  const std::string file = path("hashed.din.zst");
+  write_trace(file, records, options_for(RecordForm::Din, 20000));
+  std::string bytes = read_file(file);
+  const std::size_t key = bytes.rfind("\"record_hash\":\"");
+  ASSERT_NE(key, std::string::npos);
+  char& digit = bytes[key + 15];
+  digit = digit == '0' ? '1' : '0';
+  const std::size_t footer = bytes.size() - 20;
+  const std::uint32_t json_size = static_cast<unsigned char>(bytes[footer + 8]) |
+                                  static_cast<unsigned char>(bytes[footer + 9]) << 8 |
+                                  static_cast<unsigned char>(bytes[footer + 10]) << 16 |
+                                  static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[footer + 11])) << 24;
+  const std::uint64_t json_hash = XXH64(bytes.data() + footer - json_size, json_size, 0);
+  for (int i = 0; i < 8; ++i) bytes[footer + i] = static_cast<char>(json_hash >> (8 * i));
+  const std::string changed = path("other-hash.din.zst");
+  write_file(changed, bytes);
+  const auto expected = as_read_back(records, RecordForm::Din, true);
+  for (const unsigned threads : {1u, 2u, 3u}) {
+    ReaderOptions options;
+    options.threads = threads;
+    EXPECT_EQ(read_all(file, options).records, expected) << threads << " threads";
+    EXPECT_NE(read_error(changed, options).find("record hash mismatch"), std::string::npos) << threads << " threads";
+    options.check_record_hash = false;
+    EXPECT_EQ(read_all(changed, options).records, expected) << threads << " threads";
+  }
+}
+
+TEST_F(Container, BatchesSayWhetherEveryRecordIsADemandFetchAndALevel) {
+  // 100000 reads of levels, a copy-back at record 30000 and a leaf-list
+  // record at 70000, as a container and as plain text: each batch's kinds
+  // are what its records are, and both answers occur.
+  auto records = sample_records(100000, 4);
+  records[30000].type = AccessType::CopyBack;
+  records[70000].tag = kTagPrimitiveList;
+  const std::string container = path("flags.din.zst");
+  const std::string plain = path("flags.din");
+  write_trace(container, records, options_for(RecordForm::Din, 50000));
+  write_trace(plain, records, options_for(RecordForm::Din, 50000));
+  ReaderOptions levels;
+  levels.tags_are_levels = true;
+  for (const std::string& file : {container, plain}) {
+    auto reader = TraceReader::open(file, levels);
+    RecordBatch batch;
+    std::size_t read = 0, flagged = 0, unflagged = 0;
+    while (reader->next(batch)) {
+      const RecordKinds kinds = record_kinds(batch.records.data(), batch.records.size());
+      EXPECT_EQ(batch.kinds.demand_fetches, kinds.demand_fetches) << file << ", batch at record " << batch.first_record;
+      EXPECT_EQ(batch.kinds.levels, kinds.levels) << file << ", batch at record " << batch.first_record;
+      (batch.kinds.demand_fetches && batch.kinds.levels ? flagged : unflagged) += 1;
+      read += batch.records.size();
+    }
+    EXPECT_EQ(read, records.size()) << file;
+    EXPECT_GT(flagged, 0u) << file;
+    EXPECT_GE(unflagged, 2u) << file;
+  }
+  // Read untagged, the plain text's records are demand fetches but no levels.
+  auto reader = TraceReader::open(plain);
+  RecordBatch batch;
+  std::size_t demand_batches = 0;
+  while (reader->next(batch)) {
+    EXPECT_FALSE(batch.kinds.levels);
+    EXPECT_EQ(batch.kinds.demand_fetches, record_kinds(batch.records.data(), batch.records.size()).demand_fetches);
+    demand_batches += batch.kinds.demand_fetches;
+  }
+  EXPECT_GT(demand_batches, 0u);
 }
 
 TEST_F(Container, RoundTripsEveryFormWithMarkers) {

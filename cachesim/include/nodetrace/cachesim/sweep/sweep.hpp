@@ -93,8 +93,10 @@ class Sweep {
   // marker, the next begins with that frame's K.
   void change_frame(std::size_t simulator, const formats::AnimationFrameMarker* marker);
   // Fills part.prepared (and counts p / t records; throws for untagged ones).
+  // `known`: what the reader found every record of the batch to be
+  // (RecordBatch::kinds).
   void prepare(const formats::Record* records, std::size_t count, std::uint64_t first_record,
-               Part& part) const;
+               formats::RecordKinds known, Part& part) const;
 
   std::vector<Configuration> configs_;
   TraceContext context_;

@@ -50,6 +50,10 @@ struct RecordBatch {
   // `marker` too, the window is the first of that animation frame.
   std::optional<WindowMarker> window;
   std::vector<Record> records;
+  // What the reader found every record to be as it parsed them
+  // (record_kinds): a simulator may skip its own pass over them. False
+  // members: not so, or not known.
+  RecordKinds kinds;
   // 0-based position of records[0] in the whole trace (it jumps over the
   // records of data frames skipped by keep_data_frame).
   std::uint64_t first_record = 0;
