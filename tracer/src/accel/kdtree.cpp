@@ -427,11 +427,12 @@ class KdTreeBuilder {
       node.split = split.position;
     }
     std::uint32_t left, right;
-    const bool right_larger = right_ids.size() >= left_ids.size();
-    if (std::max(left_ids.size(), right_ids.size()) >= kMinTrianglesPerThread && slots_.try_take()) {
-      // The larger child is built by a builder of its own on another thread
-      // while this one builds the other, then appended in pre-order: the tree
-      // does not depend on the threads.
+    const bool right_smaller = right_ids.size() <= left_ids.size();
+    if (std::min(left_ids.size(), right_ids.size()) >= kMinTrianglesPerThread && slots_.try_take()) {
+      // The smaller child is built by a builder of its own on another thread
+      // while this one builds the larger (it is the likelier to find another
+      // split worth a thread), then appended in pre-order: the tree does not
+      // depend on the threads.
       auto on_thread = [this](NodeEvents&& events, std::vector<std::uint32_t>&& ids, const Bounds& box, int level,
                               int unproductive) {
         return std::async(std::launch::async, [this, events = std::move(events), ids = std::move(ids), box, level,
@@ -448,7 +449,7 @@ class KdTreeBuilder {
         slots_.take();
         return part;
       };
-      if (right_larger) {
+      if (right_smaller) {
         auto fragment = on_thread(std::move(right_events), std::move(right_ids), right_box, level + 1,
                                   right_unproductive);
         left = build_node(std::move(left_events), std::move(left_ids), left_box, level + 1, left_unproductive);
@@ -524,8 +525,8 @@ class KdTreeBuilder {
     return node_offset;
   }
 
-  // Subtrees of fewer triangles are not worth a thread.
-  static constexpr std::size_t kMinTrianglesPerThread = 4096;
+  // A child of fewer triangles is not worth a thread.
+  static constexpr std::size_t kMinTrianglesPerThread = 1024;
 
   // Appends a node's events of one axis to its children's lists, each merged
   // with the sorted events of its clipped triangles, so both stay sorted.

@@ -2,9 +2,9 @@
 // (Wald and Havran 2006, "On building fast kd-trees for ray tracing, and on
 // doing that in O(N log N)"), with perfect splits (triangles clipped to the
 // node box) and an empty-space bonus. Events are kept per axis and radix
-// sorted; subtrees of at least a few thousand triangles are built on threads
-// of their own when one is free, and appended in pre-order, so the tree is
-// the same for any number of threads.
+// sorted; where both children of a split hold a thousand triangles or more,
+// the smaller is built on a thread of its own when one is free and appended
+// in pre-order, so the tree is the same for any number of threads.
 #pragma once
 
 #include <cstdint>
