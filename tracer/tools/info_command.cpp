@@ -158,8 +158,8 @@ int InfoCommand::run() const {
                  node_size, s.nodes * node_size, accel_arity(kind), s.leaves, s.depth);
       std::string by_size;
       for (const auto& [size, count] : leaf_sizes) by_size += fmt::format("{}{}: {}", by_size.empty() ? "" : ", ", size, count);
-      fmt::print("  mean leaf size {:.2f} (leaves by triangles {}), SAH cost {:.2f}, built in {:.3f} s\n",
-                 s.mean_leaf_size, by_size, s.sah_cost, s.build_seconds);
+      fmt::print("  mean leaf size {:.2f} (leaves by triangles {}), SAH cost {:.2f}, built in {:.3f} s ({:.3f} s CPU)\n",
+                 s.mean_leaf_size, by_size, s.sah_cost, s.build_seconds, s.build_cpu_seconds);
     }
     fmt::print("  nodes per level: {}\n", fmt::join(s.nodes_per_level, " "));
     fmt::print("  split level K for a high-level cache of 1K/2K/4K/8K/16K at {} bytes a node: {}/{}/{}/{}/{}\n",

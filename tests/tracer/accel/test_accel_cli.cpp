@@ -86,6 +86,22 @@ TEST(AccelCliTest, KdTreeHeaderHasNoAccelKeyButInfoNamesIt) {
   EXPECT_NE(info.out.find("accel                kdtree\n"), std::string::npos) << info.out;
 }
 
+TEST(AccelCliTest, InfoGivesTheSameKdTreeForAnyBuildThreadsAndItsBuildCpuTime) {
+  auto kdtree_with = [](const std::string& threads) {
+    const auto info = run_command(program("tracer").string() + " info mountain --format json --threads " + threads);
+    EXPECT_EQ(info.exit_code, 0) << info.err;
+    return nlohmann::json::parse(info.out).at("kdtree");
+  };
+  const auto one = kdtree_with("1"), three = kdtree_with("3");
+  for (const char* key : {"nodes", "leaves", "empty_leaves", "nodes_per_level", "sah_cost"}) {
+    EXPECT_EQ(one.at(key), three.at(key)) << key;
+  }
+  EXPECT_GT(one.at("build_cpu_seconds").get<double>(), 0);
+  const auto too_many = run_command(program("tracer").string() + " info mountain --threads 100000");
+  EXPECT_EQ(too_many.exit_code, 2);
+  EXPECT_NE(too_many.err.find("--threads 100000"), std::string::npos) << too_many.err;
+}
+
 TEST(AccelCliTest, DinNameForABvhIsRefusedUnlessDinIsAsked) {
   TempDir dir;
   const auto refused = run_command(render("--accel bvh2 -o " + (dir / "t.din.zst").string()));
