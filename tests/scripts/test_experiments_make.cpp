@@ -118,6 +118,17 @@ TEST_F(ExperimentsMakeTest, ChangingWidthChangesTheTableAndChangingBackRendersNo
   EXPECT_EQ(read_file(out / "table1" / "table1.csv"), narrow);
 }
 
+TEST_F(ExperimentsMakeTest, TracesAreWrittenAtTraceZstdLevelWhichLeavesTheTableAsItIs) {
+  const auto out = dir_ / "out";
+  const auto first = make("table1 WIDTH=32 HEIGHT=24", out);
+  EXPECT_EQ(count_lines_with(first, "--zstd-level 1"), 1) << first;
+  const auto table = read_file(out / "table1" / "table1.csv");
+  const auto level3 = make("table1 WIDTH=32 HEIGHT=24 TRACE_ZSTD_LEVEL=3", out);
+  EXPECT_EQ(count_lines_with(level3, "render-layouts.sh"), 1) << level3;
+  EXPECT_EQ(count_lines_with(level3, "--zstd-level 3"), 1) << level3;
+  EXPECT_EQ(read_file(out / "table1" / "table1.csv"), table);
+}
+
 TEST_F(ExperimentsMakeTest, SceneContentAndTracerOptionsDecideARenderNotFileTimes) {
   const auto out = dir_ / "out";
   make("table1 WIDTH=32 HEIGHT=24", out);
