@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "codec/record_codec.hpp"
+#include "codec/variable_width_lines.hpp"
 
 namespace nodetrace::formats {
 namespace {
@@ -72,6 +73,31 @@ TEST(VariableWidthLines, CommonLinesGiveTheGeneralParsersRecords) {
       }
       EXPECT_TRUE(parse(text, form, tags).ok);
       expect_same_as_general(text, form, tags);
+    }
+  }
+}
+
+// Agreement with the general parser cannot show that the fast path takes a
+// line at all (the general parser reads what it leaves): it is called here
+// alone, and must take every common line.
+TEST(VariableWidthLines, TheFastPathItselfTakesEveryCommonLine) {
+  for (const bool tags : {false, true}) {
+    for (const RecordForm form : {RecordForm::Din, RecordForm::ExtendedDin}) {
+      const std::vector<std::string>& lines = form == RecordForm::Din ? kDinLines : kXdinLines;
+      std::string text;
+      for (int copy = 0; copy < 20; ++copy) {
+        for (const std::string& line : lines) text += (tags ? line : untagged(line)) + "\n";
+      }
+      std::vector<Record> records;
+      std::uint64_t ignored = 0;
+      const std::size_t taken =
+          form == RecordForm::Din
+              ? detail::variable_width_lines<false>(text.data(), text.data() + text.size(), tags, records, ignored)
+              : detail::variable_width_lines<true>(text.data(), text.data() + text.size(), tags, records, ignored);
+      EXPECT_EQ(taken, text.size()) << "tags " << tags << ", extended " << (form == RecordForm::ExtendedDin);
+      EXPECT_EQ(records.size(), 20 * lines.size());
+      EXPECT_EQ(ignored, 0u);
+      EXPECT_EQ(records, parse(text, form, tags).records);
     }
   }
 }
