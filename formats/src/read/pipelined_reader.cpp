@@ -16,26 +16,26 @@ Chunk parse_chunk(const std::string& bytes, ParseSettings settings, Stock& stock
 
 bool PieceStream::push(Chunk&& piece) {
   std::unique_lock lock(mutex_);
-  changed_.wait(lock, [this] { return abandoned_ || pieces_.size() < capacity_; });
+  room_.wait(lock, [this] { return abandoned_ || pieces_.size() < capacity_; });
   if (abandoned_) return false;
   pieces_.push_back(std::move(piece));
-  changed_.notify_all();
+  if (pieces_.size() == reader_batch()) piece_ready_.notify_all();  // also wakes wait_closed, which goes back to sleep
   return true;
 }
 
 void PieceStream::close() {
   std::lock_guard lock(mutex_);
   closed_ = true;
-  changed_.notify_all();
+  piece_ready_.notify_all();
 }
 
 bool PieceStream::pop(Chunk& piece) {
   std::unique_lock lock(mutex_);
-  changed_.wait(lock, [this] { return closed_ || !pieces_.empty(); });
+  if (pieces_.empty()) piece_ready_.wait(lock, [this] { return closed_ || pieces_.size() >= reader_batch(); });
   if (pieces_.empty()) return false;
   piece = std::move(pieces_.front());
   pieces_.pop_front();
-  changed_.notify_all();
+  if (pieces_.size() == capacity_ / 2) room_.notify_one();
   return true;
 }
 
@@ -43,12 +43,12 @@ void PieceStream::abandon() {
   std::lock_guard lock(mutex_);
   abandoned_ = true;
   pieces_.clear();
-  changed_.notify_all();
+  room_.notify_all();
 }
 
 void PieceStream::wait_closed() {
   std::unique_lock lock(mutex_);
-  changed_.wait(lock, [this] { return closed_; });
+  piece_ready_.wait(lock, [this] { return closed_; });
 }
 
 PipelinedReader::PipelinedReader(OpenedInput opened, const ReaderOptions& options)

@@ -5,6 +5,7 @@
 // fill the pipeline from their kind of input; reader.cpp picks the kind.
 #pragma once
 
+#include <algorithm>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -65,8 +66,13 @@ class PieceStream {
   void wait_closed();
 
  private:
+  // Each side sleeps until the other has done half a queue's worth (pieces
+  // for the reader, room for the worker) rather than waking per piece.
+  std::size_t reader_batch() const { return std::max<std::size_t>(1, capacity_ / 2); }
+
   std::mutex mutex_;
-  std::condition_variable changed_;
+  std::condition_variable piece_ready_;  // the reader waits here, and wait_closed
+  std::condition_variable room_;         // the worker waits here
   std::deque<Chunk> pieces_;
   std::size_t capacity_;
   bool closed_ = false;
