@@ -143,7 +143,9 @@ bool parse_text_lines(std::string_view bytes, const ParseSettings& settings, Fas
   const char* const end = p + bytes.size();
   const std::size_t first = out.size();
   const bool fast_ignores_tags = fast_tagged && !settings.tags_are_levels;
-  out.reserve(out.size() + bytes.size() / 11 + 1);
+  // Room for lines of 6 bytes (`0 0 0` and its newline): growing the
+  // records while parsing copies them all.
+  out.reserve(out.size() + bytes.size() / 6 + 1);
   while (p < end) {
     if (fast) {
       const std::size_t before = out.size();

@@ -8,18 +8,20 @@ constexpr std::size_t kMaxLineBytes = 1u << 20;
 }  // namespace
 
 void PlainReader::read_decode_unit() {
-  std::string bytes;
+  std::string chunk = std::move(carry_);
+  carry_ = std::string();
+  bool more = true;
   if (!first_plain_.empty()) {
-    bytes = std::move(first_plain_);
-    first_plain_.clear();
-  } else if (!next_plain_bytes(bytes) && carry_.empty()) {
+    chunk += first_plain_;
+    first_plain_ = std::string();
+  } else {
+    more = append_plain_bytes(chunk);
+  }
+  if (!more && chunk.empty()) {
     input_done_ = true;
     return;
   }
-  const bool final = bytes.empty();
-  std::string chunk = std::move(carry_);
-  carry_.clear();
-  chunk += bytes;
+  const bool final = !more;
   if (!final) {
     // Parse whole records only; the rest waits for the next bytes.
     std::size_t cut;

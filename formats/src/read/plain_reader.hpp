@@ -18,8 +18,10 @@ class PlainReader : public PipelinedReader {
   using PipelinedReader::PipelinedReader;
 
  protected:
-  // The next run of record bytes into `out`; false at the end of the input.
-  virtual bool next_plain_bytes(std::string& out) = 0;
+  // Appends the next run of record bytes to `out` (bytes kept from the run
+  // before lead it: one copy of the text, not two); false, appending
+  // nothing, at the end of the input.
+  virtual bool append_plain_bytes(std::string& out) = 0;
 
   std::string first_plain_;  // bytes read ahead to detect the record form
 

@@ -29,12 +29,11 @@ class PlainRecordsReader final : public PlainReader {
   std::string_view input_kind() const override { return "plain"; }
 
  private:
-  bool next_plain_bytes(std::string& out) override {
-    out.clear();
+  bool append_plain_bytes(std::string& out) override {
     const std::size_t available = input_->fill_some();
     if (available == 0) return false;
     const std::size_t take = std::min(available, kPlainChunkBytes);
-    out.assign(input_->data(), take);
+    out.append(input_->data(), take);
     input_->consume(take);
     return true;
   }

@@ -22,7 +22,7 @@ class PlainZstdReader final : public PlainReader {
     settings_.form = options_.form.value_or(RecordForm::Din);
     if (!options_.form) {
       // Look at the first decompressed bytes to tell din from extended din.
-      if (next_plain_bytes(first_plain_)) settings_.form = detect_text_form(first_plain_);
+      if (append_plain_bytes(first_plain_)) settings_.form = detect_text_form(first_plain_);
     }
     start_workers();
   }
@@ -30,10 +30,10 @@ class PlainZstdReader final : public PlainReader {
   std::string_view input_kind() const override { return "zstd"; }
 
  private:
-  bool next_plain_bytes(std::string& out) override {
-    out.clear();
-    out.resize(kPlainChunkBytes);
-    ZSTD_outBuffer output{out.data(), out.size(), 0};
+  bool append_plain_bytes(std::string& out) override {
+    const std::size_t start = out.size();
+    out.resize(start + kPlainChunkBytes);
+    ZSTD_outBuffer output{out.data(), out.size(), start};
     while (output.pos < output.size) {
       const std::size_t before = output.pos;
       const std::size_t available = input_->fill_some();
@@ -59,7 +59,7 @@ class PlainZstdReader final : public PlainReader {
       if (in.pos == 0 && output.pos == before) break;  // no progress: let the caller come back
     }
     out.resize(output.pos);
-    return !out.empty();
+    return output.pos > start;
   }
 
   // Plain zstd streams: keeps the last bytes read, to find a container's
