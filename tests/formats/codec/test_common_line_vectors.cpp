@@ -2,12 +2,14 @@
 // has (AVX-512, AVX2, scalar: fixed_width_lines.hpp): with any byte of any
 // line of a group changed, each takes every line before it, gives for every
 // line it takes the general parser's record, and stops at a line the general
-// parser rejects. Internal: the codec is tested directly (formats/src).
+// parser rejects; and written by each unit as the scalar writer writes it.
+// Internal: the codec is tested directly (formats/src).
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
 
 #include <optional>
+#include <span>
 #include <random>
 #include <string>
 #include <vector>
@@ -100,6 +102,50 @@ TEST(CommonLineVectors, EveryByteOfEveryLineOfAGroupChangedGivesTheGeneralParser
           }
         }
       }
+    }
+  }
+}
+
+// Records of every kind the writer meets, runs of common ones between them:
+// a wide address, a level of 100 or more, p, t and no tag each fall in every
+// lane of a four-record group.
+std::vector<Record> records_to_write() {
+  std::mt19937_64 random(17);
+  std::vector<Record> records;
+  for (int i = 0; i < 4000; ++i) {
+    Record record;
+    record.address = static_cast<std::uint32_t>(random()) >> (random() % 32);
+    record.type = static_cast<AccessType>(random() % 6);
+    record.tag = static_cast<Tag>(random() % 100);
+    switch (random() % 16) {
+      case 0: record.address |= std::uint64_t{1} << (32 + random() % 32); break;
+      case 1: record.tag = static_cast<Tag>(100 + random() % (kMaxLevel - 99)); break;
+      case 2: record.tag = kTagPrimitiveList; break;
+      case 3: record.tag = kTagTriangle; break;
+      case 4: record.tag = kTagNone; break;
+      default: break;
+    }
+    records.push_back(record);
+  }
+  return records;
+}
+
+TEST(CommonLineVectors, EveryUnitWritesTheLinesAndCountsTheScalarWriterDoes) {
+  const std::vector<Record> records = records_to_write();
+  for (std::size_t count : {records.size(), records.size() - 1, records.size() - 3, std::size_t{5}, std::size_t{3}}) {
+    const std::span<const Record> run(records.data(), count);
+    detail::ByteBuffer expected;
+    RecordSummary expected_summary;
+    detail::format_text_records<false>(run, 8, 0, expected, expected_summary, VectorUnits::Scalar);
+    for (const VectorUnits units : units_here()) {
+      detail::ByteBuffer text;
+      text.append("x", 1);  // after bytes already there, as a writer appends
+      RecordSummary summary;
+      detail::format_text_records<false>(run, 8, 0, text, summary, units);
+      EXPECT_EQ(text.view().substr(1), expected.view()) << "units " << static_cast<int>(units) << ", " << count;
+      EXPECT_EQ(summary.records(), count);
+      EXPECT_EQ(summary.records_per_tag(), expected_summary.records_per_tag());
+      EXPECT_EQ(summary.records_per_type(), expected_summary.records_per_type());
     }
   }
 }
