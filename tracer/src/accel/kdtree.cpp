@@ -156,6 +156,15 @@ unsigned build_threads(unsigned requested) {
   return std::max(1u, std::thread::hardware_concurrency());
 }
 
+// Nodes one builder made, in pre-order: a whole tree, or a fragment of
+// another builder's.
+struct BuiltNodes {
+  std::vector<KdNode> nodes;
+  std::vector<std::uint32_t> primitives;
+  // Each node's term of the tree's SAH cost, summed in pre-order at the end.
+  std::vector<double> costs;
+};
+
 Bounds triangle_bounds(const Triangle& triangle) {
   Bounds box;
   box.extend(triangle.v0);
@@ -223,26 +232,23 @@ class KdTreeBuilder {
  public:
   using Builders = std::vector<std::unique_ptr<KdTreeBuilder>>;
 
-  KdTreeBuilder(std::span<const Triangle> triangles, const KdBuildOptions& options, int max_depth, TaskPool& pool,
-                const Builders& builders, unsigned thread)
+  KdTreeBuilder(std::span<const Triangle> triangles, const KdBuildOptions& options, int max_depth,
+                double root_area, TaskPool& pool, const Builders& builders, unsigned thread)
       : triangles_(triangles),
         options_(options),
         max_depth_(max_depth),
+        root_area_(root_area),
         pool_(pool),
         builders_(builders),
         thread_(thread),
         side_(triangles.size(), kBoth) {}
 
-  // Builds the whole tree into `tree`, from the pool's own thread.
-  void build_tree(KdTree& tree) {
-    tree_ = &tree;
+  // Builds the whole tree over `root_box` (the triangles' bounds), from the pool's own thread.
+  BuiltNodes build_tree(const Bounds& root_box) {
+    BuiltNodes tree;
+    output_ = &tree;
     NodeInput root;
-    for (const auto& t : triangles_) {
-      root.box.extend(t.v0);
-      root.box.extend(t.v1);
-      root.box.extend(t.v2);
-    }
-    tree.bounds_ = root.box;
+    root.box = root_box;
     root.ids.resize(triangles_.size());
     std::iota(root.ids.begin(), root.ids.end(), std::uint32_t{0});
     // A flat triangle has one event on an axis, any other two.
@@ -270,6 +276,8 @@ class KdTreeBuilder {
       sort_events({events.events.data() + events.begin[axis], events.events.data() + events.begin[axis + 1]}, buffer);
     });
     build_node(std::move(root));
+    output_ = nullptr;
+    return tree;
   }
 
  private:
@@ -371,11 +379,12 @@ class KdTreeBuilder {
   }
 
   std::uint32_t make_leaf(std::uint32_t index, NodeInput&& node) {
-    KdNode& leaf = tree_->nodes_[index];
+    KdNode& leaf = output_->nodes[index];
     leaf.axis = KdNode::kLeafAxis;
-    leaf.first = static_cast<std::uint32_t>(tree_->primitives_.size());
+    leaf.first = static_cast<std::uint32_t>(output_->primitives.size());
     leaf.count = static_cast<std::uint32_t>(node.ids.size());
-    tree_->primitives_.insert(tree_->primitives_.end(), node.ids.begin(), node.ids.end());
+    output_->primitives.insert(output_->primitives.end(), node.ids.begin(), node.ids.end());
+    output_->costs[index] = options_.intersection_cost * double(leaf.count) * surface_area(node.box) / root_area_;
     spare_events_.give(std::move(node.events.events));
     spare_ids_.give(std::move(node.ids));
     return index;
@@ -383,9 +392,10 @@ class KdTreeBuilder {
 
   // Builds the subtree of `node` into this builder's tree; returns the index of its root.
   std::uint32_t build_node(NodeInput&& node) {
-    const auto index = static_cast<std::uint32_t>(tree_->nodes_.size());
-    tree_->nodes_.emplace_back();
-    tree_->nodes_[index].level = static_cast<std::uint16_t>(node.level);
+    const auto index = static_cast<std::uint32_t>(output_->nodes.size());
+    output_->nodes.emplace_back();
+    output_->nodes[index].level = static_cast<std::uint16_t>(node.level);
+    output_->costs.push_back(0);
     const std::size_t n = node.ids.size();
     if (n == 0 || n <= options_.leaf_size || node.level >= max_depth_ ||
         node.unproductive >= kMaxUnproductiveSplits) {
@@ -396,15 +406,16 @@ class KdTreeBuilder {
       return make_leaf(index, std::move(node));
     }
     {
-      KdNode& interior = tree_->nodes_[index];
+      KdNode& interior = output_->nodes[index];
       interior.axis = static_cast<std::uint8_t>(split.axis);
       interior.split = split.position;
+      output_->costs[index] = options_.traversal_cost * surface_area(node.box) / root_area_;
     }
     auto [left, right] = split_node(std::move(node), split);
     std::uint32_t left_index, right_index;
     if (pool_.threads() > 1 && std::min(left.ids.size(), right.ids.size()) >= kMinTrianglesPerTask) {
       // While this builder builds the left child, an idle one may take the right.
-      std::unique_ptr<KdTree> right_part;
+      BuiltNodes right_part;
       TaskPool::Task right_task([&](unsigned thread) { right_part = builders_[thread]->build_fragment(std::move(right)); });
       pool_.offer(right_task);
       left_index = build_node(std::move(left));
@@ -412,14 +423,14 @@ class KdTreeBuilder {
         right_index = build_node(std::move(right));
       } else {
         pool_.wait(right_task, thread_);
-        right_index = append(*right_part);
+        right_index = append(right_part);
       }
     } else {
       left_index = build_node(std::move(left));
       right_index = build_node(std::move(right));
     }
-    tree_->nodes_[index].left = left_index;
-    tree_->nodes_[index].right = right_index;
+    output_->nodes[index].left = left_index;
+    output_->nodes[index].right = right_index;
     return index;
   }
 
@@ -518,34 +529,35 @@ class KdTreeBuilder {
   static constexpr int kMaxUnproductiveSplits = 4;
 
   // Builds the subtree of `node` into a fragment of its own, for append().
-  std::unique_ptr<KdTree> build_fragment(NodeInput&& node) {
-    auto part = std::make_unique<KdTree>();
-    // This builder may be waiting inside a subtree of its own tree: back to it after.
-    KdTree* const outer = std::exchange(tree_, part.get());
+  BuiltNodes build_fragment(NodeInput&& node) {
+    BuiltNodes part;
+    // This builder may be waiting inside a subtree of its own output: back to it after.
+    BuiltNodes* const outer = std::exchange(output_, &part);
     try {
       build_node(std::move(node));
     } catch (...) {
-      tree_ = outer;
+      output_ = outer;
       throw;
     }
-    tree_ = outer;
+    output_ = outer;
     return part;
   }
 
   // Appends a subtree built apart; returns the index of its root.
-  std::uint32_t append(const KdTree& part) {
-    const auto node_offset = static_cast<std::uint32_t>(tree_->nodes_.size());
-    const auto primitive_offset = static_cast<std::uint32_t>(tree_->primitives_.size());
-    for (KdNode node : part.nodes_) {
+  std::uint32_t append(const BuiltNodes& part) {
+    const auto node_offset = static_cast<std::uint32_t>(output_->nodes.size());
+    const auto primitive_offset = static_cast<std::uint32_t>(output_->primitives.size());
+    for (KdNode node : part.nodes) {
       if (node.is_leaf()) {
         node.first += primitive_offset;
       } else {
         node.left += node_offset;
         node.right += node_offset;
       }
-      tree_->nodes_.push_back(node);
+      output_->nodes.push_back(node);
     }
-    tree_->primitives_.insert(tree_->primitives_.end(), part.primitives_.begin(), part.primitives_.end());
+    output_->primitives.insert(output_->primitives.end(), part.primitives.begin(), part.primitives.end());
+    output_->costs.insert(output_->costs.end(), part.costs.begin(), part.costs.end());
     return node_offset;
   }
 
@@ -581,10 +593,11 @@ class KdTreeBuilder {
   std::span<const Triangle> triangles_;
   KdBuildOptions options_;
   int max_depth_;
+  double root_area_;  // the SAH cost's denominator
   TaskPool& pool_;
   const Builders& builders_;  // one per pool thread
   unsigned thread_;           // the pool thread this builder runs on
-  KdTree* tree_ = nullptr;    // the tree or fragment being built
+  BuiltNodes* output_ = nullptr;  // the tree or fragment being built
   std::vector<std::uint8_t> side_;
   AxisEvents new_left_, new_right_;  // scratch: events of the triangles one node clips
   std::vector<Event> sort_buffer_;
@@ -595,31 +608,11 @@ class KdTreeBuilder {
 namespace {
 
 // The expected cost of a ray through the root box: each interior node's
-// traversal and each leaf's tests, weighted by the node box's area, summed
-// in pre-order.
-double sah_cost(const KdTree& tree, const KdBuildOptions& options) {
-  const auto& nodes = tree.nodes();
-  if (nodes.empty() || tree.bounds().empty()) return 0;
-  const double root_area = surface_area(tree.bounds());
-  if (!(root_area > 0)) return 0;
-  double cost = 0;
-  std::vector<std::pair<std::uint32_t, Bounds>> stack{{0, tree.bounds()}};
-  while (!stack.empty()) {
-    const auto [index, box] = stack.back();
-    stack.pop_back();
-    const KdNode& node = nodes[index];
-    if (node.is_leaf()) {
-      cost += options.intersection_cost * double(node.count) * surface_area(box) / root_area;
-      continue;
-    }
-    cost += options.traversal_cost * surface_area(box) / root_area;
-    Bounds left = box, right = box;
-    left.hi[node.axis] = node.split;
-    right.lo[node.axis] = node.split;
-    stack.push_back({node.right, right});
-    stack.push_back({node.left, left});
-  }
-  return cost;
+// traversal and each leaf's tests, weighted by the node box's area (the
+// builders' terms), summed in pre-order.
+double sah_cost(const BuiltNodes& tree, const Bounds& root_box) {
+  if (tree.nodes.empty() || root_box.empty() || !(surface_area(root_box) > 0)) return 0;
+  return std::accumulate(tree.costs.begin(), tree.costs.end(), 0.0);
 }
 
 }  // namespace
@@ -631,18 +624,26 @@ KdTree KdTree::build(std::span<const Triangle> triangles, const KdBuildOptions& 
     throw std::length_error("kd-tree build: more than 2^30 triangles");
   }
   KdTree tree;
+  for (const auto& t : triangles) {
+    tree.bounds_.extend(t.v0);
+    tree.bounds_.extend(t.v1);
+    tree.bounds_.extend(t.v2);
+  }
   int max_depth = options.max_depth > 0 ? options.max_depth : default_max_depth(triangles.size());
   max_depth = std::min(max_depth, kMaxLevelLimit);  // traversal stacks are sized for it
   {
     TaskPool pool(build_threads(options.threads));
     KdTreeBuilder::Builders builders;
     for (unsigned thread = 0; thread < pool.threads(); ++thread) {
-      builders.push_back(std::make_unique<KdTreeBuilder>(triangles, options, max_depth, pool, builders, thread));
+      builders.push_back(std::make_unique<KdTreeBuilder>(triangles, options, max_depth, surface_area(tree.bounds_),
+                                                         pool, builders, thread));
     }
-    builders[0]->build_tree(tree);
+    BuiltNodes built = builders[0]->build_tree(tree.bounds_);
+    tree.stats_.sah_cost = sah_cost(built, tree.bounds_);
+    tree.nodes_ = std::move(built.nodes);
+    tree.primitives_ = std::move(built.primitives);
   }
   tree.stats_.depth_limit = max_depth;
-  tree.stats_.sah_cost = sah_cost(tree, options);
   tree.compute_stats();
   tree.stats_.build_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
