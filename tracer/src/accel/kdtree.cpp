@@ -156,13 +156,32 @@ unsigned build_threads(unsigned requested) {
   return std::max(1u, std::thread::hardware_concurrency());
 }
 
+struct BuiltNodes;
+
+// A subtree another builder made, to go between a builder's own nodes.
+struct SplicedSubtree {
+  std::uint32_t nodes_before = 0;       // the builder's own nodes before it
+  std::uint32_t primitives_before = 0;  // and their primitives
+  std::uint32_t parent = 0;             // the builder's node whose right child is its root
+  std::unique_ptr<BuiltNodes> part;
+};
+
+// The right child of a node whose right subtree is spliced in.
+constexpr std::uint32_t kSplicedRoot = std::numeric_limits<std::uint32_t>::max();
+
 // Nodes one builder made, in pre-order: a whole tree, or a fragment of
-// another builder's.
+// another builder's. Subtrees that other builders made are spliced in when
+// the tree is assembled, so each node is copied once.
 struct BuiltNodes {
+  // Children and leaf ranges index these vectors alone.
   std::vector<KdNode> nodes;
   std::vector<std::uint32_t> primitives;
   // Each node's term of the tree's SAH cost, summed in pre-order at the end.
   std::vector<double> costs;
+  std::vector<SplicedSubtree> spliced;  // in pre-order
+  std::size_t spliced_nodes = 0, spliced_primitives = 0;  // in all of them, nested ones too
+  std::size_t total_nodes() const { return nodes.size() + spliced_nodes; }
+  std::size_t total_primitives() const { return primitives.size() + spliced_primitives; }
 };
 
 Bounds triangle_bounds(const Triangle& triangle) {
@@ -226,7 +245,7 @@ Bounds clip_triangle_to_box(const Triangle& triangle, const Bounds& box) {
 // Builds subtrees on one thread of the tree's task pool. The tree has a
 // builder per pool thread: a builder splitting a node offers the right child
 // to the others while it builds the left; a builder that took it builds it
-// into a fragment of its own, which the owner appends after the left
+// into a fragment of its own, which the owner splices in after the left
 // subtree, so the nodes are in pre-order whoever built them.
 class KdTreeBuilder {
  public:
@@ -415,15 +434,18 @@ class KdTreeBuilder {
     std::uint32_t left_index, right_index;
     if (pool_.threads() > 1 && std::min(left.ids.size(), right.ids.size()) >= kMinTrianglesPerTask) {
       // While this builder builds the left child, an idle one may take the right.
-      BuiltNodes right_part;
-      TaskPool::Task right_task([&](unsigned thread) { right_part = builders_[thread]->build_fragment(std::move(right)); });
+      std::unique_ptr<BuiltNodes> right_part;
+      TaskPool::Task right_task([&](unsigned thread) {
+        right_part = std::make_unique<BuiltNodes>(builders_[thread]->build_fragment(std::move(right)));
+      });
       pool_.offer(right_task);
       left_index = build_node(std::move(left));
       if (pool_.take_back(right_task)) {
         right_index = build_node(std::move(right));
       } else {
         pool_.wait(right_task, thread_);
-        right_index = append(right_part);
+        right_index = kSplicedRoot;
+        splice(index, std::move(right_part));
       }
     } else {
       left_index = build_node(std::move(left));
@@ -528,7 +550,7 @@ class KdTreeBuilder {
   }
   static constexpr int kMaxUnproductiveSplits = 4;
 
-  // Builds the subtree of `node` into a fragment of its own, for append().
+  // Builds the subtree of `node` into a fragment of its own, for splice().
   BuiltNodes build_fragment(NodeInput&& node) {
     BuiltNodes part;
     // This builder may be waiting inside a subtree of its own output: back to it after.
@@ -543,22 +565,12 @@ class KdTreeBuilder {
     return part;
   }
 
-  // Appends a subtree built apart; returns the index of its root.
-  std::uint32_t append(const BuiltNodes& part) {
-    const auto node_offset = static_cast<std::uint32_t>(output_->nodes.size());
-    const auto primitive_offset = static_cast<std::uint32_t>(output_->primitives.size());
-    for (KdNode node : part.nodes) {
-      if (node.is_leaf()) {
-        node.first += primitive_offset;
-      } else {
-        node.left += node_offset;
-        node.right += node_offset;
-      }
-      output_->nodes.push_back(node);
-    }
-    output_->primitives.insert(output_->primitives.end(), part.primitives.begin(), part.primitives.end());
-    output_->costs.insert(output_->costs.end(), part.costs.begin(), part.costs.end());
-    return node_offset;
+  // Puts a subtree built apart after the nodes made so far: it is the right subtree of `parent`.
+  void splice(std::uint32_t parent, std::unique_ptr<BuiltNodes> part) {
+    output_->spliced_nodes += part->total_nodes();
+    output_->spliced_primitives += part->total_primitives();
+    output_->spliced.push_back({static_cast<std::uint32_t>(output_->nodes.size()),
+                                static_cast<std::uint32_t>(output_->primitives.size()), parent, std::move(part)});
   }
 
   // A right child of fewer triangles (or a left one, which keeps this
@@ -607,13 +619,139 @@ class KdTreeBuilder {
 
 namespace {
 
-// The expected cost of a ray through the root box: each interior node's
-// traversal and each leaf's tests, weighted by the node box's area (the
-// builders' terms), summed in pre-order.
-double sah_cost(const BuiltNodes& tree, const Bounds& root_box) {
-  if (tree.nodes.empty() || root_box.empty() || !(surface_area(root_box) > 0)) return 0;
-  return std::accumulate(tree.costs.begin(), tree.costs.end(), 0.0);
-}
+// Puts the builders' nodes together in the tree's vectors, in pre-order:
+// each builder's nodes are copied once, in chunks, on the pool's threads.
+class TreeAssembly {
+ public:
+  explicit TreeAssembly(const BuiltNodes& root) : root_(root) { place(root, 0, 0); }
+
+  void copy_into(std::vector<KdNode>& nodes, std::vector<std::uint32_t>& primitives, TaskPool& pool) const {
+    nodes.resize(root_.total_nodes());
+    primitives.resize(root_.total_primitives());
+    std::vector<std::unique_ptr<TaskPool::Task>> copies;
+    for (const Placement& placement : placements_) {
+      copies.push_back(std::make_unique<TaskPool::Task>(
+          [&](unsigned) { copy_primitives(placement, primitives); }));
+      for (std::size_t first = 0; first < placement.part->nodes.size(); first += kNodesPerCopy) {
+        const std::size_t last = std::min(first + kNodesPerCopy, placement.part->nodes.size());
+        copies.push_back(std::make_unique<TaskPool::Task>(
+            [&, first, last](unsigned) { copy_nodes(placement, first, last, nodes); }));
+      }
+    }
+    for (auto& copy : copies) pool.offer(*copy);
+    // The other threads take the oldest; this one the newest.
+    for (auto copy = copies.rbegin(); copy != copies.rend(); ++copy) {
+      if (pool.take_back(**copy)) {
+        (*copy)->run(0);
+      } else {
+        pool.wait(**copy, 0);
+      }
+    }
+  }
+
+  // The expected cost of a ray through the root box: each interior node's
+  // traversal and each leaf's tests, weighted by the node box's area (the
+  // builders' terms), summed in pre-order.
+  double sah_cost(const Bounds& root_box) const {
+    if (root_.nodes.empty() || root_box.empty() || !(surface_area(root_box) > 0)) return 0;
+    return add_costs(root_, 0.0);
+  }
+
+ private:
+  // Where one builder's nodes go.
+  struct Placement {
+    const BuiltNodes* part;
+    std::size_t node_base, primitive_base;  // where its first node and primitive go
+    // Per spliced subtree, the nodes and primitives of those before it (one more: all).
+    std::vector<std::size_t> spliced_nodes_before, spliced_primitives_before;
+    std::vector<std::pair<std::uint32_t, std::size_t>> spliced_roots;  // (parent, root's place), by parent
+  };
+
+  void place(const BuiltNodes& part, std::size_t node_base, std::size_t primitive_base) {
+    Placement placement{&part, node_base, primitive_base, {0}, {0}, {}};
+    for (const SplicedSubtree& subtree : part.spliced) {
+      placement.spliced_nodes_before.push_back(placement.spliced_nodes_before.back() + subtree.part->total_nodes());
+      placement.spliced_primitives_before.push_back(placement.spliced_primitives_before.back() +
+                                                    subtree.part->total_primitives());
+    }
+    std::vector<std::pair<std::size_t, std::size_t>> subtree_bases;
+    for (std::size_t k = 0; k < part.spliced.size(); ++k) {
+      const SplicedSubtree& subtree = part.spliced[k];
+      const std::size_t root = node_base + subtree.nodes_before + placement.spliced_nodes_before[k];
+      placement.spliced_roots.emplace_back(subtree.parent, root);
+      subtree_bases.emplace_back(root, primitive_base + subtree.primitives_before +
+                                           placement.spliced_primitives_before[k]);
+    }
+    std::sort(placement.spliced_roots.begin(), placement.spliced_roots.end());
+    placements_.push_back(std::move(placement));
+    for (std::size_t k = 0; k < part.spliced.size(); ++k) {
+      place(*part.spliced[k].part, subtree_bases[k].first, subtree_bases[k].second);
+    }
+  }
+
+  // How many of the part's spliced subtrees come before its own node `index`.
+  static std::size_t spliced_before(const BuiltNodes& part, std::uint32_t index) {
+    return static_cast<std::size_t>(
+        std::upper_bound(part.spliced.begin(), part.spliced.end(), index,
+                         [](std::uint32_t i, const SplicedSubtree& subtree) { return i < subtree.nodes_before; }) -
+        part.spliced.begin());
+  }
+
+  static void copy_nodes(const Placement& placement, std::size_t first, std::size_t last, std::vector<KdNode>& nodes) {
+    const BuiltNodes& part = *placement.part;
+    auto place_of = [&](std::uint32_t index) {
+      return static_cast<std::uint32_t>(placement.node_base + index +
+                                        placement.spliced_nodes_before[spliced_before(part, index)]);
+    };
+    std::size_t before = spliced_before(part, static_cast<std::uint32_t>(first));
+    for (std::size_t i = first; i < last; ++i) {
+      while (before < part.spliced.size() && part.spliced[before].nodes_before <= i) ++before;
+      KdNode node = part.nodes[i];
+      if (node.is_leaf()) {
+        node.first = static_cast<std::uint32_t>(placement.primitive_base + node.first +
+                                                placement.spliced_primitives_before[before]);
+      } else {
+        node.left = place_of(node.left);
+        if (node.right == kSplicedRoot) {
+          const auto root = std::lower_bound(placement.spliced_roots.begin(), placement.spliced_roots.end(),
+                                             std::pair{static_cast<std::uint32_t>(i), std::size_t{0}});
+          node.right = static_cast<std::uint32_t>(root->second);
+        } else {
+          node.right = place_of(node.right);
+        }
+      }
+      nodes[placement.node_base + i + placement.spliced_nodes_before[before]] = node;
+    }
+  }
+
+  static void copy_primitives(const Placement& placement, std::vector<std::uint32_t>& primitives) {
+    const BuiltNodes& part = *placement.part;
+    std::size_t from = 0;
+    for (std::size_t k = 0; k <= part.spliced.size(); ++k) {
+      const std::size_t to = k < part.spliced.size() ? part.spliced[k].primitives_before : part.primitives.size();
+      std::copy(part.primitives.begin() + from, part.primitives.begin() + to,
+                primitives.begin() + placement.primitive_base + from + placement.spliced_primitives_before[k]);
+      from = to;
+    }
+  }
+
+  // `sum` plus the part's terms in pre-order, its spliced subtrees' among its own.
+  static double add_costs(const BuiltNodes& part, double sum) {
+    std::size_t from = 0;
+    for (std::size_t k = 0; k <= part.spliced.size(); ++k) {
+      const std::size_t to = k < part.spliced.size() ? part.spliced[k].nodes_before : part.nodes.size();
+      for (std::size_t i = from; i < to; ++i) sum += part.costs[i];
+      if (k < part.spliced.size()) sum = add_costs(*part.spliced[k].part, sum);
+      from = to;
+    }
+    return sum;
+  }
+
+  static constexpr std::size_t kNodesPerCopy = std::size_t{1} << 15;
+
+  const BuiltNodes& root_;
+  std::vector<Placement> placements_;  // in pre-order
+};
 
 }  // namespace
 
@@ -639,9 +777,14 @@ KdTree KdTree::build(std::span<const Triangle> triangles, const KdBuildOptions& 
                                                          pool, builders, thread));
     }
     BuiltNodes built = builders[0]->build_tree(tree.bounds_);
-    tree.stats_.sah_cost = sah_cost(built, tree.bounds_);
-    tree.nodes_ = std::move(built.nodes);
-    tree.primitives_ = std::move(built.primitives);
+    const TreeAssembly assembly(built);
+    tree.stats_.sah_cost = assembly.sah_cost(tree.bounds_);
+    if (built.spliced.empty()) {
+      tree.nodes_ = std::move(built.nodes);
+      tree.primitives_ = std::move(built.primitives);
+    } else {
+      assembly.copy_into(tree.nodes_, tree.primitives_, pool);
+    }
   }
   tree.stats_.depth_limit = max_depth;
   tree.compute_stats();

@@ -30,6 +30,8 @@ class TaskPool {
     Task(const Task&) = delete;
     Task& operator=(const Task&) = delete;
     ~Task();
+    // Runs the work on the calling thread, e.g. the owner's after take_back().
+    void run(unsigned thread) { work_(thread); }
 
    private:
     friend class TaskPool;
