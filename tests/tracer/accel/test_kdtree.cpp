@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <random>
 
@@ -159,20 +160,26 @@ std::uint64_t tree_hash(const KdTree& tree) {
   return hash;
 }
 
-TEST(KdTreeTest, TreeIsTheSameForAnyThreadCount) {
-  // Enough triangles that subtrees go to threads of their own.
-  const Scene scene = test_scenes::random_triangles(15000, 5);
+// The tree built by one thread, after checking that each of `thread_counts` builds the same.
+KdTree expect_the_same_tree_at(const Scene& scene, std::initializer_list<unsigned> thread_counts) {
   KdBuildOptions one;
   one.threads = 1;
-  const KdTree reference = KdTree::build(scene.triangles, one);
-  ASSERT_GT(reference.nodes().size(), 5000u);
-  for (unsigned threads : {2u, 3u, 5u, 8u}) {
+  KdTree reference = KdTree::build(scene.triangles, one);
+  for (unsigned threads : thread_counts) {
     KdBuildOptions options;
     options.threads = threads;
     const KdTree tree = KdTree::build(scene.triangles, options);
     EXPECT_EQ(tree_hash(tree), tree_hash(reference)) << threads << " threads";
     EXPECT_EQ(tree.stats().sah_cost, reference.stats().sah_cost) << threads << " threads";
   }
+  return reference;
+}
+
+TEST(KdTreeTest, TreeIsTheSameForAnyThreadCount) {
+  // Enough triangles that subtrees go to threads of their own.
+  const Scene scene = test_scenes::random_triangles(15000, 5);
+  const KdTree reference = expect_the_same_tree_at(scene, {2u, 3u, 5u, 8u});
+  EXPECT_GT(reference.nodes().size(), 5000u);
 }
 
 TEST(KdTreeTest, AxesSweptApartBreakTiesLikeOneSweep) {
@@ -204,18 +211,9 @@ TEST(KdTreeTest, AxesSweptApartBreakTiesLikeOneSweep) {
     t.v0 = grid_point(base), t.v1 = grid_point(base), t.v2 = grid_point(base);
     add_with_permutations(t);
   }
-  KdBuildOptions one;
-  one.threads = 1;
-  const KdTree reference = KdTree::build(scene.triangles, one);
+  const KdTree reference = expect_the_same_tree_at(scene, {2u, 3u});
   ASSERT_FALSE(reference.nodes()[0].is_leaf());
   EXPECT_EQ(reference.nodes()[0].axis, 0);
-  for (unsigned threads : {2u, 3u}) {
-    KdBuildOptions options;
-    options.threads = threads;
-    const KdTree tree = KdTree::build(scene.triangles, options);
-    EXPECT_EQ(tree_hash(tree), tree_hash(reference)) << threads << " threads";
-    EXPECT_EQ(tree.stats().sah_cost, reference.stats().sah_cost) << threads << " threads";
-  }
 }
 
 TEST(KdTreeTest, BuiltInMountainTreeIsTheOneTracesWereRecordedWith) {

@@ -52,22 +52,19 @@ bool TaskPool::take_back(Task& task) {
 
 void TaskPool::wait(Task& task, unsigned thread) {
   std::unique_lock lock(mutex_);
-  while (!task.done_) {
-    if (!offered_.empty()) {
-      run_oldest(lock, thread);
-      continue;
-    }
-    ++sleeping_;
-    changed_.wait(lock);
-    --sleeping_;
-  }
+  serve(lock, thread, [&] { return task.done_; });
   task.pool_ = nullptr;
   if (task.error_) std::rethrow_exception(task.error_);
 }
 
 void TaskPool::work(unsigned thread) {
   std::unique_lock lock(mutex_);
-  while (!stopping_) {
+  serve(lock, thread, [&] { return stopping_; });
+}
+
+template <typename Finished>
+void TaskPool::serve(std::unique_lock<std::mutex>& lock, unsigned thread, const Finished& finished) {
+  while (!finished()) {
     if (!offered_.empty()) {
       run_oldest(lock, thread);
       continue;

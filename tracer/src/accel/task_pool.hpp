@@ -58,6 +58,10 @@ class TaskPool {
 
  private:
   void work(unsigned thread);
+  // Runs offered tasks as thread `thread`, sleeping while there are none,
+  // until finished() (called with the lock held).
+  template <typename Finished>
+  void serve(std::unique_lock<std::mutex>& lock, unsigned thread, const Finished& finished);
   // Runs the oldest offered task, the lock held on entry and exit.
   void run_oldest(std::unique_lock<std::mutex>& lock, unsigned thread);
 
