@@ -151,9 +151,17 @@ struct NodeInput {
   int unproductive = 0;  // unproductive splits on its path (KdTreeBuilder::unproductive_for)
 };
 
-unsigned build_threads(unsigned requested) {
-  if (requested > 0) return requested;
-  return std::max(1u, std::thread::hardware_concurrency());
+// A right child of fewer triangles (or a left one, which keeps its builder
+// busy meanwhile) is not worth offering to other threads.
+constexpr std::size_t kMinTrianglesPerTask = 512;
+// Nodes of fewer triangles sweep their axes on one thread.
+constexpr std::size_t kMinTrianglesPerAxisTask = std::size_t{1} << 15;
+
+// Threads for a build: no more than could each get a subtree offered, so a
+// small scene starts none.
+unsigned build_threads(unsigned requested, std::size_t triangle_count) {
+  const unsigned threads = requested > 0 ? requested : std::max(1u, std::thread::hardware_concurrency());
+  return static_cast<unsigned>(std::clamp<std::size_t>(triangle_count / kMinTrianglesPerTask, 1, threads));
 }
 
 struct BuiltNodes;
@@ -573,11 +581,6 @@ class KdTreeBuilder {
                                 static_cast<std::uint32_t>(output_->primitives.size()), parent, std::move(part)});
   }
 
-  // A right child of fewer triangles (or a left one, which keeps this
-  // builder busy meanwhile) is not worth offering.
-  static constexpr std::size_t kMinTrianglesPerTask = 512;
-  // Nodes of fewer triangles sweep their axes on one thread.
-  static constexpr std::size_t kMinTrianglesPerAxisTask = std::size_t{1} << 15;
 
   // Appends a node's events of one axis to its children's lists, each merged
   // with the sorted events of its clipped triangles, so both stay sorted.
@@ -770,7 +773,7 @@ KdTree KdTree::build(std::span<const Triangle> triangles, const KdBuildOptions& 
   int max_depth = options.max_depth > 0 ? options.max_depth : default_max_depth(triangles.size());
   max_depth = std::min(max_depth, kMaxLevelLimit);  // traversal stacks are sized for it
   {
-    TaskPool pool(build_threads(options.threads));
+    TaskPool pool(build_threads(options.threads, triangles.size()));
     KdTreeBuilder::Builders builders;
     for (unsigned thread = 0; thread < pool.threads(); ++thread) {
       builders.push_back(std::make_unique<KdTreeBuilder>(triangles, options, max_depth, surface_area(tree.bounds_),
