@@ -628,6 +628,13 @@ class TreeAssembly {
  public:
   explicit TreeAssembly(const BuiltNodes& root) : root_(root) { place(root, 0, 0); }
 
+  // Every builder's nodes.
+  std::vector<std::span<const KdNode>> parts() const {
+    std::vector<std::span<const KdNode>> parts;
+    for (const Placement& placement : placements_) parts.emplace_back(placement.part->nodes);
+    return parts;
+  }
+
   void copy_into(std::vector<KdNode>& nodes, std::vector<std::uint32_t>& primitives, TaskPool& pool) const {
     nodes.resize(root_.total_nodes());
     primitives.resize(root_.total_primitives());
@@ -785,12 +792,21 @@ KdTree KdTree::build(std::span<const Triangle> triangles, const KdBuildOptions& 
     if (built.spliced.empty()) {
       tree.nodes_ = std::move(built.nodes);
       tree.primitives_ = std::move(built.primitives);
+      tree.compute_stats();
     } else {
+      // Counted from the builders' nodes by another thread while this one
+      // makes room for the tree (it pays for the new memory's pages).
+      TaskPool::Task count([&](unsigned) { tree.compute_stats(assembly.parts()); });
+      pool.offer(count);
       assembly.copy_into(tree.nodes_, tree.primitives_, pool);
+      if (pool.take_back(count)) {
+        count.run(0);
+      } else {
+        pool.wait(count, 0);
+      }
     }
   }
   tree.stats_.depth_limit = max_depth;
-  tree.compute_stats();
   tree.stats_.build_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   tree.stats_.build_cpu_seconds = double(std::clock() - cpu_start) / CLOCKS_PER_SEC;
@@ -808,21 +824,28 @@ KdTree KdTree::from_nodes(std::vector<KdNode> nodes, std::vector<std::uint32_t> 
 }
 
 void KdTree::compute_stats() {
+  const std::span<const KdNode> all(nodes_);
+  compute_stats({&all, 1});
+}
+
+void KdTree::compute_stats(std::span<const std::span<const KdNode>> parts) {
   KdTreeStats& s = stats_;
-  s.nodes = nodes_.size();
-  s.interior = s.leaves = s.empty_leaves = s.primitive_references = 0;
+  s.nodes = s.interior = s.leaves = s.empty_leaves = s.primitive_references = 0;
   s.nodes_per_level.clear();
   s.depth = 0;
-  for (const KdNode& node : nodes_) {
-    if (node.level >= s.nodes_per_level.size()) s.nodes_per_level.resize(node.level + 1, 0);
-    ++s.nodes_per_level[node.level];
-    s.depth = std::max<std::uint32_t>(s.depth, node.level);
-    if (node.is_leaf()) {
-      ++s.leaves;
-      if (node.count == 0) ++s.empty_leaves;
-      s.primitive_references += node.count;
-    } else {
-      ++s.interior;
+  for (const auto& part : parts) {
+    s.nodes += part.size();
+    for (const KdNode& node : part) {
+      if (node.level >= s.nodes_per_level.size()) s.nodes_per_level.resize(node.level + 1, 0);
+      ++s.nodes_per_level[node.level];
+      s.depth = std::max<std::uint32_t>(s.depth, node.level);
+      if (node.is_leaf()) {
+        ++s.leaves;
+        if (node.count == 0) ++s.empty_leaves;
+        s.primitive_references += node.count;
+      } else {
+        ++s.interior;
+      }
     }
   }
   if (s.leaves > 0) s.mean_leaf_size = double(s.primitive_references) / double(s.leaves);

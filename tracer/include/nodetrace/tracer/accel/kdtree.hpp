@@ -82,6 +82,8 @@ class KdTree {
   Bounds bounds_;
   KdTreeStats stats_;
   void compute_stats();
+  // The statistics of the nodes of `parts` together (a tree's nodes, or the pieces it is made of).
+  void compute_stats(std::span<const std::span<const KdNode>> parts);
   friend class KdTreeBuilder;
 };
 
