@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <random>
 
@@ -159,20 +160,60 @@ std::uint64_t tree_hash(const KdTree& tree) {
   return hash;
 }
 
-TEST(KdTreeTest, TreeIsTheSameForAnyThreadCount) {
-  // Enough triangles that subtrees go to threads of their own.
-  const Scene scene = test_scenes::random_triangles(15000, 5);
+// The tree built by one thread, after checking that each of `thread_counts` builds the same.
+KdTree expect_the_same_tree_at(const Scene& scene, std::initializer_list<unsigned> thread_counts) {
   KdBuildOptions one;
   one.threads = 1;
-  const KdTree reference = KdTree::build(scene.triangles, one);
-  ASSERT_GT(reference.nodes().size(), 5000u);
-  for (unsigned threads : {2u, 5u}) {
+  KdTree reference = KdTree::build(scene.triangles, one);
+  for (unsigned threads : thread_counts) {
     KdBuildOptions options;
     options.threads = threads;
     const KdTree tree = KdTree::build(scene.triangles, options);
     EXPECT_EQ(tree_hash(tree), tree_hash(reference)) << threads << " threads";
     EXPECT_EQ(tree.stats().sah_cost, reference.stats().sah_cost) << threads << " threads";
   }
+  return reference;
+}
+
+TEST(KdTreeTest, TreeIsTheSameForAnyThreadCount) {
+  // Enough triangles that subtrees go to threads of their own.
+  const Scene scene = test_scenes::random_triangles(15000, 5);
+  const KdTree reference = expect_the_same_tree_at(scene, {2u, 3u, 5u, 8u});
+  EXPECT_GT(reference.nodes().size(), 5000u);
+}
+
+TEST(KdTreeTest, AxesSweptApartBreakTiesLikeOneSweep) {
+  // Small triangles on an integer grid in a cube, each with its two cyclic
+  // axis permutations: every plane costs exactly what the same plane on the
+  // other axes costs. Over 32768 triangles, the root's axes are swept on
+  // threads of their own; the serial sweep keeps the first axis among equals.
+  std::mt19937 engine(25);
+  std::uniform_int_distribution<int> cell(0, 62), step(0, 2);
+  auto grid_point = [&](Vec3 base) {
+    return base + Vec3{float(step(engine)), float(step(engine)), float(step(engine))};
+  };
+  Scene scene;
+  scene.materials.push_back({});
+  auto add_with_permutations = [&](const Triangle& t) {
+    auto rotate = [](const Vec3& v) { return Vec3{v.y, v.z, v.x}; };
+    Triangle u = t;
+    for (int turn = 0; turn < 3; ++turn) {
+      scene.triangles.push_back(u);
+      u.v0 = rotate(u.v0), u.v1 = rotate(u.v1), u.v2 = rotate(u.v2);
+    }
+  };
+  Triangle diagonal;  // spans the cube, so its box is the root box
+  diagonal.v0 = {0, 0, 0}, diagonal.v1 = {64, 64, 64}, diagonal.v2 = {0, 64, 0};
+  add_with_permutations(diagonal);
+  while (scene.triangles.size() < 36000) {
+    const Vec3 base{float(cell(engine)), float(cell(engine)), float(cell(engine))};
+    Triangle t;
+    t.v0 = grid_point(base), t.v1 = grid_point(base), t.v2 = grid_point(base);
+    add_with_permutations(t);
+  }
+  const KdTree reference = expect_the_same_tree_at(scene, {2u, 3u});
+  ASSERT_FALSE(reference.nodes()[0].is_leaf());
+  EXPECT_EQ(reference.nodes()[0].axis, 0);
 }
 
 TEST(KdTreeTest, BuiltInMountainTreeIsTheOneTracesWereRecordedWith) {

@@ -1,15 +1,16 @@
 #include "nodetrace/tracer/accel/kdtree.hpp"
 
+#include "accel/task_pool.hpp"
+
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <bit>
 #include <chrono>
 #include <cmath>
 #include <ctime>
-#include <future>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <stdexcept>
 #include <thread>
 #include <utility>
@@ -79,30 +80,33 @@ std::uint64_t sort_key(const Event& e) {
   return std::uint64_t{bits} << 32 | e.type_and_triangle;
 }
 
-// LSD radix sort on sort_key, a byte per pass; passes where every event has
-// the same byte are skipped.
-void radix_sort(std::vector<Event>& events) {
+// LSD radix sort on sort_key, a byte per pass, through `buffer`; passes
+// where every event has the same byte are skipped.
+void radix_sort(std::span<Event> events, std::vector<Event>& buffer) {
   constexpr int kPasses = 8;
-  std::vector<std::array<std::uint32_t, 256>> counts(kPasses, std::array<std::uint32_t, 256>{});
+  std::array<std::array<std::uint32_t, 256>, kPasses> counts{};
   for (const Event& e : events) {
     const std::uint64_t key = sort_key(e);
     for (int pass = 0; pass < kPasses; ++pass) ++counts[pass][(key >> (8 * pass)) & 0xff];
   }
-  std::vector<Event> buffer(events.size());
+  buffer.resize(events.size());
+  Event* from = events.data();
+  Event* to = buffer.data();
   for (int pass = 0; pass < kPasses; ++pass) {
     auto& count = counts[pass];
     if (std::find(count.begin(), count.end(), events.size()) != count.end()) continue;
     std::uint32_t offset = 0;
     for (auto& c : count) offset += std::exchange(c, offset);
-    for (const Event& e : events) buffer[count[(sort_key(e) >> (8 * pass)) & 0xff]++] = e;
-    events.swap(buffer);
+    for (const Event* e = from; e != from + events.size(); ++e) to[count[(sort_key(*e) >> (8 * pass)) & 0xff]++] = *e;
+    std::swap(from, to);
   }
+  if (from != events.data()) std::copy(from, from + events.size(), events.data());
 }
 
-void sort_events(std::vector<Event>& events) {
+void sort_events(std::span<Event> events, std::vector<Event>& buffer) {
   // Radix sorting pays off for long lists only.
   if (events.size() >= 4096) {
-    radix_sort(events);
+    radix_sort(events, buffer);
   } else {
     std::sort(events.begin(), events.end(), event_less);
   }
@@ -138,28 +142,62 @@ class SpareVectors {
   std::vector<std::vector<T>> spare_;
 };
 
-// Threads a build may still start, shared by the builders of one tree.
-class ThreadSlots {
- public:
-  explicit ThreadSlots(unsigned threads) : free_(static_cast<int>(threads) - 1) {}
-  bool try_take() {
-    int free = free_.load(std::memory_order_relaxed);
-    while (free > 0) {
-      if (free_.compare_exchange_weak(free, free - 1, std::memory_order_acquire)) return true;
-    }
-    return false;
-  }
-  void give_back() { free_.fetch_add(1, std::memory_order_release); }
-  // Taken back after a wait whatever is free: briefly one thread too many.
-  void take() { free_.fetch_sub(1, std::memory_order_acquire); }
-
- private:
-  std::atomic<int> free_;
+// What one node's build starts from.
+struct NodeInput {
+  NodeEvents events;
+  std::vector<std::uint32_t> ids;  // its triangles, ascending
+  Bounds box;
+  int level = 0;
+  int unproductive = 0;  // unproductive splits on its path (KdTreeBuilder::unproductive_for)
 };
 
-unsigned build_threads(unsigned requested) {
-  if (requested > 0) return requested;
-  return std::max(1u, std::thread::hardware_concurrency());
+// A right child of fewer triangles (or a left one, which keeps its builder
+// busy meanwhile) is not worth offering to other threads.
+constexpr std::size_t kMinTrianglesPerTask = 512;
+// Nodes of fewer triangles sweep their axes on one thread.
+constexpr std::size_t kMinTrianglesPerAxisTask = std::size_t{1} << 15;
+
+// Threads for a build: no more than could each get a subtree offered, so a
+// small scene starts none.
+unsigned build_threads(unsigned requested, std::size_t triangle_count) {
+  const unsigned threads = requested > 0 ? requested : std::max(1u, std::thread::hardware_concurrency());
+  return static_cast<unsigned>(std::clamp<std::size_t>(triangle_count / kMinTrianglesPerTask, 1, threads));
+}
+
+struct BuiltNodes;
+
+// A subtree another builder made, to go between a builder's own nodes.
+struct SplicedSubtree {
+  std::uint32_t nodes_before = 0;       // the builder's own nodes before it
+  std::uint32_t primitives_before = 0;  // and their primitives
+  std::uint32_t parent = 0;             // the builder's node whose right child is its root
+  std::unique_ptr<BuiltNodes> part;
+};
+
+// The right child of a node whose right subtree is spliced in.
+constexpr std::uint32_t kSplicedRoot = std::numeric_limits<std::uint32_t>::max();
+
+// Nodes one builder made, in pre-order: a whole tree, or a fragment of
+// another builder's. Subtrees that other builders made are spliced in when
+// the tree is assembled, so each node is copied once.
+struct BuiltNodes {
+  // Children and leaf ranges index these vectors alone.
+  std::vector<KdNode> nodes;
+  std::vector<std::uint32_t> primitives;
+  // Each node's term of the tree's SAH cost, summed in pre-order at the end.
+  std::vector<double> costs;
+  std::vector<SplicedSubtree> spliced;  // in pre-order
+  std::size_t spliced_nodes = 0, spliced_primitives = 0;  // in all of them, nested ones too
+  std::size_t total_nodes() const { return nodes.size() + spliced_nodes; }
+  std::size_t total_primitives() const { return primitives.size() + spliced_primitives; }
+};
+
+Bounds triangle_bounds(const Triangle& triangle) {
+  Bounds box;
+  box.extend(triangle.v0);
+  box.extend(triangle.v1);
+  box.extend(triangle.v2);
+  return box;
 }
 
 }  // namespace
@@ -212,71 +250,106 @@ Bounds clip_triangle_to_box(const Triangle& triangle, const Bounds& box) {
   return result;
 }
 
+// Builds subtrees on one thread of the tree's task pool. The tree has a
+// builder per pool thread: a builder splitting a node offers the right child
+// to the others while it builds the left; a builder that took it builds it
+// into a fragment of its own, which the owner splices in after the left
+// subtree, so the nodes are in pre-order whoever built them.
 class KdTreeBuilder {
  public:
-  KdTreeBuilder(std::span<const Triangle> triangles, const KdBuildOptions& options, KdTree& tree,
-                ThreadSlots& slots)
-      : triangles_(triangles), options_(options), tree_(tree), slots_(slots), side_(triangles.size(), kBoth) {}
+  using Builders = std::vector<std::unique_ptr<KdTreeBuilder>>;
 
-  void run() {
-    if (triangles_.size() > kTriangleMask) {
-      throw std::length_error("kd-tree build: more than 2^30 triangles");
-    }
-    Bounds root_box;
+  KdTreeBuilder(std::span<const Triangle> triangles, const KdBuildOptions& options, int max_depth,
+                double root_area, TaskPool& pool, const Builders& builders, unsigned thread)
+      : triangles_(triangles),
+        options_(options),
+        max_depth_(max_depth),
+        root_area_(root_area),
+        pool_(pool),
+        builders_(builders),
+        thread_(thread),
+        side_(triangles.size(), kBoth) {}
+
+  // Builds the whole tree over `root_box` (the triangles' bounds), from the pool's own thread.
+  BuiltNodes build_tree(const Bounds& root_box) {
+    BuiltNodes tree;
+    output_ = &tree;
+    NodeInput root;
+    root.box = root_box;
+    root.ids.resize(triangles_.size());
+    std::iota(root.ids.begin(), root.ids.end(), std::uint32_t{0});
+    // A flat triangle has one event on an axis, any other two.
+    std::array<std::size_t, 3> counts{};
     for (const auto& t : triangles_) {
-      root_box.extend(t.v0);
-      root_box.extend(t.v1);
-      root_box.extend(t.v2);
+      const Bounds box = triangle_bounds(t);
+      for (int axis = 0; axis < 3; ++axis) counts[axis] += box.lo[axis] == box.hi[axis] ? 1 : 2;
     }
-    tree_.bounds_ = root_box;
-    max_depth_ = options_.max_depth > 0 ? options_.max_depth : default_max_depth(triangles_.size());
-    max_depth_ = std::min(max_depth_, kMaxLevelLimit);  // traversal stacks are sized for it
-
-    AxisEvents events;
-    std::vector<std::uint32_t> ids;
-    for (auto& list : events) list.reserve(triangles_.size() * 2);
-    ids.reserve(triangles_.size());
-    for (std::uint32_t i = 0; i < triangles_.size(); ++i) {
-      const Triangle& t = triangles_[i];
-      Bounds box;
-      box.extend(t.v0);
-      box.extend(t.v1);
-      box.extend(t.v2);
-      add_events(events, i, box);
-      ids.push_back(i);
-    }
-    // The three axes sort apart; the first two on threads of their own when free.
-    std::array<std::future<void>, 2> sorts;
-    std::array<bool, 2> on_thread{};
-    for (int axis = 0; axis < 2; ++axis) {
-      on_thread[axis] = slots_.try_take();
-      if (on_thread[axis]) sorts[axis] = std::async(std::launch::async, sort_events, std::ref(events[axis]));
-    }
-    sort_events(events[2]);
-    for (int axis = 0; axis < 2; ++axis) {
-      if (on_thread[axis]) {
-        sorts[axis].get();
-        slots_.give_back();
-      } else {
-        sort_events(events[axis]);
+    NodeEvents& events = root.events;
+    events.begin = {0, counts[0], counts[0] + counts[1], counts[0] + counts[1] + counts[2]};
+    events.events.resize(events.begin[3]);
+    // The three axes' events are made and sorted apart, on other threads when free.
+    for_each_axis([&](int axis) {
+      Event* next = events.events.data() + events.begin[axis];
+      for (std::uint32_t i = 0; i < triangles_.size(); ++i) {
+        const Bounds box = triangle_bounds(triangles_[i]);
+        if (box.lo[axis] == box.hi[axis]) {
+          *next++ = {box.lo[axis], kPlanar << kTriangleBits | i};
+        } else {
+          *next++ = {box.lo[axis], kStart << kTriangleBits | i};
+          *next++ = {box.hi[axis], kEnd << kTriangleBits | i};
+        }
       }
-    }
-    NodeEvents root;
-    root.events.reserve(events[0].size() + events[1].size() + events[2].size());
-    for (int axis = 0; axis < 3; ++axis) {
-      root.begin[axis] = root.events.size();
-      root.events.insert(root.events.end(), events[axis].begin(), events[axis].end());
-      std::vector<Event>().swap(events[axis]);
-    }
-    root.begin[3] = root.events.size();
-    build_node(std::move(root), std::move(ids), root_box, 0);
+      std::vector<Event> buffer;
+      sort_events({events.events.data() + events.begin[axis], events.events.data() + events.begin[axis + 1]}, buffer);
+    });
+    build_node(std::move(root));
+    output_ = nullptr;
+    return tree;
   }
 
-  int max_depth() const { return max_depth_; }
-
  private:
-  SplitChoice find_split(const NodeEvents& events, std::size_t n, const Bounds& box) const {
+  // Runs job(axis) for the three axes, offering the first two to other threads.
+  template <typename Job>
+  void for_each_axis(const Job& job) {
+    if (pool_.threads() == 1) {
+      for (int axis = 0; axis < 3; ++axis) job(axis);
+      return;
+    }
+    TaskPool::Task first([&](unsigned) { job(0); }), second([&](unsigned) { job(1); });
+    pool_.offer(first);
+    pool_.offer(second);
+    job(2);
+    for (auto [task, axis] : {std::pair{&second, 1}, std::pair{&first, 0}}) {
+      if (pool_.take_back(*task)) {
+        job(axis);
+      } else {
+        pool_.wait(*task, thread_);
+      }
+    }
+  }
+
+  // The best split: the cheapest plane, the first in sweep order (axis,
+  // then position) among equals. The axes of a large node are swept on
+  // other threads too, each apart, which chooses the same plane.
+  SplitChoice find_split(const NodeInput& node) {
+    if (node.ids.size() >= kMinTrianglesPerAxisTask && pool_.threads() > 1) {
+      std::array<SplitChoice, 3> per_axis;
+      for_each_axis([&](int axis) { per_axis[axis] = sweep_axis(node, axis, SplitChoice{}); });
+      SplitChoice best = per_axis[0];
+      for (int axis = 1; axis < 3; ++axis) {
+        if (per_axis[axis].cost < best.cost) best = per_axis[axis];
+      }
+      return best;
+    }
     SplitChoice best;
+    for (int axis = 0; axis < 3; ++axis) best = sweep_axis(node, axis, best);
+    return best;
+  }
+
+  // The better of `best` and the cheapest plane on `axis` (the first among
+  // equals, `best` before them all).
+  SplitChoice sweep_axis(const NodeInput& node, int axis, SplitChoice best) const {
+    const Bounds& box = node.box;
     const double area = surface_area(box);
     if (!(area > 0)) return best;
     const double kt = options_.traversal_cost, ki = options_.intersection_cost;
@@ -289,79 +362,113 @@ class KdTreeBuilder {
     const double inverse_area = 1.0 / area;
     const bool can_estimate = kt >= 0 && ki >= 0 && bonus >= 0;
     constexpr double kEstimateMargin = 1.0 + 1e-9;
-    for (int axis = 0; axis < 3; ++axis) {
-      const std::span<const Event> list = events.axis(axis);
-      const Event* e = list.data();
-      const Event* const last = e + list.size();
-      std::size_t left = 0, right = n;
-      while (e != last) {
-        const float position = e->position;
-        std::size_t ending = 0, planar = 0, starting = 0;
-        for (; e != last && e->position == position && e->type() == kEnd; ++e) ++ending;
-        for (; e != last && e->position == position && e->type() == kPlanar; ++e) ++planar;
-        for (; e != last && e->position == position; ++e) ++starting;
-        right -= planar + ending;
-        // Planes on the box faces cut nothing off; both children need volume.
-        if (position > box.lo[axis] && position < box.hi[axis]) {
-          Bounds lbox = box, rbox = box;
-          lbox.hi[axis] = position;
-          rbox.lo[axis] = position;
-          const double left_area = surface_area(lbox), right_area = surface_area(rbox);
-          auto cost_of = [&](double pl, double pr, std::size_t nl, std::size_t nr) {
-            const double c = kt + ki * (pl * double(nl) + pr * double(nr));
-            return (nl == 0 || nr == 0) ? c * bonus : c;
-          };
-          if (can_estimate) {
-            const double pl = left_area * inverse_area, pr = right_area * inverse_area;
-            const double estimate =
-                std::min(cost_of(pl, pr, left + planar, right), cost_of(pl, pr, left, right + planar));
-            if (estimate > best.cost * kEstimateMargin) {
-              left += starting + planar;
-              continue;
-            }
+    const std::span<const Event> list = node.events.axis(axis);
+    const Event* e = list.data();
+    const Event* const last = e + list.size();
+    std::size_t left = 0, right = node.ids.size();
+    while (e != last) {
+      const float position = e->position;
+      std::size_t ending = 0, planar = 0, starting = 0;
+      for (; e != last && e->position == position && e->type() == kEnd; ++e) ++ending;
+      for (; e != last && e->position == position && e->type() == kPlanar; ++e) ++planar;
+      for (; e != last && e->position == position; ++e) ++starting;
+      right -= planar + ending;
+      // Planes on the box faces cut nothing off; both children need volume.
+      if (position > box.lo[axis] && position < box.hi[axis]) {
+        Bounds lbox = box, rbox = box;
+        lbox.hi[axis] = position;
+        rbox.lo[axis] = position;
+        const double left_area = surface_area(lbox), right_area = surface_area(rbox);
+        auto cost_of = [&](double pl, double pr, std::size_t nl, std::size_t nr) {
+          const double c = kt + ki * (pl * double(nl) + pr * double(nr));
+          return (nl == 0 || nr == 0) ? c * bonus : c;
+        };
+        if (can_estimate) {
+          const double pl = left_area * inverse_area, pr = right_area * inverse_area;
+          const double estimate =
+              std::min(cost_of(pl, pr, left + planar, right), cost_of(pl, pr, left, right + planar));
+          if (estimate > best.cost * kEstimateMargin) {
+            left += starting + planar;
+            continue;
           }
-          const double pl = left_area / area, pr = right_area / area;
-          auto cost = [&](std::size_t nl, std::size_t nr) { return cost_of(pl, pr, nl, nr); };
-          const double with_left = cost(left + planar, right);
-          const double with_right = cost(left, right + planar);
-          const bool planar_left = with_left <= with_right;
-          const double c = planar_left ? with_left : with_right;
-          if (c < best.cost) best = {c, position, axis, planar_left};
         }
-        left += starting + planar;
+        const double pl = left_area / area, pr = right_area / area;
+        auto cost = [&](std::size_t nl, std::size_t nr) { return cost_of(pl, pr, nl, nr); };
+        const double with_left = cost(left + planar, right);
+        const double with_right = cost(left, right + planar);
+        const bool planar_left = with_left <= with_right;
+        const double c = planar_left ? with_left : with_right;
+        if (c < best.cost) best = {c, position, axis, planar_left};
       }
+      left += starting + planar;
     }
     return best;
   }
 
-  std::uint32_t make_leaf(std::uint32_t index, NodeEvents events, std::vector<std::uint32_t> ids) {
-    KdNode& node = tree_.nodes_[index];
-    node.axis = KdNode::kLeafAxis;
-    node.first = static_cast<std::uint32_t>(tree_.primitives_.size());
-    node.count = static_cast<std::uint32_t>(ids.size());
-    tree_.primitives_.insert(tree_.primitives_.end(), ids.begin(), ids.end());
-    spare_events_.give(std::move(events.events));
-    spare_ids_.give(std::move(ids));
+  std::uint32_t make_leaf(std::uint32_t index, NodeInput&& node) {
+    KdNode& leaf = output_->nodes[index];
+    leaf.axis = KdNode::kLeafAxis;
+    leaf.first = static_cast<std::uint32_t>(output_->primitives.size());
+    leaf.count = static_cast<std::uint32_t>(node.ids.size());
+    output_->primitives.insert(output_->primitives.end(), node.ids.begin(), node.ids.end());
+    output_->costs[index] = options_.intersection_cost * double(leaf.count) * surface_area(node.box) / root_area_;
+    spare_events_.give(std::move(node.events.events));
+    spare_ids_.give(std::move(node.ids));
     return index;
   }
 
-  std::uint32_t build_node(NodeEvents events, std::vector<std::uint32_t> ids, const Bounds& box, int level,
-                           int unproductive = 0) {
-    const auto index = static_cast<std::uint32_t>(tree_.nodes_.size());
-    tree_.nodes_.emplace_back();
-    tree_.nodes_[index].level = static_cast<std::uint16_t>(level);
-    const std::size_t n = ids.size();
-    if (n == 0 || n <= options_.leaf_size || level >= max_depth_ || unproductive >= kMaxUnproductiveSplits) {
-      return make_leaf(index, std::move(events), std::move(ids));
+  // Builds the subtree of `node` into this builder's tree; returns the index of its root.
+  std::uint32_t build_node(NodeInput&& node) {
+    const auto index = static_cast<std::uint32_t>(output_->nodes.size());
+    output_->nodes.emplace_back();
+    output_->nodes[index].level = static_cast<std::uint16_t>(node.level);
+    output_->costs.push_back(0);
+    const std::size_t n = node.ids.size();
+    if (n == 0 || n <= options_.leaf_size || node.level >= max_depth_ ||
+        node.unproductive >= kMaxUnproductiveSplits) {
+      return make_leaf(index, std::move(node));
     }
-    const SplitChoice split = find_split(events, n, box);
+    const SplitChoice split = find_split(node);
     if (split.axis < 0 || split.cost >= options_.intersection_cost * double(n)) {
-      return make_leaf(index, std::move(events), std::move(ids));
+      return make_leaf(index, std::move(node));
     }
+    {
+      KdNode& interior = output_->nodes[index];
+      interior.axis = static_cast<std::uint8_t>(split.axis);
+      interior.split = split.position;
+      output_->costs[index] = options_.traversal_cost * surface_area(node.box) / root_area_;
+    }
+    auto [left, right] = split_node(std::move(node), split);
+    std::uint32_t left_index, right_index;
+    if (pool_.threads() > 1 && std::min(left.ids.size(), right.ids.size()) >= kMinTrianglesPerTask) {
+      // While this builder builds the left child, an idle one may take the right.
+      std::unique_ptr<BuiltNodes> right_part;
+      TaskPool::Task right_task([&](unsigned thread) {
+        right_part = std::make_unique<BuiltNodes>(builders_[thread]->build_fragment(std::move(right)));
+      });
+      pool_.offer(right_task);
+      left_index = build_node(std::move(left));
+      if (pool_.take_back(right_task)) {
+        right_index = build_node(std::move(right));
+      } else {
+        pool_.wait(right_task, thread_);
+        right_index = kSplicedRoot;
+        splice(index, std::move(right_part));
+      }
+    } else {
+      left_index = build_node(std::move(left));
+      right_index = build_node(std::move(right));
+    }
+    output_->nodes[index].left = left_index;
+    output_->nodes[index].right = right_index;
+    return index;
+  }
 
+  // The children of `node` split at `split`.
+  std::pair<NodeInput, NodeInput> split_node(NodeInput&& node, const SplitChoice& split) {
     // Classify: which triangles lie only left, only right, or on both sides.
-    for (auto id : ids) side_[id] = kBoth;
-    for (const Event& e : events.axis(split.axis)) {
+    for (auto id : node.ids) side_[id] = kBoth;
+    for (const Event& e : node.events.axis(split.axis)) {
       const std::uint32_t type = e.type();
       if (type == kEnd && e.position <= split.position) {
         side_[e.triangle()] = kLeftOnly;
@@ -376,99 +483,52 @@ class KdTreeBuilder {
       }
     }
 
-    Bounds left_box = box, right_box = box;
-    left_box.hi[split.axis] = split.position;
-    right_box.lo[split.axis] = split.position;
-
-    std::vector<std::uint32_t> left_ids = spare_ids_.take(), right_ids = spare_ids_.take();
+    NodeInput left{.events = {spare_events_.take()}, .ids = spare_ids_.take(), .box = node.box, .level = node.level + 1};
+    NodeInput right{.events = {spare_events_.take()}, .ids = spare_ids_.take(), .box = node.box, .level = node.level + 1};
+    left.box.hi[split.axis] = split.position;
+    right.box.lo[split.axis] = split.position;
     for (auto& list : new_left_) list.clear();
     for (auto& list : new_right_) list.clear();
-    for (auto id : ids) {
+    for (auto id : node.ids) {
       if (side_[id] == kLeftOnly) {
-        left_ids.push_back(id);
+        left.ids.push_back(id);
       } else if (side_[id] == kRightOnly) {
-        right_ids.push_back(id);
+        right.ids.push_back(id);
       } else {
         // Straddling: clip to each child (perfect splits), new events per side.
-        const Bounds l = clip_triangle_to_box(triangles_[id], left_box);
+        const Bounds l = clip_triangle_to_box(triangles_[id], left.box);
         if (!l.empty()) {
           add_events(new_left_, id, l);
-          left_ids.push_back(id);
+          left.ids.push_back(id);
         }
-        const Bounds r = clip_triangle_to_box(triangles_[id], right_box);
+        const Bounds r = clip_triangle_to_box(triangles_[id], right.box);
         if (!r.empty()) {
           add_events(new_right_, id, r);
-          right_ids.push_back(id);
+          right.ids.push_back(id);
         }
       }
     }
-    NodeEvents left_events{spare_events_.take()}, right_events{spare_events_.take()};
     // At most two events per triangle and axis.
-    left_events.events.reserve(6 * left_ids.size());
-    right_events.events.reserve(6 * right_ids.size());
+    left.events.events.reserve(6 * left.ids.size());
+    right.events.events.reserve(6 * right.ids.size());
     for (int axis = 0; axis < 3; ++axis) {
-      sort_events(new_left_[axis]);
-      sort_events(new_right_[axis]);
-      left_events.begin[axis] = left_events.events.size();
-      right_events.begin[axis] = right_events.events.size();
-      split_events(events.axis(axis), new_left_[axis], new_right_[axis], left_events.events, right_events.events);
+      sort_events(new_left_[axis], sort_buffer_);
+      sort_events(new_right_[axis], sort_buffer_);
+      left.events.begin[axis] = left.events.events.size();
+      right.events.begin[axis] = right.events.events.size();
+      split_events(node.events.axis(axis), new_left_[axis], new_right_[axis], left.events.events,
+                   right.events.events);
     }
-    left_events.begin[3] = left_events.events.size();
-    right_events.begin[3] = right_events.events.size();
-    spare_events_.give(std::move(events.events));  // the parent's list, for the children's children
+    left.events.begin[3] = left.events.events.size();
+    right.events.begin[3] = right.events.events.size();
     // Triangle ids stay ascending in every list (filtered in order), so
     // leaves list them in order.
-    const int left_unproductive = unproductive + unproductive_for(box, split, n, left_ids.size(), right_ids.size());
-    const int right_unproductive = unproductive + unproductive_for(box, split, n, right_ids.size(), left_ids.size());
-    spare_ids_.give(std::move(ids));
-    {
-      KdNode& node = tree_.nodes_[index];
-      node.axis = static_cast<std::uint8_t>(split.axis);
-      node.split = split.position;
-    }
-    std::uint32_t left, right;
-    const bool right_smaller = right_ids.size() <= left_ids.size();
-    if (std::min(left_ids.size(), right_ids.size()) >= kMinTrianglesPerThread && slots_.try_take()) {
-      // The smaller child is built by a builder of its own on another thread
-      // while this one builds the larger (it is the likelier to find another
-      // split worth a thread), then appended in pre-order: the tree does not
-      // depend on the threads.
-      auto on_thread = [this](NodeEvents&& events, std::vector<std::uint32_t>&& ids, const Bounds& box, int level,
-                              int unproductive) {
-        return std::async(std::launch::async, [this, events = std::move(events), ids = std::move(ids), box, level,
-                                               unproductive]() mutable {
-          auto part = build_fragment(std::move(events), std::move(ids), box, level, unproductive);
-          slots_.give_back();
-          return part;
-        });
-      };
-      // While this thread waits, the other builders may start one in its place.
-      auto wait_for = [this](std::future<std::unique_ptr<KdTree>>& fragment) {
-        slots_.give_back();
-        std::unique_ptr<KdTree> part = fragment.get();
-        slots_.take();
-        return part;
-      };
-      if (right_smaller) {
-        auto fragment = on_thread(std::move(right_events), std::move(right_ids), right_box, level + 1,
-                                  right_unproductive);
-        left = build_node(std::move(left_events), std::move(left_ids), left_box, level + 1, left_unproductive);
-        right = append(*wait_for(fragment));
-      } else {
-        auto fragment = on_thread(std::move(left_events), std::move(left_ids), left_box, level + 1,
-                                  left_unproductive);
-        const std::unique_ptr<KdTree> right_part = build_fragment(
-            std::move(right_events), std::move(right_ids), right_box, level + 1, right_unproductive);
-        left = append(*wait_for(fragment));
-        right = append(*right_part);
-      }
-    } else {
-      left = build_node(std::move(left_events), std::move(left_ids), left_box, level + 1, left_unproductive);
-      right = build_node(std::move(right_events), std::move(right_ids), right_box, level + 1, right_unproductive);
-    }
-    tree_.nodes_[index].left = left;
-    tree_.nodes_[index].right = right;
-    return index;
+    const std::size_t n = node.ids.size();
+    left.unproductive = node.unproductive + unproductive_for(node.box, split, n, left.ids.size(), right.ids.size());
+    right.unproductive = node.unproductive + unproductive_for(node.box, split, n, right.ids.size(), left.ids.size());
+    spare_events_.give(std::move(node.events.events));  // the parent's lists, for the children's children
+    spare_ids_.give(std::move(node.ids));
+    return {std::move(left), std::move(right)};
   }
 
   // In a flat box (zero extent on an axis other than the split's: all the
@@ -498,35 +558,29 @@ class KdTreeBuilder {
   }
   static constexpr int kMaxUnproductiveSplits = 4;
 
-  // A subtree built apart by a builder of its own, for append().
-  std::unique_ptr<KdTree> build_fragment(NodeEvents events, std::vector<std::uint32_t> ids, const Bounds& box,
-                                         int level, int unproductive) const {
-    auto part = std::make_unique<KdTree>();
-    KdTreeBuilder builder(triangles_, options_, *part, slots_);
-    builder.max_depth_ = max_depth_;
-    builder.build_node(std::move(events), std::move(ids), box, level, unproductive);
+  // Builds the subtree of `node` into a fragment of its own, for splice().
+  BuiltNodes build_fragment(NodeInput&& node) {
+    BuiltNodes part;
+    // This builder may be waiting inside a subtree of its own output: back to it after.
+    BuiltNodes* const outer = std::exchange(output_, &part);
+    try {
+      build_node(std::move(node));
+    } catch (...) {
+      output_ = outer;
+      throw;
+    }
+    output_ = outer;
     return part;
   }
 
-  // Appends a subtree built apart; returns the index of its root.
-  std::uint32_t append(const KdTree& part) {
-    const auto node_offset = static_cast<std::uint32_t>(tree_.nodes_.size());
-    const auto primitive_offset = static_cast<std::uint32_t>(tree_.primitives_.size());
-    for (KdNode node : part.nodes_) {
-      if (node.is_leaf()) {
-        node.first += primitive_offset;
-      } else {
-        node.left += node_offset;
-        node.right += node_offset;
-      }
-      tree_.nodes_.push_back(node);
-    }
-    tree_.primitives_.insert(tree_.primitives_.end(), part.primitives_.begin(), part.primitives_.end());
-    return node_offset;
+  // Puts a subtree built apart after the nodes made so far: it is the right subtree of `parent`.
+  void splice(std::uint32_t parent, std::unique_ptr<BuiltNodes> part) {
+    output_->spliced_nodes += part->total_nodes();
+    output_->spliced_primitives += part->total_primitives();
+    output_->spliced.push_back({static_cast<std::uint32_t>(output_->nodes.size()),
+                                static_cast<std::uint32_t>(output_->primitives.size()), parent, std::move(part)});
   }
 
-  // A child of fewer triangles is not worth a thread.
-  static constexpr std::size_t kMinTrianglesPerThread = 1024;
 
   // Appends a node's events of one axis to its children's lists, each merged
   // with the sorted events of its clipped triangles, so both stay sorted.
@@ -553,58 +607,206 @@ class KdTreeBuilder {
 
   std::span<const Triangle> triangles_;
   KdBuildOptions options_;
-  KdTree& tree_;
-  ThreadSlots& slots_;
+  int max_depth_;
+  double root_area_;  // the SAH cost's denominator
+  TaskPool& pool_;
+  const Builders& builders_;  // one per pool thread
+  unsigned thread_;           // the pool thread this builder runs on
+  BuiltNodes* output_ = nullptr;  // the tree or fragment being built
   std::vector<std::uint8_t> side_;
   AxisEvents new_left_, new_right_;  // scratch: events of the triangles one node clips
+  std::vector<Event> sort_buffer_;
   SpareVectors<Event> spare_events_;
   SpareVectors<std::uint32_t> spare_ids_;
-  int max_depth_ = 0;
 };
 
 namespace {
 
-// The expected cost of a ray through the root box: each interior node's
-// traversal and each leaf's tests, weighted by the node box's area, summed
-// in pre-order.
-double sah_cost(const KdTree& tree, const KdBuildOptions& options) {
-  const auto& nodes = tree.nodes();
-  if (nodes.empty() || tree.bounds().empty()) return 0;
-  const double root_area = surface_area(tree.bounds());
-  if (!(root_area > 0)) return 0;
-  double cost = 0;
-  std::vector<std::pair<std::uint32_t, Bounds>> stack{{0, tree.bounds()}};
-  while (!stack.empty()) {
-    const auto [index, box] = stack.back();
-    stack.pop_back();
-    const KdNode& node = nodes[index];
-    if (node.is_leaf()) {
-      cost += options.intersection_cost * double(node.count) * surface_area(box) / root_area;
-      continue;
-    }
-    cost += options.traversal_cost * surface_area(box) / root_area;
-    Bounds left = box, right = box;
-    left.hi[node.axis] = node.split;
-    right.lo[node.axis] = node.split;
-    stack.push_back({node.right, right});
-    stack.push_back({node.left, left});
+// Puts the builders' nodes together in the tree's vectors, in pre-order:
+// each builder's nodes are copied once, in chunks, on the pool's threads.
+class TreeAssembly {
+ public:
+  explicit TreeAssembly(const BuiltNodes& root) : root_(root) { place(root, 0, 0); }
+
+  // Every builder's nodes.
+  std::vector<std::span<const KdNode>> parts() const {
+    std::vector<std::span<const KdNode>> parts;
+    for (const Placement& placement : placements_) parts.emplace_back(placement.part->nodes);
+    return parts;
   }
-  return cost;
-}
+
+  void copy_into(std::vector<KdNode>& nodes, std::vector<std::uint32_t>& primitives, TaskPool& pool) const {
+    nodes.resize(root_.total_nodes());
+    primitives.resize(root_.total_primitives());
+    std::vector<std::unique_ptr<TaskPool::Task>> copies;
+    for (const Placement& placement : placements_) {
+      copies.push_back(std::make_unique<TaskPool::Task>(
+          [&](unsigned) { copy_primitives(placement, primitives); }));
+      for (std::size_t first = 0; first < placement.part->nodes.size(); first += kNodesPerCopy) {
+        const std::size_t last = std::min(first + kNodesPerCopy, placement.part->nodes.size());
+        copies.push_back(std::make_unique<TaskPool::Task>(
+            [&, first, last](unsigned) { copy_nodes(placement, first, last, nodes); }));
+      }
+    }
+    for (auto& copy : copies) pool.offer(*copy);
+    // The other threads take the oldest; this one the newest.
+    for (auto copy = copies.rbegin(); copy != copies.rend(); ++copy) {
+      if (pool.take_back(**copy)) {
+        (*copy)->run(0);
+      } else {
+        pool.wait(**copy, 0);
+      }
+    }
+  }
+
+  // The expected cost of a ray through the root box: each interior node's
+  // traversal and each leaf's tests, weighted by the node box's area (the
+  // builders' terms), summed in pre-order.
+  double sah_cost(const Bounds& root_box) const {
+    if (root_.nodes.empty() || root_box.empty() || !(surface_area(root_box) > 0)) return 0;
+    return add_costs(root_, 0.0);
+  }
+
+ private:
+  // Where one builder's nodes go.
+  struct Placement {
+    const BuiltNodes* part;
+    std::size_t node_base, primitive_base;  // where its first node and primitive go
+    // Per spliced subtree, the nodes and primitives of those before it (one more: all).
+    std::vector<std::size_t> spliced_nodes_before, spliced_primitives_before;
+    std::vector<std::pair<std::uint32_t, std::size_t>> spliced_roots;  // (parent, root's place), by parent
+  };
+
+  void place(const BuiltNodes& part, std::size_t node_base, std::size_t primitive_base) {
+    Placement placement{&part, node_base, primitive_base, {0}, {0}, {}};
+    for (const SplicedSubtree& subtree : part.spliced) {
+      placement.spliced_nodes_before.push_back(placement.spliced_nodes_before.back() + subtree.part->total_nodes());
+      placement.spliced_primitives_before.push_back(placement.spliced_primitives_before.back() +
+                                                    subtree.part->total_primitives());
+    }
+    std::vector<std::pair<std::size_t, std::size_t>> subtree_bases;
+    for (std::size_t k = 0; k < part.spliced.size(); ++k) {
+      const SplicedSubtree& subtree = part.spliced[k];
+      const std::size_t root = node_base + subtree.nodes_before + placement.spliced_nodes_before[k];
+      placement.spliced_roots.emplace_back(subtree.parent, root);
+      subtree_bases.emplace_back(root, primitive_base + subtree.primitives_before +
+                                           placement.spliced_primitives_before[k]);
+    }
+    std::sort(placement.spliced_roots.begin(), placement.spliced_roots.end());
+    placements_.push_back(std::move(placement));
+    for (std::size_t k = 0; k < part.spliced.size(); ++k) {
+      place(*part.spliced[k].part, subtree_bases[k].first, subtree_bases[k].second);
+    }
+  }
+
+  // How many of the part's spliced subtrees come before its own node `index`.
+  static std::size_t spliced_before(const BuiltNodes& part, std::uint32_t index) {
+    return static_cast<std::size_t>(
+        std::upper_bound(part.spliced.begin(), part.spliced.end(), index,
+                         [](std::uint32_t i, const SplicedSubtree& subtree) { return i < subtree.nodes_before; }) -
+        part.spliced.begin());
+  }
+
+  static void copy_nodes(const Placement& placement, std::size_t first, std::size_t last, std::vector<KdNode>& nodes) {
+    const BuiltNodes& part = *placement.part;
+    auto place_of = [&](std::uint32_t index) {
+      return static_cast<std::uint32_t>(placement.node_base + index +
+                                        placement.spliced_nodes_before[spliced_before(part, index)]);
+    };
+    std::size_t before = spliced_before(part, static_cast<std::uint32_t>(first));
+    for (std::size_t i = first; i < last; ++i) {
+      while (before < part.spliced.size() && part.spliced[before].nodes_before <= i) ++before;
+      KdNode node = part.nodes[i];
+      if (node.is_leaf()) {
+        node.first = static_cast<std::uint32_t>(placement.primitive_base + node.first +
+                                                placement.spliced_primitives_before[before]);
+      } else {
+        node.left = place_of(node.left);
+        if (node.right == kSplicedRoot) {
+          const auto root = std::lower_bound(placement.spliced_roots.begin(), placement.spliced_roots.end(),
+                                             std::pair{static_cast<std::uint32_t>(i), std::size_t{0}});
+          node.right = static_cast<std::uint32_t>(root->second);
+        } else {
+          node.right = place_of(node.right);
+        }
+      }
+      nodes[placement.node_base + i + placement.spliced_nodes_before[before]] = node;
+    }
+  }
+
+  static void copy_primitives(const Placement& placement, std::vector<std::uint32_t>& primitives) {
+    const BuiltNodes& part = *placement.part;
+    std::size_t from = 0;
+    for (std::size_t k = 0; k <= part.spliced.size(); ++k) {
+      const std::size_t to = k < part.spliced.size() ? part.spliced[k].primitives_before : part.primitives.size();
+      std::copy(part.primitives.begin() + from, part.primitives.begin() + to,
+                primitives.begin() + placement.primitive_base + from + placement.spliced_primitives_before[k]);
+      from = to;
+    }
+  }
+
+  // `sum` plus the part's terms in pre-order, its spliced subtrees' among its own.
+  static double add_costs(const BuiltNodes& part, double sum) {
+    std::size_t from = 0;
+    for (std::size_t k = 0; k <= part.spliced.size(); ++k) {
+      const std::size_t to = k < part.spliced.size() ? part.spliced[k].nodes_before : part.nodes.size();
+      for (std::size_t i = from; i < to; ++i) sum += part.costs[i];
+      if (k < part.spliced.size()) sum = add_costs(*part.spliced[k].part, sum);
+      from = to;
+    }
+    return sum;
+  }
+
+  static constexpr std::size_t kNodesPerCopy = std::size_t{1} << 15;
+
+  const BuiltNodes& root_;
+  std::vector<Placement> placements_;  // in pre-order
+};
 
 }  // namespace
 
 KdTree KdTree::build(std::span<const Triangle> triangles, const KdBuildOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const std::clock_t cpu_start = std::clock();
+  if (triangles.size() > kTriangleMask) {
+    throw std::length_error("kd-tree build: more than 2^30 triangles");
+  }
   KdTree tree;
-  ThreadSlots slots(build_threads(options.threads));
-  KdTreeBuilder builder(triangles, options, tree, slots);
-  builder.run();
-
-  tree.stats_.depth_limit = builder.max_depth();
-  tree.stats_.sah_cost = sah_cost(tree, options);
-  tree.compute_stats();
+  for (const auto& t : triangles) {
+    tree.bounds_.extend(t.v0);
+    tree.bounds_.extend(t.v1);
+    tree.bounds_.extend(t.v2);
+  }
+  int max_depth = options.max_depth > 0 ? options.max_depth : default_max_depth(triangles.size());
+  max_depth = std::min(max_depth, kMaxLevelLimit);  // traversal stacks are sized for it
+  {
+    TaskPool pool(build_threads(options.threads, triangles.size()));
+    KdTreeBuilder::Builders builders;
+    for (unsigned thread = 0; thread < pool.threads(); ++thread) {
+      builders.push_back(std::make_unique<KdTreeBuilder>(triangles, options, max_depth, surface_area(tree.bounds_),
+                                                         pool, builders, thread));
+    }
+    BuiltNodes built = builders[0]->build_tree(tree.bounds_);
+    const TreeAssembly assembly(built);
+    tree.stats_.sah_cost = assembly.sah_cost(tree.bounds_);
+    if (built.spliced.empty()) {
+      tree.nodes_ = std::move(built.nodes);
+      tree.primitives_ = std::move(built.primitives);
+      tree.compute_stats();
+    } else {
+      // Counted from the builders' nodes by another thread while this one
+      // makes room for the tree (it pays for the new memory's pages).
+      TaskPool::Task count([&](unsigned) { tree.compute_stats(assembly.parts()); });
+      pool.offer(count);
+      assembly.copy_into(tree.nodes_, tree.primitives_, pool);
+      if (pool.take_back(count)) {
+        count.run(0);
+      } else {
+        pool.wait(count, 0);
+      }
+    }
+  }
+  tree.stats_.depth_limit = max_depth;
   tree.stats_.build_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   tree.stats_.build_cpu_seconds = double(std::clock() - cpu_start) / CLOCKS_PER_SEC;
@@ -622,21 +824,28 @@ KdTree KdTree::from_nodes(std::vector<KdNode> nodes, std::vector<std::uint32_t> 
 }
 
 void KdTree::compute_stats() {
+  const std::span<const KdNode> all(nodes_);
+  compute_stats({&all, 1});
+}
+
+void KdTree::compute_stats(std::span<const std::span<const KdNode>> parts) {
   KdTreeStats& s = stats_;
-  s.nodes = nodes_.size();
-  s.interior = s.leaves = s.empty_leaves = s.primitive_references = 0;
+  s.nodes = s.interior = s.leaves = s.empty_leaves = s.primitive_references = 0;
   s.nodes_per_level.clear();
   s.depth = 0;
-  for (const KdNode& node : nodes_) {
-    if (node.level >= s.nodes_per_level.size()) s.nodes_per_level.resize(node.level + 1, 0);
-    ++s.nodes_per_level[node.level];
-    s.depth = std::max<std::uint32_t>(s.depth, node.level);
-    if (node.is_leaf()) {
-      ++s.leaves;
-      if (node.count == 0) ++s.empty_leaves;
-      s.primitive_references += node.count;
-    } else {
-      ++s.interior;
+  for (const auto& part : parts) {
+    s.nodes += part.size();
+    for (const KdNode& node : part) {
+      if (node.level >= s.nodes_per_level.size()) s.nodes_per_level.resize(node.level + 1, 0);
+      ++s.nodes_per_level[node.level];
+      s.depth = std::max<std::uint32_t>(s.depth, node.level);
+      if (node.is_leaf()) {
+        ++s.leaves;
+        if (node.count == 0) ++s.empty_leaves;
+        s.primitive_references += node.count;
+      } else {
+        ++s.interior;
+      }
     }
   }
   if (s.leaves > 0) s.mean_leaf_size = double(s.primitive_references) / double(s.leaves);

@@ -2,9 +2,10 @@
 // (Wald and Havran 2006, "On building fast kd-trees for ray tracing, and on
 // doing that in O(N log N)"), with perfect splits (triangles clipped to the
 // node box) and an empty-space bonus. Events are kept per axis and radix
-// sorted; where both children of a split hold a thousand triangles or more,
-// the smaller is built on a thread of its own when one is free and appended
-// in pre-order, so the tree is the same for any number of threads.
+// sorted. Threads share the work by stealing: where both children of a split
+// hold 512 triangles or more, an idle thread may take the right one while
+// the left is built; subtrees built apart are spliced in pre-order, so the
+// tree is the same for any number of threads.
 #pragma once
 
 #include <cstdint>
@@ -81,6 +82,8 @@ class KdTree {
   Bounds bounds_;
   KdTreeStats stats_;
   void compute_stats();
+  // The statistics of the nodes of `parts` together (a tree's nodes, or the pieces it is made of).
+  void compute_stats(std::span<const std::span<const KdNode>> parts);
   friend class KdTreeBuilder;
 };
 
