@@ -438,7 +438,10 @@ class KdTreeBuilder {
       interior.split = split.position;
       output_->costs[index] = options_.traversal_cost * surface_area(node.box) / root_area_;
     }
-    auto [left, right] = split_node(std::move(node), split);
+    // Named members, not a structured binding: clang before 16 cannot capture one in a lambda (the fuzzers' build).
+    std::pair<NodeInput, NodeInput> children = split_node(std::move(node), split);
+    NodeInput& left = children.first;
+    NodeInput& right = children.second;
     std::uint32_t left_index, right_index;
     if (pool_.threads() > 1 && std::min(left.ids.size(), right.ids.size()) >= kMinTrianglesPerTask) {
       // While this builder builds the left child, an idle one may take the right.
