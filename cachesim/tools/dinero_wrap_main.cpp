@@ -66,7 +66,7 @@ int run_subcommand(int argc, char** argv) {
       rows.insert(rows.end(), result.rows.begin(), result.rows.end());
       notes.insert(notes.end(), result.notes.begin(), result.notes.end());
     }
-    tools::print_report(rows, {}, notes, line);
+    tools::print_run_report(tools::run_report(rows, {}, notes, line));
     return 0;
   }, tools::kTooLarge);
 }

@@ -63,9 +63,14 @@ struct RunCommandLine {
 
 // `side_tables`: --per-level and --per-frame (cachesim run only: Dinero IV
 // reports totals, so dinero-wrap does not list options that cannot work).
-inline void add_run_options(CLI::App& app, RunCommandLine& line, bool side_tables = true) {
-  app.add_option("traces", line.traces, "Trace files (container, plain din / xdin, zstd); - is stdin")
-      ->required();
+// `traces_positional`: false for a caller that gives the traces itself
+// (tracer render --simulate: the render's records).
+inline void add_run_options(CLI::App& app, RunCommandLine& line, bool side_tables = true,
+                            bool traces_positional = true) {
+  if (traces_positional) {
+    app.add_option("traces", line.traces, "Trace files (container, plain din / xdin, zstd); - is stdin")
+        ->required();
+  }
   app.add_option("--size", line.sizes, "Total cache sizes, bytes with optional k/m, at most 256m (list)")
       ->delimiter(',')
       ->capture_default_str();
@@ -221,19 +226,31 @@ inline formats::ReaderOptions reader_options(const RunCommandLine& line) {
   return options;
 }
 
-// Prints notes under a table, or on standard error so that CSV and JSON stay
+// What a run prints: `out` on standard output (or the file a caller
+// chooses), `err` on standard error.
+struct RunReport {
+  std::string out, err;
+};
+
+// Notes go under a table, or on standard error so that CSV and JSON stay
 // machine-readable.
-inline void print_notes(const std::vector<std::string>& notes, ReportFormat format) {
+inline void add_notes(RunReport& report, const std::vector<std::string>& notes, ReportFormat format) {
   for (const std::string& note : notes) {
-    std::fprintf(format == ReportFormat::Table ? stdout : stderr, "note: %s\n", note.c_str());
+    (format == ReportFormat::Table ? report.out : report.err) += fmt::format("note: {}\n", note);
   }
-  std::fflush(stdout);
 }
 
-// Writes one table to `path` ("-": standard output), whole or not at all.
-inline void write_table(const std::string& path, const std::string& text) {
+// Writes the report: `out` to standard output, `err` to standard error.
+inline void print_run_report(const RunReport& report) {
+  std::fwrite(report.out.data(), 1, report.out.size(), stdout);
+  std::fflush(stdout);
+  std::fwrite(report.err.data(), 1, report.err.size(), stderr);
+}
+
+// Writes one table to `path` ("-": the report's own output), whole or not at all.
+inline void write_table(const std::string& path, const std::string& text, RunReport& report) {
   if (path == "-") {
-    std::fwrite(text.data(), 1, text.size(), stdout);
+    report.out += text;
     return;
   }
   base::OutputFile file(path);
@@ -241,23 +258,22 @@ inline void write_table(const std::string& path, const std::string& text) {
   file.commit();
 }
 
-// Prints the report and its notes (under a table, or on standard error so
-// that CSV and JSON stay machine-readable). Each table is an output of its
-// own: the main one on standard output, unless --per-level - or --per-frame -
-// puts that table there instead; the others in their files.
-inline void print_report(const std::vector<ResultRow>& rows, const std::vector<LevelRow>& levels,
-                         const std::vector<std::string>& notes, const RunCommandLine& line,
-                         const std::vector<AnimationFrameRow>& frames = {},
-                         const std::vector<UnitRow>& unit_rows = {}) {
+// The report and its notes. Each table is an output of its own: the main
+// one in `out`, unless --per-level - or --per-frame - puts that table there
+// instead; the others in their files.
+inline RunReport run_report(const std::vector<ResultRow>& rows, const std::vector<LevelRow>& levels,
+                            const std::vector<std::string>& notes, const RunCommandLine& line,
+                            const std::vector<AnimationFrameRow>& frames = {},
+                            const std::vector<UnitRow>& unit_rows = {}) {
+  RunReport report;
   const ReportFormat format = parse_report_format(line.format).value_or(ReportFormat::Table);
-  if (!line.per_level.empty()) write_table(line.per_level, format_level_rows(levels, format));
+  if (!line.per_level.empty()) write_table(line.per_level, format_level_rows(levels, format), report);
   if (!line.per_animation_frame.empty()) {
-    write_table(line.per_animation_frame, format_animation_frame_rows(frames, format));
+    write_table(line.per_animation_frame, format_animation_frame_rows(frames, format), report);
   }
-  if (!line.per_unit.empty()) write_table(line.per_unit, format_unit_rows(unit_rows, format));
+  if (!line.per_unit.empty()) write_table(line.per_unit, format_unit_rows(unit_rows, format), report);
   if (line.per_level != "-" && line.per_animation_frame != "-" && line.per_unit != "-") {
-    const std::string report = format_rows(rows, format);
-    std::fwrite(report.data(), 1, report.size(), stdout);
+    report.out += format_rows(rows, format);
   }
   std::vector<std::string> all_notes = notes;
   if (line.fetch != "demand") {
@@ -265,7 +281,8 @@ inline void print_report(const std::vector<ResultRow>& rows, const std::vector<L
                                     "ones, as Dinero IV counts them (prefetches are not counted)",
                                     line.fetch, line.prefetch_distance));
   }
-  print_notes(all_notes, format);
+  add_notes(report, all_notes, format);
+  return report;
 }
 
 }  // namespace nodetrace::cachesim::tools

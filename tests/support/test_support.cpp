@@ -170,4 +170,18 @@ void write_file(const std::filesystem::path& path, const std::string& bytes) {
   out << bytes;
 }
 
+std::filesystem::path write_two_frame_scene(const std::filesystem::path& folder, int grid) {
+  std::string scene = "a 0 1 2\nx mover { p 3  0 0 0  1 0 0  0 1 0 }\nl 0 0 5\n";
+  for (int i = 0; i < grid; ++i) {
+    for (int j = 0; j < grid; ++j) {
+      scene += "p 3  " + std::to_string(i) + " " + std::to_string(j) + " -2  " + std::to_string(i + 1) + " " +
+               std::to_string(j) + " -2  " + std::to_string(i) + " " + std::to_string(j + 1) + " -1.5\n";
+    }
+  }
+  scene += "k mover {\n transl 2\n 0  0 0 0  0 0 0\n 1  5 5 1  0 0 0\n}\n";
+  const auto path = folder / "moving.aff";
+  write_file(path, scene);
+  return path;
+}
+
 }  // namespace nodetrace::testing

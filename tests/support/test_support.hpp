@@ -55,6 +55,11 @@ CommandResult run_command(const std::string& command, const std::string& input =
 // build/dinero/. nullopt when there is none.
 std::optional<std::filesystem::path> real_dinero();
 
+// A BART AFF scene of two animation frames whose trees differ: a grid of
+// grid x grid squares of triangles, one of them moving, written to
+// folder/moving.aff; its path.
+std::filesystem::path write_two_frame_scene(const std::filesystem::path& folder, int grid);
+
 std::string read_file(const std::filesystem::path& path);
 void write_file(const std::filesystem::path& path, const std::string& bytes);
 

@@ -23,6 +23,9 @@
 #include "nodetrace/formats/write/trace_output.hpp"
 #include "nodetrace/tracer/scene/scene_loader.hpp"
 #include "nodetrace/tracer/render/trace_job.hpp"
+#include "in_render_simulation.hpp"
+#include "trace_info_output.hpp"
+#include "nodetrace/base/output_file.hpp"
 #include "render_options.hpp"
 
 namespace nodetrace::tracer::tools {
@@ -84,8 +87,12 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
 // The options of `tracer render` and what it does with them.
 struct RenderCommand {
   std::string scene_spec, output, records_name, image, streams = "nodes";
+  std::vector<std::string> simulations, reports;
+  std::string trace_info;
   CLI::Option* output_option = nullptr;
   CLI::Option* image_option = nullptr;
+  CLI::Option* report_option = nullptr;
+  CLI::Option* trace_info_option = nullptr;
   bool quiet = false;
   // The container's default level 3: on the default scene level 1 writes the
   // trace only about 10% faster for 6% more bytes, and at 3 a trace is no
@@ -101,12 +108,62 @@ struct RenderCommand {
 
  private:
   void check_outputs(const TraceJobOptions& options) const;
+  std::vector<std::string> trace_names(const TraceJobOptions& options) const;
+  void check_simulations() const;
+  void write_report(const std::string& path, const cachesim::tools::RunReport& text) const;
 };
+
+// The trace column of each layout's simulation: its trace file, or the
+// name {layout} would give it when none is written.
+std::vector<std::string> RenderCommand::trace_names(const TraceJobOptions& options) const {
+  std::vector<std::string> names;
+  const std::vector<LayoutChoice> choices = layout_choices(render_options);
+  for (std::size_t i = 0; i < choices.size(); ++i) {
+    const std::string& file = i == 0 ? options.output : options.other_layouts[i - 1].output;
+    names.push_back(file.empty() ? choices[i].name : file);
+  }
+  return names;
+}
+
+// Each --simulate has its --report; standard output holds one stream.
+void RenderCommand::check_simulations() const {
+  if (simulations.size() != reports.size()) {
+    throw base::UsageError(fmt::format("--simulate and --report go in pairs (each simulation's report goes to the "
+                                       "--report in the same place): {} --simulate, {} --report",
+                                       simulations.size(), reports.size()));
+  }
+  std::vector<std::string> seen;
+  for (const auto& report : reports) {
+    if (report == "-" && output == "-") {
+      throw base::UsageError("--report - and -o -: standard output holds one of them; name a file for the other");
+    }
+    if (std::find(seen.begin(), seen.end(), report) != seen.end()) {
+      throw base::UsageError(fmt::format("--report {}: named twice; each simulation needs a file of its own", report));
+    }
+    seen.push_back(report);
+  }
+}
+
+// The report as cachesim run prints it: its standard output in --report
+// (written whole or not at all), its notes on standard error.
+void RenderCommand::write_report(const std::string& path, const cachesim::tools::RunReport& text) const {
+  if (path == "-") {
+    std::fwrite(text.out.data(), 1, text.out.size(), stdout);
+    std::fflush(stdout);
+  } else {
+    base::OutputFile file(path);
+    file.write(text.out);
+    file.commit();
+  }
+  std::fwrite(text.err.data(), 1, text.err.size(), stderr);
+}
 
 // An empty name is no output, and an output whose folder is missing would
 // fail only after the whole render: both are refused before it starts.
 void RenderCommand::check_outputs(const TraceJobOptions& options) const {
-  std::vector<std::pair<CLI::Option*, const std::string*>> outputs{{image_option, &image}, {output_option, &output}};
+  std::vector<std::pair<CLI::Option*, const std::string*>> outputs{
+      {image_option, &image}, {trace_info_option, &trace_info}, {output_option, &output}};
+  for (const auto& report : reports) outputs.emplace_back(report_option, &report);
   if (output_option->count() != 0) {
     outputs.back().second = &options.output;
     for (const auto& other : options.other_layouts) outputs.emplace_back(output_option, &other.output);
@@ -184,6 +241,23 @@ void RenderCommand::add_options(CLI::App& app) {
   app.add_flag("--discard-records", discard,
                "make every record but write none: the cost of recording alone (benchmarks)")
       ->excludes("--output");
+  app.add_option("--simulate", simulations,
+                 "also simulate node caches on the records as they are made, in this process: \"OPTIONS\" are "
+                 "cachesim run's (no trace names), over every layout, or over one with \"LAYOUT=OPTIONS\" (a "
+                 "{layout} name); the report, cachesim run's over the container traces, goes to the --report in "
+                 "the same place; may be repeated")
+      ->type_name("\"[LAYOUT=]OPTIONS\"")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  report_option = app.add_option("--report", reports,
+                                  "file for the report of the --simulate in the same place (- for standard output)")
+                      ->type_name("FILE")
+                      ->expected(1)
+                      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  trace_info_option = app.add_option("--trace-info", trace_info,
+                                     "write each layout's trace header and the render's totals as JSON to FILE "
+                                     "({layout} for several layouts), for a trace not kept")
+                          ->type_name("FILE");
   app.add_flag("-q,--quiet", quiet, "no summary on standard error");
   add_scene_options(app, scene_options);
   add_render_options(app, render_options);
@@ -191,7 +265,8 @@ void RenderCommand::add_options(CLI::App& app) {
 
 int RenderCommand::run() const {
   return cli::exit_status_of("tracer render", [&] {
-    TraceJobOptions options = make_job_options(render_options, scene_options, output);
+    check_simulations();
+    TraceJobOptions options = make_job_options(render_options, scene_options, output, !simulations.empty());
     check_outputs(options);
     options.image = image;
     options.zstd_level = zstd_level;
@@ -206,6 +281,18 @@ int RenderCommand::run() const {
       throw base::UsageError("refusing to write a trace to a terminal; redirect standard output");
     }
     warn_of_din_node_size(options);
+    std::vector<std::unique_ptr<InRenderSimulation>> simulated;
+    const std::vector<LayoutChoice> choices = layout_choices(render_options);
+    std::vector<std::string> layout_names;
+    for (const auto& choice : choices) layout_names.push_back(choice.name);
+    for (const auto& text : simulations) {
+      simulated.push_back(std::make_unique<InRenderSimulation>());
+      if (const std::optional<int> status = simulated.back()->parse(text, layout_names)) return *status;
+      options.sink_makers.push_back(simulated.back()->sink_maker(trace_names(options)));
+    }
+    if (!trace_info.empty()) {
+      options.sink_makers.push_back(trace_info_maker(layout_files(choices, trace_info, "--trace-info")));
+    }
     const std::string spec = scene_spec.empty() ? default_scene_name() : scene_spec;
     const auto source = open_scene(spec);
     for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer render: warning: %s\n", warning.c_str());
@@ -223,6 +310,7 @@ int RenderCommand::run() const {
     }
     const TraceJobResult result = run_trace_job(*source, options, progress);
     progress_line.clear();
+    for (std::size_t i = 0; i < simulated.size(); ++i) write_report(reports[i], simulated[i]->report());
     if (!quiet) {
       double build_seconds = 0;
       for (const auto& f : result.frames) build_seconds += f.tree.build_seconds;

@@ -346,28 +346,39 @@ inline std::vector<LayoutChoice> layout_choices(const RenderCommandOptions& r) {
   return choices;
 }
 
-// -o's {layout} replaced by each layout's name: one trace per layout.
-inline void assign_outputs(TraceJobOptions& options, const std::vector<LayoutChoice>& choices, const std::string& output) {
+// An output pattern's file for each layout: {layout} replaced by the
+// layout's name; a pattern without it names one layout's file. `optional`:
+// no pattern is no file for any layout.
+inline std::vector<std::string> layout_files(const std::vector<LayoutChoice>& choices, const std::string& pattern,
+                                             const char* option, bool optional = false) {
   constexpr std::string_view kPlaceholder = "{layout}";
-  const auto place = output.find(kPlaceholder);
-  if (choices.size() > 1 && place == std::string::npos) {
-    throw base::UsageError(fmt::format("{} layouts: -o needs {{layout}} in the file name, which each layout's name "
-                                       "replaces (e.g. -o out/{{layout}}.din.zst)",
-                                       choices.size()));
+  const auto place = pattern.find(kPlaceholder);
+  if (choices.size() > 1 && place == std::string::npos && !(optional && pattern.empty())) {
+    throw base::UsageError(fmt::format("{} layouts: {} needs {{layout}} in the file name, which each layout's name "
+                                       "replaces (e.g. {} out/{{layout}}.din.zst)",
+                                       choices.size(), option, option));
   }
-  const auto name_for = [&](const LayoutChoice& choice) {
-    if (place == std::string::npos) return output;
-    std::string name = output;
-    name.replace(place, kPlaceholder.size(), choice.name);
-    return name;
-  };
-  options.output = name_for(choices.front());
-  for (std::size_t i = 1; i < choices.size(); ++i) options.other_layouts[i - 1].output = name_for(choices[i]);
+  std::vector<std::string> files;
+  for (const auto& choice : choices) {
+    files.push_back(pattern);
+    if (place != std::string::npos) files.back().replace(place, kPlaceholder.size(), choice.name);
+  }
+  return files;
+}
+
+// -o's {layout} replaced by each layout's name: one trace per layout.
+// `traces_optional`: the records go elsewhere too (--simulate), so several
+// layouts need no -o.
+inline void assign_outputs(TraceJobOptions& options, const std::vector<LayoutChoice>& choices, const std::string& output,
+                           bool traces_optional) {
+  const std::vector<std::string> files = layout_files(choices, output, "-o", traces_optional);
+  options.output = files.front();
+  for (std::size_t i = 1; i < choices.size(); ++i) options.other_layouts[i - 1].output = files[i];
 }
 
 // `output`: -o as given, a pattern with {layout} for several layouts.
 inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const SceneCommandOptions& s,
-                                        const std::string& output) {
+                                        const std::string& output, bool traces_optional = false) {
   check_image_size(r.width, r.height);
   TraceJobOptions options;
   options.build = make_build_options(s);
@@ -431,7 +442,7 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
   options.split_level = choices.front().trace.split_level;
   options.high_size = choices.front().trace.high_size;
   for (std::size_t i = 1; i < choices.size(); ++i) options.other_layouts.push_back(choices[i].trace);
-  assign_outputs(options, choices, output);
+  assign_outputs(options, choices, output, traces_optional);
   return options;
 }
 

@@ -69,6 +69,30 @@ Encoded encode(detail::ByteBuffer text, bool compress, int level, unsigned windo
   return encoded;
 }
 
+}  // namespace
+
+nlohmann::json container_header(nlohmann::json header, const WriterOptions& options) {
+  header["container"] = {{"name", detail::kContainerName}, {"version", detail::kContainerVersion}};
+  header["records"] = std::string(form_name(options.form));
+  if (options.tags_are_levels && options.form != RecordForm::Binary) {
+    header["tag"] = "node-level";
+  } else {
+    header.erase("tag");
+  }
+  header.erase("units");
+  if (options.units > 1) header["units"] = options.units;
+  header["trailer"] = true;
+  // The writer's, like "container": a converted archive's stale setting
+  // must not travel on.
+  header.erase("compression");
+  if (options.window_log != 0) {
+    header["compression"] = {{"level", options.zstd_level}, {"window_log", options.window_log}};
+  }
+  return header;
+}
+
+namespace {
+
 class Writer final : public TraceWriter {
  public:
   Writer(const std::string& path, nlohmann::json header, const WriterOptions& options)
@@ -106,22 +130,7 @@ class Writer final : public TraceWriter {
     XXH64_reset(content_hash_.get(), 0);
     out_ = std::make_unique<base::OutputFile>(path_);
     if (container_) {
-      header["container"] = {{"name", detail::kContainerName}, {"version", detail::kContainerVersion}};
-      header["records"] = std::string(form_name(options_.form));
-      if (levels_) {
-        header["tag"] = "node-level";
-      } else {
-        header.erase("tag");
-      }
-      header.erase("units");
-      if (options_.units > 1) header["units"] = options_.units;
-      header["trailer"] = true;
-      // The writer's, like "container": a converted archive's stale setting
-      // must not travel on.
-      header.erase("compression");
-      if (options_.window_log != 0) {
-        header["compression"] = {{"level", options_.zstd_level}, {"window_log", options_.window_log}};
-      }
+      header = container_header(std::move(header), options_);
       emit(detail::skippable_frame(detail::kHeaderMagic, header.dump()), true);
     }
     reserve_pending_text();

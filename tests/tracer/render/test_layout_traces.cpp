@@ -86,15 +86,7 @@ TEST(LayoutTraces, SampledRenderWritesTheSameWindowsInEachLayout) {
 // from the high size) are made per frame.
 TEST(LayoutTraces, EveryAnimationFrameIsRelaidOut) {
   TempDir dir;
-  std::string scene = "a 0 1 2\nx mover { p 3  0 0 0  1 0 0  0 1 0 }\nl 0 0 5\n";
-  for (int i = 0; i < 12; ++i) {
-    for (int j = 0; j < 12; ++j) {
-      scene += "p 3  " + std::to_string(i) + " " + std::to_string(j) + " -2  " + std::to_string(i + 1) + " " +
-               std::to_string(j) + " -2  " + std::to_string(i) + " " + std::to_string(j + 1) + " -1.5\n";
-    }
-  }
-  scene += "k mover {\n transl 2\n 0  0 0 0  0 0 0\n 1  5 5 1  0 0 0\n}\n";
-  nodetrace::testing::write_file(dir / "moving.aff", scene);
+  nodetrace::testing::write_two_frame_scene(dir.path(), 12);
   expect_each_layout_as_rendered_alone(
       tracer() + " render " + (dir / "moving.aff").string() + " --frames 0-1 --width 24 --height 16 -q",
       "--layout dfl,hybrid --high-size 128", {{"dfl", "--layout dfl"}, {"hybrid-128", "--high-size 128"}},

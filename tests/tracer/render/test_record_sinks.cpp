@@ -101,30 +101,13 @@ TraceJobOptions small_render(const TempDir& dir) {
   return options;
 }
 
-// A scene of two animation frames whose trees differ: a moving square of
-// triangles before a grid of them.
-std::string moving_scene(const TempDir& dir) {
-  std::string scene = "a 0 1 2\nx mover { p 3  0 0 0  1 0 0  0 1 0 }\nl 0 0 5\n";
-  for (int i = 0; i < 10; ++i) {
-    for (int j = 0; j < 10; ++j) {
-      const std::string x = std::to_string(i), y = std::to_string(j);
-      scene += "p 3  " + x + " " + y + " -2  " + std::to_string(i + 1) + " " + y + " -2  " + x + " " +
-               std::to_string(j + 1) + " -1.5\n";
-    }
-  }
-  scene += "k mover {\n transl 2\n 0  0 0 0  0 0 0\n 1  5 5 1  0 0 0\n}\n";
-  const auto path = dir / "moving.aff";
-  nodetrace::testing::write_file(path, scene);
-  return path.string();
-}
-
 TEST(RecordSinks, EachLayoutsSinkGetsWhatItsTraceFileHolds) {
   TempDir dir;
   TraceJobOptions options = small_render(dir);
   options.frames = {0, 1, 1};  // both animation frames
   std::vector<std::unique_ptr<SinkLog>> logs;
   add_logging_sinks(options, logs);
-  const auto source = open_scene(moving_scene(dir));
+  const auto source = open_scene(nodetrace::testing::write_two_frame_scene(dir.path(), 10).string());
   run_trace_job(*source, options);
   ASSERT_EQ(logs.size(), 2u);
   EXPECT_EQ(logs[0]->layout_index, 0u);

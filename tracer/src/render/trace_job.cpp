@@ -52,6 +52,10 @@ void check_layout_traces(const std::vector<LayoutTrace>& targets, bool discard_r
   }
   if (targets.size() == 1) return;
   if (discard_records) throw base::UsageError("--discard-records writes no trace: it takes one layout");
+  // Several layouts and no file: their records go to other sinks only.
+  if (std::all_of(targets.begin(), targets.end(), [](const LayoutTrace& target) { return target.output.empty(); })) {
+    return;
+  }
   std::vector<std::string> seen;
   for (const auto& target : targets) {
     if (target.output.empty() || target.output == "-") {
@@ -151,12 +155,19 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
       const bool wide = node_end > 0xFFFFFFFFull ||
                         (r.streams.lists && r.addresses.list_base > 0xC0000000ull) ||
                         (r.streams.triangles && r.addresses.triangle_base > 0xC0000000ull);
+      formats::WriterOptions writer;
+      writer.form = options.form;
+      writer.threads = r.threads;
+      writer.zstd_level = options.zstd_level;
+      if (options.archive) formats::use_archive_setting(writer);
+      writer.address_digits = wide ? 16 : 8;
+      writer.units = r.units;
       for (std::size_t t = 0; t < targets.size(); ++t) {
         const nlohmann::json header = make_trace_header(source, scene, options, targets[t], split_levels[t],
                                                         result.plan, frames.size(), tree.stats().depth_limit);
         if (t == 0) result.header = header;
-        const TraceStart start{t, targets[t], header, wide ? 16u : 8u};
-        if (auto writer = make_trace_writer_sink(options, start)) sinks[t].push_back(std::move(writer));
+        const TraceStart start{t, targets[t], header, writer};
+        if (auto trace_writer = make_trace_writer_sink(start)) sinks[t].push_back(std::move(trace_writer));
         for (const auto& make_sink : options.sink_makers) {
           if (auto sink = make_sink(start)) sinks[t].push_back(std::move(sink));
         }

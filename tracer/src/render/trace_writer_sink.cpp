@@ -27,16 +27,9 @@ class TraceWriterSink final : public RecordSink {
 
 }  // namespace
 
-std::unique_ptr<RecordSink> make_trace_writer_sink(const TraceJobOptions& options, const TraceStart& start) {
+std::unique_ptr<RecordSink> make_trace_writer_sink(const TraceStart& start) {
   if (start.layout.output.empty()) return nullptr;
-  formats::WriterOptions writer_options;
-  writer_options.form = options.form;
-  writer_options.threads = options.render.threads;
-  writer_options.zstd_level = options.zstd_level;
-  if (options.archive) formats::use_archive_setting(writer_options);
-  writer_options.address_digits = start.address_digits;
-  writer_options.units = options.render.units;
-  return std::make_unique<TraceWriterSink>(formats::TraceWriter::create(start.layout.output, start.header, writer_options));
+  return std::make_unique<TraceWriterSink>(formats::TraceWriter::create(start.layout.output, start.header, start.writer));
 }
 
 }  // namespace nodetrace::tracer

@@ -38,6 +38,11 @@ struct WriterOptions {
   unsigned units = 1;
 };
 
+// The header of a container written with `options`: `header`, the
+// producer's part, with the writer's own keys (container, records, tag,
+// units, trailer, compression).
+nlohmann::json container_header(nlohmann::json header, const WriterOptions& options);
+
 // The archive setting (`--archive`): compressed for size rather than speed.
 // Measured on the BART Kitchen trace (75.8 M records): see FORMAT.md 2.3.1.
 inline constexpr int kArchiveZstdLevel = 17;

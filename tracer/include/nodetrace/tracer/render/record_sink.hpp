@@ -16,6 +16,7 @@
 
 #include "nodetrace/formats/container/metadata.hpp"
 #include "nodetrace/formats/record/record.hpp"
+#include "nodetrace/formats/write/trace_writer.hpp"
 #include "nodetrace/tracer/render/layout_trace.hpp"
 
 namespace nodetrace::tracer {
@@ -37,9 +38,10 @@ class RecordSink {
 struct TraceStart {
   std::size_t layout_index = 0;  // 0: the render's own layout; i: TraceJobOptions::other_layouts[i - 1]
   const LayoutTrace& layout;
-  const nlohmann::json& header;  // the container header the trace of this layout carries
-  // 8, or 16 when some stream's addresses can pass 32 bits.
-  unsigned address_digits = 8;
+  const nlohmann::json& header;  // the producer's part of the container header of this layout's trace
+  // The writer options its trace is written with, or would be: record form,
+  // address digits (8, or 16 when some stream can pass 32 bits), units, ...
+  const formats::WriterOptions& writer;
 };
 
 // Makes the sink of one layout's records, or nullptr when it has none there.

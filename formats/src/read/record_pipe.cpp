@@ -1,0 +1,130 @@
+#include "nodetrace/formats/read/record_pipe.hpp"
+
+#include <fmt/format.h>
+
+#include <utility>
+
+#include "nodetrace/base/error.hpp"
+
+namespace nodetrace::formats {
+
+Record as_read_back(Record record, RecordForm form) {
+  if (form == RecordForm::Din) record.size = 4;
+  if (form == RecordForm::Binary) {
+    record.tag = kTagNone;
+    record.unit = TraversalUnit{};
+  }
+  return record;
+}
+
+class RecordPipe::Reader final : public TraceReader {
+ public:
+  explicit Reader(RecordPipe& pipe) : pipe_(pipe) {}
+  const std::string& source_name() const override { return pipe_.name_; }
+  const TraceHeader& header() const override { return pipe_.header_; }
+  RecordForm form() const override { return pipe_.form_; }
+  bool tags_are_levels() const override { return pipe_.header_.tags_are_levels(); }
+  unsigned units() const override { return tags_are_levels() ? pipe_.header_.units() : 1; }
+  std::string_view input_kind() const override { return "container"; }
+
+  bool next(RecordBatch& batch) override {
+    std::unique_lock lock(pipe_.mutex_);
+    pipe_.changed_.wait(lock, [&] { return !pipe_.batches_.empty() || pipe_.finished_ || pipe_.failure_; });
+    if (pipe_.failure_) throw base::IoError(fmt::format("{}: {}", pipe_.name_, *pipe_.failure_));
+    if (pipe_.batches_.empty()) {
+      trailer_ = pipe_.trailer_;
+      return false;
+    }
+    batch = std::move(pipe_.batches_.front());
+    pipe_.batches_.pop_front();
+    pipe_.changed_.notify_all();
+    return true;
+  }
+
+  const std::optional<TraceTrailer>& trailer() const override { return trailer_; }
+
+  void seek_to_record(std::uint64_t) override {
+    throw base::UsageError(fmt::format("{}: records handed over in memory cannot be sought", pipe_.name_));
+  }
+
+ private:
+  RecordPipe& pipe_;
+  std::optional<TraceTrailer> trailer_;
+};
+
+RecordPipe::RecordPipe(std::string name, const nlohmann::json& header, const WriterOptions& options,
+                       std::size_t batches_ahead)
+    : name_(std::move(name)), form_(options.form), batches_ahead_(std::max<std::size_t>(1, batches_ahead)) {
+  header_.json = container_header(header, options);
+}
+
+RecordPipe::~RecordPipe() = default;
+
+std::unique_ptr<TraceReader> RecordPipe::reader() { return std::make_unique<Reader>(*this); }
+
+void RecordPipe::push(RecordBatch&& batch) {
+  std::unique_lock lock(mutex_);
+  changed_.wait(lock, [&] { return batches_.size() < batches_ahead_ || reading_stopped_; });
+  if (reading_stopped_) return;
+  batches_.push_back(std::move(batch));
+  changed_.notify_all();
+}
+
+// A marker with no records after it before the next marker or the end
+// travels on an empty batch, as a container reader delivers it.
+void RecordPipe::flush_pending_markers() {
+  if (!pending_marker_ && !pending_window_) return;
+  RecordBatch batch;
+  batch.marker = std::exchange(pending_marker_, std::nullopt);
+  batch.window = std::exchange(pending_window_, std::nullopt);
+  batch.first_record = records_written_;
+  push(std::move(batch));
+}
+
+void RecordPipe::begin_animation_frame(const AnimationFrameMarker& marker) {
+  flush_pending_markers();
+  pending_marker_ = marker;
+}
+
+void RecordPipe::begin_window(const WindowMarker& marker) {
+  if (pending_window_) flush_pending_markers();
+  pending_window_ = marker;
+}
+
+void RecordPipe::write(std::span<const Record> records) {
+  if (records.empty()) return;
+  RecordBatch batch;
+  batch.marker = std::exchange(pending_marker_, std::nullopt);
+  batch.window = std::exchange(pending_window_, std::nullopt);
+  batch.first_record = records_written_;
+  batch.records.reserve(records.size());
+  for (const Record& record : records) batch.records.push_back(as_read_back(record, form_));
+  records_written_ += records.size();
+  push(std::move(batch));
+}
+
+void RecordPipe::finish(const nlohmann::json& totals) {
+  flush_pending_markers();
+  TraceTrailer trailer;
+  trailer.totals = totals;
+  trailer.totals["records"] = records_written_;
+  std::lock_guard lock(mutex_);
+  trailer_ = std::move(trailer);
+  finished_ = true;
+  changed_.notify_all();
+}
+
+void RecordPipe::fail(const std::string& why) {
+  std::lock_guard lock(mutex_);
+  failure_ = why;
+  changed_.notify_all();
+}
+
+void RecordPipe::stop_reading() {
+  std::lock_guard lock(mutex_);
+  reading_stopped_ = true;
+  batches_.clear();
+  changed_.notify_all();
+}
+
+}  // namespace nodetrace::formats

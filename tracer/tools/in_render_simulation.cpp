@@ -1,0 +1,151 @@
+#include "in_render_simulation.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <thread>
+#include <utility>
+
+#include "nodetrace/cli/command_line.hpp"
+#include "nodetrace/cli/exit_status.hpp"
+#include "nodetrace/formats/read/record_pipe.hpp"
+
+namespace nodetrace::tracer::tools {
+
+// One layout's simulation: the pipe its sink fills and the thread that
+// runs cachesim's sweep over the pipe's reader.
+struct InRenderSimulation::Layout {
+  std::unique_ptr<formats::RecordPipe> pipe;
+  std::unique_ptr<formats::TraceReader> reader;
+  std::thread thread;
+  cachesim::tools::TraceOutcome outcome;
+  std::exception_ptr error;
+  std::atomic<bool> failed{false};
+  bool finished = false;
+
+  // The simulation's error, once its thread has ended.
+  void rethrow_failure() {
+    if (thread.joinable()) thread.join();
+    if (error) std::rethrow_exception(error);
+  }
+  ~Layout() {
+    if (!thread.joinable()) return;
+    pipe->fail("the render stopped before the end of its records");
+    thread.join();
+  }
+};
+
+namespace {
+
+class SimulationSink final : public RecordSink {
+ public:
+  explicit SimulationSink(std::shared_ptr<InRenderSimulation::Layout> layout) : layout_(std::move(layout)) {}
+  // A render that stopped early (an error) ends its simulation too.
+  ~SimulationSink() override {
+    if (layout_->finished || !layout_->thread.joinable()) return;
+    layout_->pipe->fail("the render stopped before the end of its records");
+    layout_->thread.join();
+  }
+  void begin_animation_frame(const formats::AnimationFrameMarker& marker) override {
+    check();
+    layout_->pipe->begin_animation_frame(marker);
+  }
+  void begin_window(const formats::WindowMarker& marker) override {
+    check();
+    layout_->pipe->begin_window(marker);
+  }
+  void write(std::span<const formats::Record> records) override {
+    check();
+    layout_->pipe->write(records);
+  }
+  void finish(const nlohmann::json& totals) override {
+    check();
+    layout_->pipe->finish(totals);
+    layout_->rethrow_failure();
+    layout_->finished = true;
+  }
+
+ private:
+  // A simulation that failed (a cache its high levels do not fit, ...) ends
+  // the render now, with its error.
+  void check() {
+    if (layout_->failed.load(std::memory_order_acquire)) layout_->rethrow_failure();
+  }
+  std::shared_ptr<InRenderSimulation::Layout> layout_;
+};
+
+}  // namespace
+
+InRenderSimulation::InRenderSimulation()
+    : app_("Simulate node caches on the render's records (cachesim run's options, no traces)",
+           "tracer render --simulate") {
+  session_.add_options(app_, false);
+}
+
+InRenderSimulation::~InRenderSimulation() = default;
+
+std::optional<int> InRenderSimulation::parse(const std::string& text, const std::vector<std::string>& layout_names) {
+  std::string options = text;
+  const std::size_t first_space = text.find(' ');
+  const std::size_t equals = text.find('=');
+  // "LAYOUT=OPTIONS": cachesim's options begin with '-', a layout's name never does.
+  if (!text.empty() && text[0] != '-' && equals != std::string::npos && equals < first_space) {
+    const std::string layout = text.substr(0, equals);
+    const auto found = std::find(layout_names.begin(), layout_names.end(), layout);
+    if (found == layout_names.end()) {
+      std::string names;
+      for (const auto& name : layout_names) names += (names.empty() ? "" : ", ") + name;
+      cli::report_error(app_.get_name().c_str(),
+                        fmt::format("'{}': this render has no layout of that name (its layouts: {})", layout, names)
+                            .c_str());
+      return 2;
+    }
+    only_layout_ = static_cast<std::size_t>(found - layout_names.begin());
+    options = text.substr(equals + 1);
+  }
+  std::vector<std::string> args = CLI::detail::split_up(options);
+  args.insert(args.begin(), app_.get_name());
+  std::vector<char*> argv;
+  for (auto& arg : args) argv.push_back(arg.data());
+  if (auto status = cli::parse_command_line(app_, static_cast<int>(argv.size()), argv.data())) return status;
+  const int status = cli::exit_status_of(app_.get_name().c_str(), [&] {
+    session_.prepare(app_);
+    return 0;
+  });
+  if (status != 0) return status;
+  return std::nullopt;
+}
+
+RecordSinkMaker InRenderSimulation::sink_maker(std::vector<std::string> trace_names) {
+  return [this, names = std::move(trace_names)](const TraceStart& start) -> std::unique_ptr<RecordSink> {
+    if (only_layout_ && *only_layout_ != start.layout_index) return nullptr;
+    auto layout = std::make_shared<Layout>();
+    const std::string& name = names.at(start.layout_index);
+    layout->pipe = std::make_unique<formats::RecordPipe>(name, start.header, start.writer);
+    layout->reader = layout->pipe->reader();
+    const cachesim::tools::RunMode mode = session_.mode_for({layout->reader.get()});
+    if (!mode_) mode_ = mode;
+    Layout* simulated = layout.get();
+    layout->thread = std::thread([this, simulated, mode, name] {
+      try {
+        simulated->outcome = session_.simulate(mode, *simulated->reader, name);
+      } catch (...) {
+        simulated->error = std::current_exception();
+        simulated->pipe->stop_reading();
+        simulated->failed.store(true, std::memory_order_release);
+      }
+    });
+    layouts_.push_back(layout);
+    return std::make_unique<SimulationSink>(std::move(layout));
+  };
+}
+
+cachesim::tools::RunReport InRenderSimulation::report() const {
+  std::vector<cachesim::tools::TraceOutcome> outcomes;
+  for (const auto& layout : layouts_) outcomes.push_back(layout->outcome);
+  return session_.report(mode_.value_or(cachesim::tools::RunMode::Sweep), outcomes);
+}
+
+}  // namespace nodetrace::tracer::tools

@@ -1,0 +1,51 @@
+// tracer render --simulate "CACHESIM RUN OPTIONS" --report FILE: cachesim
+// run's simulation of each layout's records in this process, fed by a
+// record sink per layout through a formats::RecordPipe (no text), on a
+// thread per layout while the render goes on. The options are parsed and
+// checked by cachesim run's own code, and the report is the one cachesim
+// run prints for the container traces the render would write.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "nodetrace/tracer/render/record_sink.hpp"
+#include "nodetrace/tracer/render/trace_job.hpp"
+#include "run_session.hpp"
+
+namespace nodetrace::tracer::tools {
+
+// One --simulate "[LAYOUT=]OPTIONS" of a render.
+class InRenderSimulation {
+ public:
+  InRenderSimulation();
+  ~InRenderSimulation();
+  // Parses and checks `text` as cachesim run does (errors say
+  // "tracer render --simulate: " and cachesim's message); the exit status
+  // when they end the run (a bad option, --help), else nullopt. A text
+  // "LAYOUT=OPTIONS" simulates that layout only (a name of `layout_names`,
+  // the {layout} names of the render's layouts); else every layout.
+  std::optional<int> parse(const std::string& text, const std::vector<std::string>& layout_names);
+  // The sinks' maker; `trace_names[i]`: layout i's trace column (its file,
+  // or its {layout} name when none is written). What the simulation sees is
+  // the container trace of each layout, whatever form -o writes.
+  RecordSinkMaker sink_maker(std::vector<std::string> trace_names);
+  // After the job: the report of every layout, in order.
+  cachesim::tools::RunReport report() const;
+
+  // One layout's simulation (its sink's and the report's).
+  struct Layout;
+
+ private:
+  CLI::App app_;
+  std::optional<std::size_t> only_layout_;
+  cachesim::tools::RunSession session_;
+  std::optional<cachesim::tools::RunMode> mode_;
+  std::vector<std::shared_ptr<Layout>> layouts_;
+};
+
+}  // namespace nodetrace::tracer::tools
