@@ -35,6 +35,12 @@ class RecordPipe::Reader final : public TraceReader {
       trailer_ = pipe_.trailer_;
       return false;
     }
+    // The caller's last records go back to the producer: their memory is
+    // reused rather than paged in afresh for every batch.
+    if (batch.records.capacity() > 0) {
+      batch.records.clear();
+      pipe_.spare_.push_back(std::move(batch.records));
+    }
     batch = std::move(pipe_.batches_.front());
     pipe_.batches_.pop_front();
     pipe_.changed_.notify_all();
@@ -97,8 +103,19 @@ void RecordPipe::write(std::span<const Record> records) {
   batch.marker = std::exchange(pending_marker_, std::nullopt);
   batch.window = std::exchange(pending_window_, std::nullopt);
   batch.first_record = records_written_;
-  batch.records.reserve(records.size());
-  for (const Record& record : records) batch.records.push_back(as_read_back(record, form_));
+  {
+    std::lock_guard lock(mutex_);
+    if (!spare_.empty()) {
+      batch.records = std::move(spare_.back());
+      spare_.pop_back();
+    }
+  }
+  batch.records.assign(records.begin(), records.end());
+  if (form_ != RecordForm::ExtendedDin) {
+    for (Record& record : batch.records) record = as_read_back(record, form_);
+  }
+  // As a container's decoding workers do: the simulator then skips its own pass.
+  batch.kinds = record_kinds(batch.records.data(), batch.records.size());
   records_written_ += records.size();
   push(std::move(batch));
 }
@@ -124,6 +141,7 @@ void RecordPipe::stop_reading() {
   std::lock_guard lock(mutex_);
   reading_stopped_ = true;
   batches_.clear();
+  spare_.clear();
   changed_.notify_all();
 }
 

@@ -13,6 +13,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -71,6 +72,7 @@ class RecordPipe {
   std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<RecordBatch> batches_;
+  std::vector<std::vector<Record>> spare_;  // record memory the reader is done with
   bool finished_ = false, reading_stopped_ = false;
   std::optional<std::string> failure_;
   std::optional<TraceTrailer> trailer_;
