@@ -14,6 +14,13 @@
 # its trace's name, the cachesim binary and its options. A trace exists or is
 # rendered; it is never stale, and never rendered twice. Traces that differ
 # only in their layout are written by one render (scripts/render-layouts.sh).
+# By default no study keeps its traces: each simulation runs inside the render
+# that would write its trace (tracer render --simulate, cachesim run's options
+# and report, no text written or read back), all the simulations of a group of
+# layouts in one render, and the run's CSV gets RUN.csv.trace.json beside it
+# (the trace's header and totals, what the reports read of a trace).
+# KEEP_TRACES=1 writes every trace under $(OUT)/traces and runs cachesim on it
+# instead; the studies' tables are the same bytes either way.
 # Each target's list of inputs (its manifest) is rewritten only when its
 # content changes, so a table is remade exactly when its set of inputs or one
 # of them changes.
@@ -70,6 +77,9 @@ LEAF_SIZE ?= 0
 RAYS ?= whitted
 LIGHTS ?= all
 INTERPRETATION ?=
+# 1: write every trace and simulate it with cachesim run; 0: simulate inside
+# the render, no trace kept (the header at the top).
+KEEP_TRACES ?= 0
 # zstd level of the traces the studies write (results do not depend on it):
 # a render of BART Kitchen at 400x300 writing three traces takes 0.76x the
 # CPU at level 1 as at level 3, for traces of 1.1x the bytes.
@@ -272,12 +282,17 @@ interp_files = $(call interp_check,$2)single=$(call interp_single_file,$1,$2,$3,
 trace = $(call named_trace,$1,$2 --zstd-level $(TRACE_ZSTD_LEVEL))
 named_trace = $(call define_trace,$(TRACES)/$1-$(call hash_text,$(tracer_hash) $(call scene_hash,$1) $2).$(if \
   $(findstring --accel ,$2),xdin,din).zst,$1,$2)
-define_trace = $(if $(defined_$1),,$(call define_member,$1,$2,$3,$(call trace_group,$2,$3)))$1
-# The first trace of a group leads it: its recipe renders the whole group, and
-# the others wait for it (they render only when their file went missing).
-define_member = $(eval $(call trace_rule,$1,$2,$3,$4,$(group_leader_$4)))$(eval defined_$1 := 1)$(if \
+# Without KEEP_TRACES=1 a trace is only a name its simulations refer to.
+define_trace = $(if $(defined_$1),,$(eval defined_$1 := 1)$(eval trace_scene_$1 := $2)$(eval trace_options_$1 := \
+  $3)$(if $(filter 1,$(KEEP_TRACES)),$(call define_member,$1,$2,$3,$(call trace_group,$2,$3),$1=$(call \
+  layout_name,$3))))$1
+# $(call define_member,FILE,SCENE,OPTIONS,GROUP,MEMBER): the first file of a
+# group (a trace, or a run simulated in the render) leads it: its recipe
+# renders the whole group, and the others wait for it (they render only when
+# their file went missing). MEMBER is what scripts/render-layouts.sh makes of it.
+define_member = $(eval $(call trace_rule,$1,$2,$3,$4,$(group_leader_$4)))$(if \
   $(group_leader_$4),,$(eval group_leader_$4 := $1)$(eval all_groups += $4))$(eval group_files_$4 += $1)$(eval \
-  group_members_$4 += $1=$(call layout_name,$3))
+  group_members_$4 += $5)
 # Tracer options with each layout option joined to its value (--layout=bfl).
 layout_joined = $(subst --layout$(space),--layout=,$(subst --split-level$(space),--split-level=,$(subst \
   --high-size$(space),--high-size=,$1)))
@@ -290,15 +305,23 @@ layout_name = $(or $(patsubst --split-level=%,hybrid-k%,$(filter --split-level=%
 trace_group = $(call hash_text,group $(tracer_hash) $(call scene_hash,$1) $(call render_words,$2))
 # $(call trace_rule,FILE,SCENE,OPTIONS,GROUP,LEADER): LEADER is empty for the leader.
 define trace_rule
-$1: | $(TRACES)/.dir $5
+$1: | $(TRACES)/.dir $(dir $1).dir $5
 	@$(if $5,test -f $$@ || )echo "render [$$(words $$(wildcard $$(to_render)) x) of $$(words $$(to_render))] \
-	  $2 $(call render_words,$3), layouts: $$(foreach m,$$(group_members_$4),$$(lastword $$(subst =, ,$$m)))" >&2
+	  $2 $(call render_words,$3), layouts: $$(sort $$(foreach m,$$(group_members_$4),$$(word 2,$$(subst =, ,$$m))))" >&2
 	@$(if $5,test -f $$@ || )$(RUN) $(MK_DIR)/render-layouts.sh $(TRACES)/.group-$4.lock $(TRACER) $(call \
 	  scene_arg,$2) -q $(call render_words,$3) -- $$(group_members_$4)
 endef
 
-# $(call sim,TARGET,TRACE,CACHESIM-OPTIONS): cachesim's CSV for that trace.
-sim = $(call define_sim,$(OUT)/$1/runs/$(call hash_text,$(cachesim_hash) $2 $3).csv,$2,$3)
+# $(call sim,TARGET,TRACE,CACHESIM-OPTIONS): cachesim's CSV for that trace,
+# run on the written trace (KEEP_TRACES=1) or inside its render: a member of
+# the trace's group whose options travel with spaces written as ^.
+sim = $(if $(filter 1,$(KEEP_TRACES)),$(call define_sim,$(OUT)/$1/runs/$(call hash_text,$(cachesim_hash) $2 \
+  $3).csv,$2,$3),$(call define_sim_in_render,$(OUT)/$1/runs/$(call hash_text,in-render $(cachesim_hash) $2 \
+  $3).csv,$2,$3))
+define_sim_in_render = $(if $(defined_$1),,$(eval defined_$1 := 1)$(call define_member,$1,$(trace_scene_$2),$(call \
+  trace_options_of,$2),$(call trace_group,$(trace_scene_$2),$(trace_options_$2)),$1=$(call \
+  layout_name,$(trace_options_$2))=$(subst $(space),^,$(strip $3))))$1
+trace_options_of = $(or $(trace_options_$1),$(error $1: not a trace of $$(call trace,...)))
 define_sim = $(if $(defined_$1),,$(eval $(call sim_rule,$1,$2,$3))$(eval defined_$1 := 1))$1
 define sim_rule
 $1: $2 | $(dir $1).dir
@@ -317,9 +340,13 @@ define newline
 
 
 endef
+# A dry run (make -n) writes nothing, not even through $(file): it says
+# which manifest it would write.
+dry_run := $(findstring n,$(firstword -$(MAKEFLAGS)))
 define manifest_rule
 $(OUT)/$1/manifest.txt: FORCE | $(OUT)/$1/.dir
-	@$$(file >$$@.tmp,$$(subst $$(newline)$$(space),$$(newline),$$(foreach line,$$($1_lines),$$(line)$$(newline))))
+	@$$(if $(dry_run),echo "write $$@ ($$(words $$($1_lines)) lines)",$$(file >$$@.tmp,$$(subst \
+	  $$(newline)$$(space),$$(newline),$$(foreach line,$$($1_lines),$$(line)$$(newline)))))
 	@if cmp -s $$@.tmp $$@; then rm -f $$@.tmp; else mv -f $$@.tmp $$@; fi
 endef
 
@@ -456,6 +483,12 @@ sensitivity_lines := $(common_params) param;sens_size=$(SENS_SIZE) param;sens_wi
 $(eval $(call study_rule,sensitivity))
 endif
 
+# A second phase is worked out from its grid's best.txt: a dry run without
+# that file says so and stops there (make -n runs a recipe line that
+# refers to $(MAKE); the shell's `exit 0` ends it before the sub-make).
+second_phase_dry_run = $(if $(and $(dry_run),$(if $(wildcard $2),,none)),echo "$1: its final phase is decided \
+  by $2 (written by the grid): not known in a dry run"; exit 0; )
+
 # --- calibration: the kd-tree setting closest to the paper's single column --
 # A grid at CAL_WIDTH x CAL_HEIGHT ranked by the distance of our single-cache
 # column to the paper's (calibration-grid, which writes best.txt); then the
@@ -481,7 +514,7 @@ $(eval $(call study_rule,calibration))
 else
 # Under `all`, after the others: its final traces may be theirs (a make of its own).
 calibration: calibration-grid $(if $(filter all,$(goals)),$(filter-out calibration,$(ALL_TARGETS)))
-	@best="$$(cat $(OUT)/calibration-grid/best.txt)"; \
+	@$(call second_phase_dry_run,calibration,$(OUT)/calibration-grid/best.txt)best="$$(cat $(OUT)/calibration-grid/best.txt)"; \
 	  if [ -z "$$best" ]; then echo "calibration: $(OUT)/calibration-grid/best.txt is empty (CAL_BEST=$(CAL_BEST))" >&2; exit 1; fi; \
 	  $(MAKE) --no-print-directory -f $(MK_FILE) calibration CAL_FINAL="$$best"
 endif
@@ -519,7 +552,8 @@ else
 # Under `all`, after the others but calibration: its final traces may be theirs.
 interpretations: interpretations-grid $(if $(filter all,$(goals)),$(filter-out interpretations \
   calibration,$(ALL_TARGETS)))
-	@best="$$(cat $(OUT)/interpretations-grid/best.txt)"; \
+	@$(call second_phase_dry_run,interpretations,$(OUT)/interpretations-grid/best.txt)best="$$(cat \
+	  $(OUT)/interpretations-grid/best.txt)"; \
 	  if [ -z "$$best" ]; then echo "interpretations: $(OUT)/interpretations-grid/best.txt is empty (INTERP_BEST=$(INTERP_BEST))" >&2; exit 1; fi; \
 	  $(MAKE) --no-print-directory -f $(MK_FILE) interpretations INTERP_FINAL="$$best"
 endif

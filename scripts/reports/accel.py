@@ -14,10 +14,7 @@ tracetool = params["tracetool"]
 
 def trace_figures(trace):
     """Rays traced and node size of a trace, from its header and totals."""
-    import json
-    import subprocess
-    done = subprocess.run([tracetool, "info", "--format", "json", trace], check=True, capture_output=True, text=True)
-    info = json.loads(done.stdout)
+    info = common.trace_info(tracetool, trace)
     rays = sum(int(v) for v in info["totals"]["rays"].values())
     return rays, int(info["header"]["layout"]["node_size"])
 
@@ -26,7 +23,7 @@ out = []
 scenes, kinds, layouts, sizes, blocks, assocs = [], [], [], [], [], []
 for row in rows:
     report, _ = common.read_cachesim(row["file"])
-    rays, node_size = trace_figures(row["trace"])
+    rays, node_size = trace_figures(common.run_trace(row["file"], row))
     for entry in report:
         if row["layout"] != "hybrid" and entry["scheme"] != "single":
             continue

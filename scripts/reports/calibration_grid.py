@@ -15,7 +15,7 @@ def cells(rows, paper, tracetool):
     out = []
     for row in rows:
         single, split, s, p = common.single_and_split(row["file"])
-        header = common.trace_header(tracetool, single["trace"])
+        header = common.trace_header(tracetool, common.run_trace(row["file"], single))
         known = paper.get((row["scene"], row["size"]), {})
         record = {"phase": row["phase"], "setting": row["setting"]}
         record.update(zip(SETTING_COLUMNS, row["setting"].split(":")))

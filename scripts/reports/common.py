@@ -87,13 +87,31 @@ def pick(rows, **match):
 _headers = {}
 
 
-def trace_header(tracetool, trace):
-    """The JSON header of a trace container (tracetool info)."""
+def run_trace(run_path, row):
+    """Where to read of the trace a run simulated: the run's RUN.trace.json
+    when the trace was not kept (tracer render --simulate --trace-info), else
+    the trace file its row names."""
+    info = run_path + ".trace.json"
+    return info if os.path.exists(info) else row["trace"]
+
+
+def trace_info(tracetool, trace):
+    """{"header": ..., "totals": ...} of a trace container (tracetool info),
+    or of a run's .trace.json (the same keys)."""
     if trace not in _headers:
-        done = subprocess.run([tracetool, "info", "--format", "json", trace],
-                              check=True, capture_output=True, text=True)
-        _headers[trace] = json.loads(done.stdout)["header"]
+        if trace.endswith(".trace.json"):
+            with open(trace, encoding="utf-8") as stream:
+                _headers[trace] = json.load(stream)
+        else:
+            done = subprocess.run([tracetool, "info", "--format", "json", trace],
+                                  check=True, capture_output=True, text=True)
+            _headers[trace] = json.loads(done.stdout)
     return _headers[trace]
+
+
+def trace_header(tracetool, trace):
+    """The JSON header of a trace (trace_info)."""
+    return trace_info(tracetool, trace)["header"]
 
 
 def tree_depth_limit(header):

@@ -16,7 +16,7 @@ STUDIES = {"K": "K (levels in the high-level cache; hybrid layout built for it)"
 out = []
 for row in rows:
     single, split, s, p = common.single_and_split(row["file"])
-    header = common.trace_header(tracetool, single["trace"])
+    header = common.trace_header(tracetool, common.run_trace(row["file"], single))
     out.append({"scene": row["scene"], "study": row["study"], "value": row["value"],
                 "width": header["render"]["width"], "height": header["render"]["height"],
                 "tree_depth_limit": common.tree_depth_limit(header), "split_level": split["split_level"],

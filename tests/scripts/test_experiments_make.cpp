@@ -94,7 +94,11 @@ TEST_F(ExperimentsMakeTest, SecondRunRendersAndSimulatesNothing) {
   const auto out = dir_ / "out";
   const auto first = make("table1 WIDTH=32 HEIGHT=24", out);
   EXPECT_EQ(count_lines_with(first, "render-layouts.sh"), 1) << first;
-  EXPECT_EQ(count_lines_with(first, "cachesim run"), 2) << first;
+  // Both simulations inside that render: no trace written, none read.
+  EXPECT_EQ(count_lines_with(first, "cachesim run"), 0) << first;
+  EXPECT_TRUE(std::filesystem::is_empty(out / "traces") ||
+              std::none_of(std::filesystem::directory_iterator(out / "traces"), {},
+                           [](const auto& entry) { return entry.path().extension() == ".zst"; }));
   const auto table = read_file(out / "table1" / "table1.csv");
   const auto second = make("table1 WIDTH=32 HEIGHT=24", out);
   EXPECT_EQ(second, "");
@@ -120,10 +124,10 @@ TEST_F(ExperimentsMakeTest, ChangingWidthChangesTheTableAndChangingBackRendersNo
 
 TEST_F(ExperimentsMakeTest, TracesAreWrittenAtTraceZstdLevelWhichLeavesTheTableAsItIs) {
   const auto out = dir_ / "out";
-  const auto first = make("table1 WIDTH=32 HEIGHT=24", out);
+  const auto first = make("table1 WIDTH=32 HEIGHT=24 KEEP_TRACES=1", out);
   EXPECT_EQ(count_lines_with(first, "--zstd-level 1"), 1) << first;
   const auto table = read_file(out / "table1" / "table1.csv");
-  const auto level3 = make("table1 WIDTH=32 HEIGHT=24 TRACE_ZSTD_LEVEL=3", out);
+  const auto level3 = make("table1 WIDTH=32 HEIGHT=24 TRACE_ZSTD_LEVEL=3 KEEP_TRACES=1", out);
   EXPECT_EQ(count_lines_with(level3, "render-layouts.sh"), 1) << level3;
   EXPECT_EQ(count_lines_with(level3, "--zstd-level 3"), 1) << level3;
   EXPECT_EQ(read_file(out / "table1" / "table1.csv"), table);
@@ -156,11 +160,67 @@ TEST_F(ExperimentsMakeTest, OutputsAreTheSameBytesFromARerunWithAnyJobCount) {
   }
 }
 
+// KEEP_TRACES=1: every trace written, cachesim run on each, and the same
+// tables, byte for byte, as the simulations inside the renders give.
+TEST_F(ExperimentsMakeTest, KeptTracesGiveTheSameTablesAsSimulatingInTheRender) {
+  const auto in_render = dir_ / "in-render";
+  const auto kept = dir_ / "kept";
+  make("table1 baselines WIDTH=32 HEIGHT=24", in_render);
+  const auto log = make("table1 baselines WIDTH=32 HEIGHT=24 KEEP_TRACES=1", kept);
+  EXPECT_EQ(count_lines_with(log, "render-layouts.sh"), 1) << log;
+  EXPECT_EQ(count_lines_with(log, "cachesim run"), 2 + 5) << log;
+  for (const std::string file : {"table1/table1.csv", "table1/table1.md", "table1/table1.png",
+                                 "baselines/baselines.csv", "baselines/baselines.md", "baselines/baselines.png"}) {
+    ASSERT_TRUE(std::filesystem::exists(kept / file)) << file;
+    EXPECT_TRUE(read_file(kept / file) == read_file(in_render / file)) << file << " differs";
+  }
+  // The two ways never share a run: switching renders again rather than mixing them.
+  EXPECT_EQ(count_lines_with(make("table1 WIDTH=32 HEIGHT=24", kept), "render-layouts.sh"), 1);
+}
+
+// A run simulated in a render that went missing is made again alone (one
+// render), the others left as they were.
+TEST_F(ExperimentsMakeTest, AMissingRunComesBackFromOneRenderAlone) {
+  const auto out = dir_ / "out";
+  make("-j2 table1 baselines WIDTH=32 HEIGHT=24", out);
+  std::vector<std::filesystem::path> runs;
+  for (const auto& entry : std::filesystem::directory_iterator(out / "baselines" / "runs")) {
+    if (entry.path().extension() == ".csv") runs.push_back(entry.path());
+  }
+  ASSERT_EQ(runs.size(), 5u) << "single on dfl, bfl, veb; the hybrid for 1k and 4k";
+  std::sort(runs.begin(), runs.end());
+  const std::string removed = read_file(runs[2]);
+  const auto kept_time = std::filesystem::last_write_time(runs[0]);
+  std::filesystem::remove(runs[2]);
+  const auto again = make("table1 baselines WIDTH=32 HEIGHT=24", out);
+  EXPECT_EQ(count_lines_with(again, "render-layouts.sh"), 1) << again;
+  EXPECT_EQ(count_lines_with(again, "--simulate"), 0) << "the launcher sees the script's arguments: " << again;
+  EXPECT_EQ(read_file(runs[2]), removed) << "the run made again is the same bytes";
+  EXPECT_TRUE(std::filesystem::exists(runs[2].string() + ".trace.json"));
+  EXPECT_EQ(std::filesystem::last_write_time(runs[0]), kept_time) << "the runs on disk are not rewritten";
+}
+
+// make -n on every target (all is every one; the two-phase studies and
+// table1 alone too): it says what it would do, writes nothing, and succeeds.
+TEST_F(ExperimentsMakeTest, DryRunOfEveryTargetWritesNothing) {
+  const auto out = dir_ / "dry";
+  for (const std::string target : {"table1", "calibration", "interpretations", "all"}) {
+    const auto log = make("-n " + target + " WIDTH=32 HEIGHT=24 FRAME_STEP=400 ACCEL_SCENES=robot "
+                          "SAMPLING_SCENES=robot INFLIGHT_SCENES=robot FRAME_SCENES=robot CAL_SCENES=robot "
+                          "INTERP_SCENES=robot INTERP_FINAL_SCENES=robot SENS_SCENES=robot",
+                          out);
+    EXPECT_EQ(log, "") << target << ": nothing ran";
+    EXPECT_FALSE(std::filesystem::exists(out)) << target << ": " << output_;
+    EXPECT_NE(output_.find("render-layouts.sh"), std::string::npos) << target << ": " << output_;
+    EXPECT_NE(output_.find("write " + out.string()), std::string::npos) << "which manifests: " << output_;
+  }
+}
+
 // Traces that differ only in their layout come from one render; a trace that
 // went missing is rendered again alone, the others left as they were.
 TEST_F(ExperimentsMakeTest, LayoutsOfOneRenderAreOneRenderAndAMissingOneComesBack) {
   const auto out = dir_ / "out";
-  const auto first = make("-j2 table1 baselines WIDTH=32 HEIGHT=24", out);
+  const auto first = make("-j2 table1 baselines WIDTH=32 HEIGHT=24 KEEP_TRACES=1", out);
   EXPECT_EQ(count_lines_with(first, "render-layouts.sh"), 1) << first;
   std::vector<std::filesystem::path> traces;
   for (const auto& entry : std::filesystem::directory_iterator(out / "traces")) {
@@ -171,7 +231,7 @@ TEST_F(ExperimentsMakeTest, LayoutsOfOneRenderAreOneRenderAndAMissingOneComesBac
   const std::string removed = read_file(traces[2]);
   const auto kept_time = std::filesystem::last_write_time(traces[0]);
   std::filesystem::remove(traces[2]);
-  const auto again = make("table1 baselines WIDTH=32 HEIGHT=24", out);
+  const auto again = make("table1 baselines WIDTH=32 HEIGHT=24 KEEP_TRACES=1", out);
   EXPECT_EQ(count_lines_with(again, "render-layouts.sh"), 1) << again;
   EXPECT_TRUE(read_file(traces[2]) == removed) << "the trace rendered again is the same bytes";
   EXPECT_EQ(std::filesystem::last_write_time(traces[0]), kept_time) << "the traces on disk are not rewritten";
@@ -202,10 +262,12 @@ TEST_F(ExperimentsMakeTest, AccelTargetCoversEveryStructureLayoutAndConfiguratio
   // 5 structures, one render each, of 4 layouts + a hybrid trace per size of SIZES='1k 4k'.
   EXPECT_EQ(count_lines_with(log, "render-layouts.sh"), 5);
   EXPECT_EQ(count_lines_with(log, "--accel bvh2 "), 1);
+  // Simulated in the renders: each run's trace is described beside it.
   std::size_t traces = 0, xdin = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(out / "traces")) {
-    traces += entry.path().extension() == ".zst";
-    xdin += entry.path().string().ends_with(".xdin.zst");
+  for (const auto& entry : std::filesystem::directory_iterator(out / "accel" / "runs")) {
+    if (!entry.path().string().ends_with(".trace.json")) continue;
+    ++traces;
+    xdin += read_file(entry.path()).find("\"records\": \"xdin\"") != std::string::npos;
   }
   EXPECT_EQ(traces, 5u * 6u);
   EXPECT_EQ(xdin, 4u * 6u) << "BVH traces are extended din";
