@@ -4,6 +4,8 @@
 #include <fmt/core.h>
 #include <fmt/ranges.h>
 
+#include <sys/resource.h>
+
 #include <cstdio>
 #include <map>
 #include <new>
@@ -136,6 +138,12 @@ int InfoCommand::run() const {
     }
     j["rays"] = rays;
     j["rays_max_depth"] = max_depth;
+    // The process's high-water mark so far: the scene loaded and its tree built.
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    const std::uint64_t peak_bytes = static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;
+    const double per_triangle = scene.triangles.empty() ? 0.0 : double(peak_bytes) / double(scene.triangles.size());
+    j["peak_memory"] = {{"bytes", peak_bytes}, {"bytes_per_triangle", per_triangle}};
 
     if (format == "json") {
       std::fputs((j.dump(2) + "\n").c_str(), stdout);
@@ -166,6 +174,8 @@ int InfoCommand::run() const {
                node_size, split_levels["1024"].get<int>(), split_levels["2048"].get<int>(),
                split_levels["4096"].get<int>(), split_levels["8192"].get<int>(),
                split_levels["16384"].get<int>());
+    fmt::print("peak memory: {:.1f} MiB ({:.0f} bytes per triangle), the scene loaded and its {} built\n",
+               double(peak_bytes) / (1 << 20), per_triangle, kind == AccelKind::KdTree ? "kd-tree" : accel_name(kind));
     fmt::print("rays (max depth {}):\n", max_depth);
     for (int k = 0; k < kRayKindCount; ++k) {
       fmt::print("  {:<10} {}\n", ray_kind_name(static_cast<RayKind>(k)),

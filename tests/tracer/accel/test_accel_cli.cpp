@@ -102,6 +102,20 @@ TEST(AccelCliTest, InfoGivesTheSameKdTreeForAnyBuildThreadsAndItsBuildCpuTime) {
   EXPECT_NE(too_many.err.find("--threads 100000"), std::string::npos) << too_many.err;
 }
 
+TEST(AccelCliTest, InfoPrintsThePeakMemoryOfLoadingAndBuilding) {
+  const auto json = run_command(program("tracer").string() + " info mountain:7 --format json");
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  const auto info = nlohmann::json::parse(json.out);
+  const auto bytes = info.at("peak_memory").at("bytes").get<std::uint64_t>();
+  const auto triangles = info.at("scene").at("triangles").get<std::uint64_t>();
+  EXPECT_GT(bytes, std::uint64_t{1} << 20) << "a process holding a scene and a tree";
+  EXPECT_DOUBLE_EQ(info.at("peak_memory").at("bytes_per_triangle").get<double>(), double(bytes) / double(triangles));
+  const auto text = run_command(program("tracer").string() + " info mountain:7");
+  EXPECT_NE(text.out.find("peak memory: "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find(" bytes per triangle), the scene loaded and its kd-tree built"), std::string::npos)
+      << text.out;
+}
+
 TEST(AccelCliTest, DinNameForABvhIsRefusedUnlessDinIsAsked) {
   TempDir dir;
   const auto refused = run_command(render("--accel bvh2 -o " + (dir / "t.din.zst").string()));
