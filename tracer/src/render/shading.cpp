@@ -6,12 +6,16 @@
 #include <cmath>
 #include <limits>
 
+#include "nodetrace/base/portable_math.hpp"
 #include "render/fresnel.hpp"
 #include "nodetrace/tracer/render/interaction.hpp"
 #include "nodetrace/tracer/render/render.hpp"
 #include "render/render_context.hpp"
 
 namespace nodetrace::tracer {
+
+// The same results on every machine (portable_math.hpp).
+namespace math = base::portable_math;
 
 Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) const {
   ++context.stats.rays[static_cast<int>(kind)];
@@ -66,7 +70,7 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
       float specular = 0;
       if (material.shininess > 0 && (material.specular.x > 0 || material.specular.y > 0 ||
                                      material.specular.z > 0)) {
-        specular = std::pow(std::max(0.0f, dot(detail::reflect(-l, normal), view)), material.shininess);
+        specular = math::pow(std::max(0.0f, dot(detail::reflect(-l, normal), view)), material.shininess);
       }
       color += light.color * light_scale_ * (material.diffuse * diffuse + material.specular * specular);
     }
