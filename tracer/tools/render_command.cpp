@@ -22,7 +22,7 @@
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/formats/write/trace_output.hpp"
 #include "nodetrace/tracer/scene/scene_loader.hpp"
-#include "nodetrace/tracer/render/trace_emit.hpp"
+#include "nodetrace/tracer/render/trace_job.hpp"
 #include "render_options.hpp"
 
 namespace nodetrace::tracer::tools {

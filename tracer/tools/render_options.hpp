@@ -17,7 +17,7 @@
 #include "nodetrace/cli/option_limits.hpp"
 #include "nodetrace/base/sample_rate.hpp"
 #include "nodetrace/tracer/scene/camera_checks.hpp"
-#include "nodetrace/tracer/render/trace_emit.hpp"
+#include "nodetrace/tracer/render/trace_job.hpp"
 
 namespace nodetrace::tracer::tools {
 

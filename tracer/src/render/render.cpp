@@ -69,13 +69,13 @@ bool Renderer::occluded(const Ray& ray, float t_max, std::vector<Record>* record
   return traversal_->any_hit(ray, t_max, records, stats);
 }
 
-RenderStats Renderer::render(const RecordSink& sink, Image* image, const Progress& progress) const {
+RenderStats Renderer::render(const RecordCallback& sink, Image* image, const Progress& progress) const {
   if (options_.rays_in_flight > 1 || options_.units > 1) return render_in_flight(sink, image, progress);
   const PixelRun all{0, static_cast<std::uint64_t>(options_.width) * static_cast<std::uint64_t>(options_.height)};
   return render_runs({&all, 1}, {}, sink, image, progress);
 }
 
-RenderStats Renderer::render_runs(std::span<const PixelRun> runs, const RunStart& run_start, const RecordSink& sink,
+RenderStats Renderer::render_runs(std::span<const PixelRun> runs, const RunStart& run_start, const RecordCallback& sink,
                                   Image* image, const Progress& progress) const {
   const auto start = std::chrono::steady_clock::now();
   if (image) {

@@ -17,7 +17,7 @@ namespace nodetrace::tracer {
 
 using formats::Record;
 
-RenderStats Renderer::render_in_flight(const RecordSink& sink, Image* image, const Progress& progress) const {
+RenderStats Renderer::render_in_flight(const RecordCallback& sink, Image* image, const Progress& progress) const {
   const auto start = std::chrono::steady_clock::now();
   if (image) {
     image->width = options_.width;

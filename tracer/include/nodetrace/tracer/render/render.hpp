@@ -61,7 +61,7 @@ struct RenderOptions {
 
 class Renderer {
  public:
-  using RecordSink = std::function<void(std::span<const formats::Record>)>;
+  using RecordCallback = std::function<void(std::span<const formats::Record>)>;
   using Progress = std::function<void(double fraction_done)>;
   // A stretch [begin, end) of positions in the pixel sequence.
   struct PixelRun {
@@ -81,17 +81,17 @@ class Renderer {
   // by pixel, each pixel's ray tree depth-first) whatever the thread count,
   // or, with more than one ray in flight or unit, in the order of
   // render_in_flight. `image` (optional) receives the picture.
-  RenderStats render(const RecordSink& sink, Image* image, const Progress& progress = {}) const;
+  RenderStats render(const RecordCallback& sink, Image* image, const Progress& progress = {}) const;
   // Renders every pixel with the units and rays in flight of the options:
   // each pixel's rays are traced on the workers, each ray's records kept
   // apart, then RayScheduler interleaves them in order, so the records do
   // not depend on the thread count. With one unit of one slot, the records
   // of render().
-  RenderStats render_in_flight(const RecordSink& sink, Image* image, const Progress& progress = {}) const;
+  RenderStats render_in_flight(const RecordCallback& sink, Image* image, const Progress& progress = {}) const;
   // Renders the pixels of `runs` only (in increasing, disjoint order), the
   // others' rays never traced; their records are those the full render
   // makes for these pixels, in the same order.
-  RenderStats render_runs(std::span<const PixelRun> runs, const RunStart& run_start, const RecordSink& sink,
+  RenderStats render_runs(std::span<const PixelRun> runs, const RunStart& run_start, const RecordCallback& sink,
                           Image* image, const Progress& progress = {}) const;
 
   // One traversal each, appending its records to `records` when not null;

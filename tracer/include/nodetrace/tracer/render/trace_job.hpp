@@ -1,6 +1,8 @@
-// Rendering a scene source into a trace: for each animation frame, build the
-// acceleration structure (kd-tree or BVH), lay it out, render, and write the marker and the records through
-// formats::TraceWriter with the header of docs/ARCHITECTURE.md.
+// The trace job: rendering a scene source for its records. For each
+// animation frame it builds the acceleration structure (kd-tree or BVH),
+// lays it out, renders, and feeds the frame's marker and records to the
+// record sinks of every layout (record_sink.hpp): a trace writer for each
+// layout given a file, and any sinks the caller adds.
 #pragma once
 
 #include <cstdint>
@@ -12,6 +14,8 @@
 
 #include "nodetrace/formats/record/record.hpp"
 #include "nodetrace/tracer/render/animation_frame_range.hpp"
+#include "nodetrace/tracer/render/layout_trace.hpp"
+#include "nodetrace/tracer/render/record_sink.hpp"
 #include "nodetrace/tracer/accel/acceleration_structure.hpp"
 #include "nodetrace/tracer/accel/kdtree.hpp"
 #include "nodetrace/tracer/accel/layout.hpp"
@@ -20,18 +24,6 @@
 #include "nodetrace/tracer/scene/scene.hpp"
 
 namespace nodetrace::tracer {
-
-// One more trace of the same render in another layout: the rays visit the
-// same nodes in the same order whatever the layout, only the addresses
-// differ, so each further layout costs a remapping of the records, not a
-// render. Its trace equals, byte for byte, the one a render with that layout
-// alone writes.
-struct LayoutTrace {
-  LayoutKind layout = LayoutKind::Dfl;
-  std::optional<std::uint32_t> split_level;  // hybrid: a fixed K ...
-  std::optional<std::uint64_t> high_size;    // ... or K from the high cache's size
-  std::string output;
-};
 
 struct TraceJobOptions {
   RenderOptions render;
@@ -51,6 +43,8 @@ struct TraceJobOptions {
   std::optional<RowSampling> sampling;
   std::string output;  // trace path, "-" for stdout; empty: no trace
   std::vector<LayoutTrace> other_layouts;  // further traces of the same render
+  // Sinks beside the trace writers: each maker is asked once per layout.
+  std::vector<RecordSinkMaker> sink_makers;
   bool discard_records = false;  // make the records but write none (benchmarks)
   formats::RecordForm form = formats::RecordForm::Din;
   int zstd_level = 3;  // compression level of the container's data frames
@@ -81,7 +75,7 @@ struct TraceJobResult {
 std::uint32_t layout_split_level_for(const LayoutTrace& trace, std::uint32_t node_size, const KdTreeStats& stats);
 
 // Throws base::UsageError for options that cannot work, SceneError from the
-// source, base::IoError / FormatError from the writer. `progress` gets the
+// source, base::IoError / FormatError from the sinks. `progress` gets the
 // fraction of all frames done.
 TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& options,
                              const Renderer::Progress& progress = {});

@@ -1,0 +1,149 @@
+#include "render/trace_header.hpp"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cstdlib>
+#include <string>
+
+#include "nodetrace/formats/container/metadata.hpp"
+
+namespace nodetrace::tracer {
+
+namespace {
+
+// A float as the double with the same shortest decimal form (0.2f -> 0.2, not
+// 0.20000000298023224), so headers read as they were typed.
+double shortest(float value) {
+  char text[32];
+  const auto [end, error] = std::to_chars(text, text + sizeof text, value);
+  (void)error;
+  return std::strtod(std::string(text, end).c_str(), nullptr);
+}
+
+}  // namespace
+
+nlohmann::json make_trace_header(const SceneSource& source, const Scene& first_scene,
+                           const TraceJobOptions& options, const LayoutTrace& target, std::uint32_t split_level,
+                           const RayKindPlan& plan, std::uint64_t frame_count, int depth_limit) {
+  const RenderOptions& r = options.render;
+  nlohmann::json header;
+  header["producer"] = {{"tool", "tracer"}, {"version", NODETRACE_VERSION}};
+  header["scene"] = {{"name", source.name()},
+                     {"hash", source.content_hash()},
+                     {"triangles", first_scene.triangles.size()}};
+  nlohmann::json render = {{"width", r.width},
+                           {"height", r.height},
+                           {"max_depth", r.max_depth},
+                           {"pixel_order", pixel_order_name(r.pixel_order)},
+                           {"frames", frame_count},
+                           {"first_frame", options.frames.first}};
+  if (options.frames.step != 1) render["frame_step"] = options.frames.step;
+  if (r.pixel_order == PixelOrder::Tiled) render["tile_size"] = r.tile_size;
+  if (options.time) render["time"] = *options.time;
+  if (r.camera) {
+    const Camera& c = *r.camera;
+    render["camera"] = {{"eye", {shortest(c.eye.x), shortest(c.eye.y), shortest(c.eye.z)}},
+                        {"look_at", {shortest(c.look_at.x), shortest(c.look_at.y), shortest(c.look_at.z)}},
+                        {"up", {shortest(c.up.x), shortest(c.up.y), shortest(c.up.z)}},
+                        {"fov", shortest(c.fov_y_degrees)}};
+  }
+  if (r.fov_y_degrees) render["fov"] = shortest(*r.fov_y_degrees);
+  // Written only when narrowed, so a default render's header is as before.
+  if (r.rays != RayScope::Whitted) render["rays"] = ray_scope_name(r.rays);
+  if (r.first_light_only) render["lights"] = "first";
+  // Written only with rays in flight, so a sequential render's header is as
+  // before; the writer adds the top-level "units" the readers go by.
+  if (r.rays_in_flight > 1 || r.units > 1) {
+    render["rays_in_flight"] = r.rays_in_flight;
+    render["units"] = r.units;
+    render["unit_pixels"] = r.unit_pixels;
+    render["ready_order"] = ready_order_name(r.ready_order);
+  }
+  header["render"] = render;
+  nlohmann::json layout = {{"name", layout_name(target.layout)},
+                           {"node_size", r.addresses.node_size},
+                           {"node_base", r.addresses.node_base}};
+  // Only the hybrid layout has a BFL top part: a split level written for the
+  // others would make simulators compare their K against a meaningless 0.
+  if (target.layout == LayoutKind::Hybrid) {
+    layout["split_level"] = split_level;
+    if (target.high_size) layout["high_size"] = *target.high_size;
+  }
+  if (target.layout == LayoutKind::Treelet) layout["treelet_bytes"] = options.treelet_bytes;
+  header["layout"] = layout;
+  if (options.accel == AccelKind::KdTree) {
+    // No "accel" key: a kd-tree trace keeps the bytes it had before BVHs.
+    header["kdtree"] = {{"traversal_cost", shortest(options.build.traversal_cost)},
+                        {"intersection_cost", shortest(options.build.intersection_cost)},
+                        {"empty_bonus", shortest(options.build.empty_bonus)},
+                        {"max_depth", depth_limit}};
+    // The default limit depends on each frame's triangle count: say so, since
+    // max_depth is then the first frame's.
+    if (options.build.max_depth == 0) header["kdtree"]["max_depth_default"] = "8 + 1.3 log2 triangles, per frame";
+    if (options.build.leaf_size) header["kdtree"]["leaf_size"] = options.build.leaf_size;
+  } else {
+    const unsigned arity = accel_arity(options.accel);
+    nlohmann::json accel = {{"name", accel_name(options.accel)},
+                            {"arity", arity},
+                            {"node_size", r.addresses.node_size},
+                            {"stored_node_size", default_node_size(options.accel)},
+                            {"record", "one per node fetched, the whole node, tagged with its level"}};
+    accel["node"] = options.accel == AccelKind::CwBvh8
+                        ? "8 child boxes quantized to 8 bits per plane on a power-of-two grid (conservative), "
+                          "child references"
+                        : fmt::format("{} full-precision child boxes and child references", arity);
+    if (arity > 2) accel["collapse"] = "binary BVH opened greedily: the interior child of largest surface area first";
+    header["accel"] = accel;
+    header["bvh"] = {{"build", "binned SAH"},
+                     {"bins", options.bvh.bins},
+                     {"traversal_cost", shortest(options.bvh.traversal_cost)},
+                     {"intersection_cost", shortest(options.bvh.intersection_cost)},
+                     {"max_leaf_size", options.bvh.max_leaf_size}};
+  }
+  nlohmann::json cast = nlohmann::json::array();
+  nlohmann::json left_out = nlohmann::json::object();
+  for (int k = 0; k < kRayKindCount; ++k) {
+    const std::string name(ray_kind_name(static_cast<RayKind>(k)));
+    if (plan.cast[k]) {
+      cast.push_back(name);
+    } else {
+      left_out[name] = plan.why_not[k];
+    }
+  }
+  header["rays"] = {{"cast", cast}, {"left_out", left_out}};
+  // A light behind the surface lights nothing there, so it gets no ray.
+  if (plan.casts(RayKind::Shadow)) {
+    header["rays"]["shadow"] = r.first_light_only ? "one to the first light when in front of the surface hit"
+                                                  : "one per light in front of the surface hit";
+  }
+  nlohmann::json streams = nlohmann::json::array();
+  if (r.streams.nodes) streams.push_back("nodes");
+  if (r.streams.lists) streams.push_back("lists");
+  if (r.streams.triangles) streams.push_back("triangles");
+  header["streams"] = {{"kinds", streams}};
+  if (r.streams.lists) {
+    header["streams"]["list_base"] = r.addresses.list_base;
+    header["streams"]["list_entry_size"] = r.addresses.list_entry_size;
+  }
+  if (r.streams.triangles) {
+    header["streams"]["triangle_base"] = r.addresses.triangle_base;
+    header["streams"]["triangle_size"] = r.addresses.triangle_size;
+  }
+  if (options.sampling) {
+    const RowSampling& sampling = *options.sampling;
+    formats::SamplingInfo info;
+    info.method = "rows";
+    info.every = sampling.every;
+    info.band_height = sampling.band_height;
+    info.seed = sampling.seed;
+    info.bands = band_count(r.height, sampling.band_height);
+    // A band is a run of band_height x width positions of the pixel sequence
+    // (row_sampling.hpp): whole rows in scanline order.
+    info.extra = {{"band_pixels", std::uint64_t(sampling.band_height) * std::uint64_t(r.width)}};
+    header["sampling"] = info.to_json();
+  }
+  return header;
+}
+
+}  // namespace nodetrace::tracer
