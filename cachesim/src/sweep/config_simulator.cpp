@@ -147,16 +147,18 @@ class Simulator final : public ConfigSimulator {
     row.trace = context_.trace;
     row.config = config_;
     const Counters& c = counters_;
+    const std::uint64_t high_misses = c.high_misses + deferred_misses(high_);
+    const std::uint64_t low_misses = c.low_misses + deferred_misses(low_);
     row.refs = c.refs;
     row.fetches = c.fetches;
-    row.misses = c.high_misses + c.low_misses;
+    row.misses = high_misses + low_misses;
     if constexpr (Router::kSplit) {
       row.split_level = router_.split_level;
       row.high_refs = c.high_refs;
-      row.high_misses = c.high_misses;
+      row.high_misses = high_misses;
       if constexpr (kRetain) row.high_loads = c.high_loads;
       row.low_refs = c.low_refs;
-      row.low_misses = c.low_misses;
+      row.low_misses = low_misses;
     }
     return row;
   }
@@ -421,14 +423,15 @@ std::unique_ptr<ConfigSimulator> with_high(const Configuration& config, std::uin
     return compose<SplitRouter>(config, split_level, context, per_level, std::move(low),
                                 RetainSet(config.high_size / config.block));
   }
-  if (config.high_assoc == 1) {
-    return compose<SplitRouter>(config, split_level, context, per_level, std::move(low),
-                                DirectMappedTable(config.high_size / config.block));
-  }
-  return compose<SplitRouter>(
-      config, split_level, context, per_level, std::move(low),
-      SetAssociativeCache({config.high_size, config.block, config.high_assoc, config.policy},
-                          0x5eed + 1));
+  return with_cache_model({config.high_size, config.block, config.high_assoc, config.policy}, [&](auto high) {
+    using High = decltype(high);
+    if constexpr (std::is_same_v<High, DirectMappedTable> || std::is_same_v<High, SetAssociativeCache>) {
+      return compose<SplitRouter>(config, split_level, context, per_level, std::move(low), std::move(high));
+    } else {
+      return compose<SplitRouter>(config, split_level, context, per_level, std::move(low),
+                                  AnyCache(std::move(high)));
+    }
+  });
 }
 
 template <typename High>
@@ -460,7 +463,7 @@ std::vector<std::unique_ptr<ConfigSimulator>> together(const std::vector<Configu
 
 std::string together_key(const Configuration& config, bool per_level) {
   if (per_level || config.scheme != Scheme::Split || config.assoc != 1 ||
-      config.fetch != FetchPolicy::Demand) {
+      config.policy == ReplacementPolicy::Opt || config.fetch != FetchPolicy::Demand) {
     return {};
   }
   if (config.high_policy == HighPolicy::Cache && config.high_assoc != 1) return {};
@@ -486,11 +489,9 @@ std::unique_ptr<ConfigSimulator> make_simulator(const Configuration& config,
     return with_high(config, split_level, context, per_level,
                      PrefetchingCache(low, config.fetch, config.prefetch_distance));
   }
-  if (low.assoc == 1) {
-    return with_high(config, split_level, context, per_level,
-                     DirectMappedTable(low.size / low.block_size));
-  }
-  return with_high(config, split_level, context, per_level, SetAssociativeCache(low, 0x5eed));
+  return with_cache_model(low, [&](auto model) {
+    return with_high(config, split_level, context, per_level, std::move(model));
+  });
 }
 
 }  // namespace nodetrace::cachesim
