@@ -128,8 +128,10 @@ auto with_cache_model(const CacheGeometry& geometry, Use&& use) {
       return use(PolicyCache<Rrip>(geometry));
     case ReplacementPolicy::Lru:
     case ReplacementPolicy::Fifo:
-    case ReplacementPolicy::Random:
       if (geometry.assoc > kScanWays) return use(PolicyCache<RecencyOrder>(geometry));
+      break;
+    case ReplacementPolicy::Random:
+      if (geometry.assoc > kScanWays) return use(PolicyCache<DrawnOrder>(geometry));
       break;
   }
   if (geometry.assoc == 1) return use(DirectMappedTable(geometry.size / geometry.block_size));

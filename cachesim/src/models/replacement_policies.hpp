@@ -15,10 +15,8 @@
 
 namespace nodetrace::cachesim {
 
-// LRU, FIFO and random as orders of the valid ways, most recent first (LRU:
-// used, FIFO and random: filled), a circular doubly linked list per set.
-// Random evicts the k-th (from 0) of that order with k = random() % ways,
-// glibc's random() after srandom(1), as Dinero IV does (engine_cache.cpp).
+// LRU and FIFO as orders of the valid ways, most recent first (LRU: used,
+// FIFO: filled), a circular doubly linked list per set: O(1) a reference.
 class RecencyOrder {
  public:
   RecencyOrder(std::uint64_t sets, const CacheGeometry& geometry)
@@ -36,11 +34,7 @@ class RecencyOrder {
     push_front(set, slot);
   }
   std::uint32_t victim(std::uint64_t set) {
-    std::uint32_t slot = previous_[head_[set]];  // the least recent
-    if (policy_ == ReplacementPolicy::Random) {
-      slot = head_[set];
-      for (std::uint32_t k = random_.next() % assoc_; k > 0; --k) slot = next_[slot];
-    }
+    const std::uint32_t slot = previous_[head_[set]];  // the least recent
     unlink(set, slot);
     return static_cast<std::uint32_t>(slot - set * assoc_);
   }
@@ -80,6 +74,48 @@ class RecencyOrder {
   std::vector<std::uint32_t> next_;      // per slot: the next less recent way of its set
   std::vector<std::uint32_t> previous_;  // per slot: the next more recent
   std::vector<std::uint32_t> head_;      // per set: the most recent slot, kNone when empty
+};
+
+// Dinero IV's random replacement: the valid ways in fill order, most recent
+// first, and a full set evicts the k-th (from 0) of that order with k =
+// random() % ways, glibc's random() after srandom(1) (engine_cache.cpp
+// draws the same). The order is an array per set: finding the k-th is an
+// index, removing it moves the k more recent ways by one.
+class DrawnOrder {
+ public:
+  DrawnOrder(std::uint64_t sets, const CacheGeometry& geometry)
+      : assoc_(geometry.assoc), order_(sets * geometry.assoc), count_(sets, 0), front_free_(sets, 0) {}
+
+  void hit(std::uint64_t, std::uint32_t) {}
+  std::uint32_t victim(std::uint64_t set) {
+    std::uint32_t* const order = order_.data() + set * assoc_;
+    const std::uint32_t k = random_.next() % assoc_;
+    const std::uint32_t way = order[k];
+    std::move_backward(order, order + k, order + k + 1);  // order[0] is free for the fill
+    front_free_[set] = 1;
+    --count_[set];
+    return way;
+  }
+  void fill(std::uint64_t set, std::uint32_t way) {
+    std::uint32_t* const order = order_.data() + set * assoc_;
+    if (front_free_[set] == 0) std::move_backward(order, order + count_[set], order + count_[set] + 1);
+    front_free_[set] = 0;
+    order[0] = way;
+    ++count_[set];
+  }
+  void invalidate(std::uint64_t set, std::uint32_t way) {
+    std::uint32_t* const order = order_.data() + set * assoc_;
+    std::uint32_t* const end = order + count_[set];
+    std::uint32_t* const at = std::find(order, end, way);
+    std::move(at + 1, end, at);
+    --count_[set];
+  }
+
+ private:
+  std::uint32_t assoc_;
+  std::vector<std::uint32_t> order_;       // per set: its valid ways, most recently filled first
+  std::vector<std::uint32_t> count_;       // per set: valid ways
+  std::vector<std::uint8_t> front_free_;   // per set: victim() left order[0] for fill()
   detail::LibcRandom random_;
 };
 
