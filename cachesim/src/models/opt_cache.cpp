@@ -35,11 +35,14 @@ void OptStream::append(std::uint32_t event) {
   events_.push_back(event);
 }
 
-std::vector<std::uint32_t> OptStream::next_uses() const {
-  std::vector<std::uint32_t> next(events_.size(), kNever);
+ChunkedArray OptStream::next_uses() const {
+  ChunkedArray next(events_.size());
   std::vector<std::uint32_t> following(blocks_.size(), kNever);
   for (std::uint64_t event = events_.size(); event-- > 0;) {
-    if (is_invalidate(event)) continue;
+    if (is_invalidate(event)) {
+      next[event] = kNever;
+      continue;
+    }
     const std::uint32_t block = id(event);
     next[event] = following[block];
     following[block] = static_cast<std::uint32_t>(event);
@@ -62,7 +65,7 @@ struct Entry {
 
 }  // namespace
 
-std::uint64_t opt_misses(const OptStream& stream, const std::vector<std::uint32_t>& next_uses,
+std::uint64_t opt_misses(const OptStream& stream, const ChunkedArray& next_uses,
                          std::uint64_t sets, std::uint32_t assoc) {
   const std::uint64_t set_mask = sets - 1;
   std::vector<std::uint32_t> slot_of(stream.distinct_blocks(), kNone);  // per id

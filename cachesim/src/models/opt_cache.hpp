@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "models/block_index.hpp"
+#include "models/chunked_array.hpp"
 #include "nodetrace/cachesim/models/cache_geometry.hpp"
 
 namespace nodetrace::cachesim {
@@ -36,7 +37,7 @@ class OptStream {
   std::uint64_t block(std::uint32_t id) const { return blocks_[id]; }
   std::uint32_t distinct_blocks() const { return static_cast<std::uint32_t>(blocks_.size()); }
   // Per event: the event number of the block's next fetch, or kNever.
-  std::vector<std::uint32_t> next_uses() const;
+  ChunkedArray next_uses() const;
 
  private:
   static constexpr std::uint32_t kInvalidateBit = std::uint32_t{1} << 31;
@@ -44,7 +45,7 @@ class OptStream {
   std::uint32_t id_of(std::uint64_t block);
   void append(std::uint32_t event);
 
-  std::vector<std::uint32_t> events_;
+  ChunkedArray events_;
   std::vector<std::uint64_t> blocks_;  // per id
   BlockIndex ids_;
   std::uint64_t last_block_ = ~std::uint64_t{0};
@@ -52,7 +53,7 @@ class OptStream {
 };
 
 // MIN's misses on `stream` in a cache of `sets` sets of `assoc` ways.
-std::uint64_t opt_misses(const OptStream& stream, const std::vector<std::uint32_t>& next_uses,
+std::uint64_t opt_misses(const OptStream& stream, const ChunkedArray& next_uses,
                          std::uint64_t sets, std::uint32_t assoc);
 
 // The cache model (cache_models.hpp's interface): access() records and

@@ -14,7 +14,7 @@ struct Entry {
 
 }  // namespace
 
-std::vector<std::uint64_t> opt_size_curve(const OptStream& stream, const std::vector<std::uint32_t>& next_uses,
+std::vector<std::uint64_t> opt_size_curve(const OptStream& stream, const ChunkedArray& next_uses,
                                           unsigned layers) {
   const auto outside = static_cast<std::uint8_t>(layers);  // beyond the largest cache, or never fetched
   std::vector<std::uint8_t> layer_of(stream.distinct_blocks(), outside);

@@ -17,7 +17,7 @@
 namespace nodetrace::cachesim {
 
 // Misses of MIN with 2^k blocks, for k = 0 .. layers - 1.
-std::vector<std::uint64_t> opt_size_curve(const OptStream& stream, const std::vector<std::uint32_t>& next_uses,
+std::vector<std::uint64_t> opt_size_curve(const OptStream& stream, const ChunkedArray& next_uses,
                                           unsigned layers);
 
 }  // namespace nodetrace::cachesim

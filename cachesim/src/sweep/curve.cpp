@@ -71,7 +71,7 @@ void feed_stack(Stream& stream, const Record& record, formats::RecordForm form,
 
 // The opt points of `stream` from its kept fetches.
 void settle_opt(const Stream& stream, std::vector<CurvePoint>& points) {
-  const std::vector<std::uint32_t> next_uses = stream.opt->next_uses();
+  const ChunkedArray next_uses = stream.opt->next_uses();
   unsigned layers = 0;
   for (const CurvePoint& point : points) {
     if (point.policy != ReplacementPolicy::Opt || point.scheme != stream.scheme || point.block != stream.block) {
