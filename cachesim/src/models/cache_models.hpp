@@ -110,15 +110,22 @@ class AnyCache {
   std::unique_ptr<Interface> model_;
 };
 
+// Where an opt cache's stream comes from: shared with the opt caches of
+// the same fetches (the first of them records it), or its own when null.
+struct OptSource {
+  std::shared_ptr<SharedOptStream> shared;
+  bool records = true;
+};
+
 // Calls `use` with the model of a demand-fetch cache of `geometry`: a table
 // when direct mapped (every policy but opt misses as LRU then), a policy
 // cache for the policies Dinero IV does not have and for sets of many ways,
-// MIN for opt, else the shifting-array cache.
+// MIN for opt (its stream from `opt`), else the shifting-array cache.
 template <typename Use>
-auto with_cache_model(const CacheGeometry& geometry, Use&& use) {
+auto with_cache_model(const CacheGeometry& geometry, const OptSource& opt, Use&& use) {
   validate_geometry(geometry, "cache");
   switch (geometry.replacement) {
-    case ReplacementPolicy::Opt: return use(OptCache(geometry));
+    case ReplacementPolicy::Opt: return use(OptCache(geometry, opt.shared, opt.records));
     case ReplacementPolicy::Plru:
     case ReplacementPolicy::Srrip:
     case ReplacementPolicy::Brrip:

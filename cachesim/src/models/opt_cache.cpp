@@ -136,14 +136,15 @@ std::uint64_t opt_misses(const OptStream& stream, const ChunkedArray& next_uses,
   return misses;
 }
 
-OptCache::OptCache(const CacheGeometry& geometry) {
+OptCache::OptCache(const CacheGeometry& geometry, std::shared_ptr<SharedOptStream> shared, bool records)
+    : shared_(shared ? std::move(shared) : std::make_shared<SharedOptStream>()), records_(records) {
   validate_geometry(geometry, "cache");
   assoc_ = geometry.assoc;
   sets_ = geometry.size / geometry.block_size / geometry.assoc;
 }
 
 std::uint64_t OptCache::misses() const {
-  if (!misses_) misses_ = opt_misses(stream_, stream_.next_uses(), sets_, assoc_);
+  if (!misses_) misses_ = opt_misses(shared_->stream(), shared_->next_uses(), sets_, assoc_);
   return *misses_;
 }
 

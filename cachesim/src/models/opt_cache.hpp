@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -56,23 +57,47 @@ class OptStream {
 std::uint64_t opt_misses(const OptStream& stream, const ChunkedArray& next_uses,
                          std::uint64_t sets, std::uint32_t assoc);
 
-// The cache model (cache_models.hpp's interface): access() records and
-// answers "hit" (false); misses() is MIN's count once the stream is done.
+// A stream shared by the opt caches that see the same fetches (one block
+// size, one routing): the first records it, every one counts its own misses
+// from it. Its next uses are found once, at the first count, when the
+// stream is complete; counting is for one thread at a time.
+class SharedOptStream {
+ public:
+  OptStream& stream() { return stream_; }
+  const OptStream& stream() const { return stream_; }
+  const ChunkedArray& next_uses() const {
+    if (!next_uses_) next_uses_ = stream_.next_uses();
+    return *next_uses_;
+  }
+
+ private:
+  OptStream stream_;
+  mutable std::optional<ChunkedArray> next_uses_;
+};
+
+// The cache model (cache_models.hpp's interface): access() records (when
+// this cache is the stream's recorder) and answers "hit" (false); misses()
+// is MIN's count once the stream is done.
 class OptCache {
  public:
-  explicit OptCache(const CacheGeometry& geometry);
+  // `shared` null: a stream of its own.
+  explicit OptCache(const CacheGeometry& geometry, std::shared_ptr<SharedOptStream> shared = nullptr,
+                    bool records = true);
   bool access(std::uint64_t block) {
-    stream_.fetch(block);
+    if (records_) shared_->stream().fetch(block);
     return false;
   }
-  void invalidate(std::uint64_t block) { stream_.invalidate(block); }
+  void invalidate(std::uint64_t block) {
+    if (records_) shared_->stream().invalidate(block);
+  }
   // Computed at the first call: the stream must be complete then.
   std::uint64_t misses() const;
 
  private:
   std::uint64_t sets_;
   std::uint32_t assoc_;
-  OptStream stream_;
+  std::shared_ptr<SharedOptStream> shared_;
+  bool records_;
   mutable std::optional<std::uint64_t> misses_;
 };
 

@@ -414,7 +414,8 @@ std::unique_ptr<ConfigSimulator> compose(const Configuration& config, std::uint3
 // The low side chosen, the high side next.
 template <typename Low>
 std::unique_ptr<ConfigSimulator> with_high(const Configuration& config, std::uint32_t split_level,
-                                           const TraceContext& context, bool per_level, Low low) {
+                                           const TraceContext& context, bool per_level, Low low,
+                                           const OptSource& high_opt) {
   if (config.scheme == Scheme::Single) {
     return compose<SingleRouter>(config, split_level, context, per_level, std::move(low),
                                  NoCache{});
@@ -423,7 +424,7 @@ std::unique_ptr<ConfigSimulator> with_high(const Configuration& config, std::uin
     return compose<SplitRouter>(config, split_level, context, per_level, std::move(low),
                                 RetainSet(config.high_size / config.block));
   }
-  return with_cache_model({config.high_size, config.block, config.high_assoc, config.policy}, [&](auto high) {
+  return with_cache_model({config.high_size, config.block, config.high_assoc, config.policy}, high_opt, [&](auto high) {
     using High = decltype(high);
     if constexpr (std::is_same_v<High, DirectMappedTable> || std::is_same_v<High, SetAssociativeCache>) {
       return compose<SplitRouter>(config, split_level, context, per_level, std::move(low), std::move(high));
@@ -480,17 +481,40 @@ std::vector<std::unique_ptr<ConfigSimulator>> make_together(
   return together<DirectMappedTable>(configs, split_levels, context);
 }
 
+namespace {
+
+// The stream of the opt caches that see the fetches `key` names: the first
+// to ask records it.
+OptSource opt_source(OptStreams* streams, const std::string& key) {
+  if (streams == nullptr) return {};
+  std::shared_ptr<SharedOptStream>& shared = (*streams)[key];
+  if (shared) return {shared, false};
+  shared = std::make_shared<SharedOptStream>();
+  return {shared, true};
+}
+
+}  // namespace
+
 std::unique_ptr<ConfigSimulator> make_simulator(const Configuration& config,
                                                 std::uint32_t split_level,
-                                                const TraceContext& context, bool per_level) {
+                                                const TraceContext& context, bool per_level,
+                                                OptStreams* opt_streams) {
   const CacheGeometry low{config.scheme == Scheme::Split ? config.low_size : config.size,
                           config.block, config.assoc, config.policy};
+  // Caches of one block size behind the same router see the same fetches:
+  // single, or split with the same K in every animation frame.
+  const std::string k_rule = config.split_level ? std::to_string(*config.split_level)
+                                                : fmt::format("auto{}", config.high_size);
+  const OptSource high_opt = opt_source(opt_streams, fmt::format("high/{}/{}", config.block, k_rule));
   if (config.fetch != FetchPolicy::Demand) {
     return with_high(config, split_level, context, per_level,
-                     PrefetchingCache(low, config.fetch, config.prefetch_distance));
+                     PrefetchingCache(low, config.fetch, config.prefetch_distance), high_opt);
   }
-  return with_cache_model(low, [&](auto model) {
-    return with_high(config, split_level, context, per_level, std::move(model));
+  const OptSource low_opt = opt_source(
+      opt_streams, config.scheme == Scheme::Single ? fmt::format("single/{}", config.block)
+                                                   : fmt::format("low/{}/{}", config.block, k_rule));
+  return with_cache_model(low, low_opt, [&](auto model) {
+    return with_high(config, split_level, context, per_level, std::move(model), high_opt);
   });
 }
 

@@ -357,6 +357,38 @@ TEST(ReplacementPolicies, PoliciesDifferWhereTheyShould) {
   EXPECT_EQ(distinct.size(), misses.size());
 }
 
+// The opt configurations of one sweep share their kept fetches by block
+// size and router; each still counts as when run alone.
+TEST(ReplacementPolicies, OptConfigurationsOfOneSweepEqualEachRunAlone) {
+  std::mt19937_64 random(17);
+  const std::vector<Record> records = random_records(random, 30000, 900, 8, true);
+  SweepOptions options;
+  options.sizes = {512, 2048};
+  options.blocks = {8, 16};
+  options.assocs = {1, 4, 0};
+  options.policies = {ReplacementPolicy::Opt, ReplacementPolicy::Lru};
+  options.schemes = {Scheme::Single, Scheme::Split};
+  options.split_levels = {3, 5};
+  options.high_policies = {HighPolicy::Cache};
+  const std::vector<Configuration> configs = expand_configurations(options);
+  TraceContext context;
+  context.trace = "t";
+  context.form = formats::RecordForm::Din;
+  context.tags_are_levels = true;
+  Sweep sweep(configs, context, false);
+  sweep.set_parts(2);  // the recorder and the others may be fed by other threads' parts
+  formats::RecordBatch batch;
+  batch.records = records;
+  sweep.feed(batch);
+  const TraceResult together = sweep.finish();
+  ASSERT_EQ(together.rows.size(), configs.size());
+  for (std::size_t c = 0; c < configs.size(); ++c) {
+    const ResultRow alone = sweep_row(configs[c], records);
+    EXPECT_EQ(together.rows[c].misses, alone.misses) << c;
+    EXPECT_EQ(together.rows[c].high_misses, alone.high_misses) << c;
+  }
+}
+
 TEST(ReplacementPolicies, PlruRefusesWaysThatAreNotAPowerOfTwo) {
   SweepOptions options;
   options.sizes = {8192};
