@@ -57,6 +57,13 @@ def gap_closed(cell, value):
     return 100.0 * (lru - value) / (lru - opt)
 
 
+def share_text(share):
+    """A share in whole percent ('' when there is no gap; never '-0')."""
+    if share is None:
+        return ""
+    return f"{round(share) + 0:d}"
+
+
 cells = [(s, a, z, b, w) for s in scenes for a in accels for z in sizes for b in blocks for w in assocs
          if (s, a, z, b, w, "single", "lru") in miss]
 out = []
@@ -107,7 +114,7 @@ for scene in scenes:
         body = []
         for cell in [c for c in cells if c[0] == scene and c[1] == accel]:
             values = [common.fmt(miss.get(cell + column)) for column in columns]
-            closed = [common.fmt(gap_closed(cell, miss[cell + column]), 0) for column in columns
+            closed = [share_text(gap_closed(cell, miss[cell + column])) for column in columns
                       if column != ("single", "lru") and column != ("single", "opt") and cell + column in miss]
             body.append([common.size_label(cell[2]), cell[3], cell[4]] + values + closed)
         if not body:
