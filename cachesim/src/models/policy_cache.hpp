@@ -32,26 +32,17 @@ class PolicyCache {
     if (assoc_ > kScanWays) index_.emplace(tags_.size());
   }
 
-  // True on a miss (the block is then resident).
+  // True on a miss (the block is then resident). The hit path is small
+  // enough to be inlined into the simulator's loop, the miss path is not.
   bool access(std::uint64_t block) {
     const std::uint64_t set = block & set_mask_;
     std::uint64_t* const ways = tags_.data() + set * assoc_;
-    std::uint32_t way = find(ways, set, block);
-    if (way != kNone) {
+    const std::uint32_t way = find(ways, set, block);
+    if (way != kNone) [[likely]] {
       policy_.hit(set, way);
       return false;
     }
-    if (filled_[set] < assoc_) {
-      way = 0;
-      while (ways[way] != kInvalid) ++way;
-      ++filled_[set];
-    } else {
-      way = policy_.victim(set);
-      if (index_) index_->erase(ways[way]);
-    }
-    ways[way] = block;
-    if (index_) index_->insert(block, static_cast<std::uint32_t>(set * assoc_ + way));
-    policy_.fill(set, way);
+    fill(block, set, ways);
     return true;
   }
 
@@ -67,6 +58,21 @@ class PolicyCache {
   }
 
  private:
+  // A miss: `block` takes the lowest invalid way of its set, or the policy's victim.
+  [[gnu::noinline]] void fill(std::uint64_t block, std::uint64_t set, std::uint64_t* ways) {
+    std::uint32_t way = 0;
+    if (filled_[set] < assoc_) {
+      while (ways[way] != kInvalid) ++way;
+      ++filled_[set];
+    } else {
+      way = policy_.victim(set);
+      if (index_) index_->erase(ways[way]);
+    }
+    ways[way] = block;
+    if (index_) index_->insert(block, static_cast<std::uint32_t>(set * assoc_ + way));
+    policy_.fill(set, way);
+  }
+
   static const CacheGeometry& validated(const CacheGeometry& geometry) {
     validate_geometry(geometry, "cache");
     return geometry;
