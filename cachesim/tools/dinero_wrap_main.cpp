@@ -56,6 +56,13 @@ int run_subcommand(int argc, char** argv) {
     options.jobs = cli::check_thread_count(jobs, "--jobs", "processes");
     options.reader = tools::reader_options(line);
     const SweepOptions sweep = tools::sweep_options(line);
+    for (const ReplacementPolicy policy : sweep.policies) {
+      if (!dinero_has_policy(policy)) {
+        throw base::UsageError(fmt::format(
+            "--policy {}: Dinero IV has lru, fifo and random only; cachesim run simulates {}",
+            policy_name(policy), policy_name(policy)));
+      }
+    }
     options.dinero = wrap::find_dinero(dinero.empty() ? std::nullopt
                                                       : std::optional<std::string>(dinero));
     const std::vector<Configuration> configs = expand_configurations(sweep);

@@ -44,14 +44,12 @@ void check_curve_options(const CLI::App& app) {
 }
 
 int curve_command(const RunCommandLine& line, const SweepOptions& options) {
-  if (options.policies.size() != 1 || options.split_levels.size() != 1) {
-    throw base::UsageError("--curve takes one --policy and one --split-level");
-  }
+  if (options.split_levels.size() != 1) throw base::UsageError("--curve takes one --split-level");
   CurveOptions curve;
   curve.blocks = options.blocks;
   curve.assocs = options.assocs;
   curve.schemes = options.schemes;
-  curve.policy = options.policies[0];
+  curve.policies = options.policies;
   curve.split_level = options.split_levels[0];
   curve.high_size = options.high_size;
   std::vector<CurvePoint> points;
@@ -61,7 +59,7 @@ int curve_command(const RunCommandLine& line, const SweepOptions& options) {
     points.insert(points.end(), more.begin(), more.end());
   }
   const ReportFormat format = parse_report_format(line.format).value_or(ReportFormat::Table);
-  const std::string text = format_curve(points, curve.policy, format);
+  const std::string text = format_curve(points, format);
   std::fwrite(text.data(), 1, text.size(), stdout);
   std::fflush(stdout);
   return 0;

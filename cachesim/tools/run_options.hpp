@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <string_view>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -61,6 +62,23 @@ struct RunCommandLine {
   unsigned threads = 0;  // decoding threads; 0 = one per core
 };
 
+// --policy's description. `cachesim_run`: the policies Dinero IV does not have too.
+inline std::string policy_help(bool cachesim_run) {
+  if (!cachesim_run) {
+    return "Replacement: lru, fifo, random (list); random draws Dinero IV's sequence. The other policies "
+           "of cachesim run (plru, srrip, brrip, drrip, opt) are not Dinero IV's: not here";
+  }
+  return "Replacement (list): lru, fifo, random (Dinero IV's: random draws its sequence, glibc's random() "
+         "after srandom(1), one generator per cache); plru (tree pseudo-LRU, power-of-two ways); srrip "
+         "(2-bit RRIP: insert at 2, 0 on a hit, victim the first way at 3 after ageing the set); brrip (insert "
+         "at 3 but every 32nd insertion of the cache at 2: the 32nd, 64th, ...); drrip (set dueling, 10-bit "
+         "PSEL from 511: of S sets, min(32, S/2) runs of consecutive sets, each run's first set an srrip "
+         "leader and its last a brrip leader; other sets brrip while PSEL >= 512); opt (Belady's MIN: on a "
+         "miss in a full set the block whose next use is farthest, never used again counting as farthest, "
+         "is kept out, the incoming one included: it is then not placed; MIN within each set; the trace is "
+         "read once and its fetches kept, 8 bytes each). A miss fills the lowest invalid way first";
+}
+
 // `side_tables`: --per-level and --per-frame (cachesim run only: Dinero IV
 // reports totals, so dinero-wrap does not list options that cannot work).
 inline void add_run_options(CLI::App& app, RunCommandLine& line, bool side_tables = true) {
@@ -75,7 +93,7 @@ inline void add_run_options(CLI::App& app, RunCommandLine& line, bool side_table
   app.add_option("--assoc", line.assocs, "Associativities: ways or 'full' (list)")
       ->delimiter(',')
       ->capture_default_str();
-  app.add_option("--policy", line.policies, "Replacement: lru, fifo, random (list)")
+  app.add_option("--policy", line.policies, policy_help(side_tables))
       ->delimiter(',')
       ->capture_default_str();
   app.add_option("--scheme", line.schemes, "single, split (list)")
@@ -169,7 +187,8 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
   }
   options.assocs.clear();
   for (const auto& text : line.assocs) options.assocs.push_back(parse_assoc(text));
-  options.policies = parse_list<ReplacementPolicy>(line.policies, "--policy", parse_policy_name, "lru, fifo, random");
+  options.policies =
+      parse_list<ReplacementPolicy>(line.policies, "--policy", parse_policy_name, kPolicyNames.data());
   options.schemes = parse_list<Scheme>(line.schemes, "--scheme", parse_scheme_name, "single, split");
   options.high_policies =
       parse_list<HighPolicy>(line.high_policies, "--high-policy", parse_high_policy_name, "retain, cache");

@@ -140,7 +140,7 @@ const HostileCase kCases[] = {
   {"VerifyEmptyZst", ": > empty.din.zst; $B/tracetool verify empty.din.zst", 1, "tracetool verify: empty.din.zst: 0 bytes: not a zstd stream"},
   {"CachesimFormatXml", "$B/cachesim run t.din --format xml", 2, "cachesim run: --format: xml not in {table,csv,json}"},
   {"CachesimNoTraces", "$B/cachesim run", 2, "cachesim run: traces is required"},
-  {"CachesimPolicyLfu", "$B/cachesim run t.din --policy lfu", 2, "cachesim run: --policy: 'lfu' is not one of lru, fifo, random"},
+  {"CachesimPolicyLfu", "$B/cachesim run t.din --policy lfu", 2, "cachesim run: --policy: 'lfu' is not one of lru, fifo, random, plru, srrip, brrip, drrip, opt"},
   {"CachesimSchemeBad", "$B/cachesim run t.din --scheme both", 2, "cachesim run: --scheme: 'both' is not one of single, split"},
   {"TracetoolInfoFormatXml", "$B/tracetool info t.din --format xml", 2, "tracetool info: --format: xml not in {table,json,csv}"},
   // Threads.

@@ -267,7 +267,8 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
       " INTERP_RAY_SETS='whitted:first primary:all' INTERP_BEST=2 INTERP_FINAL_SCENES='robot forest'"
       " INTERP_FINAL_WIDTH=32 INTERP_FINAL_HEIGHT=24 ACCEL_SCENES=robot ACCEL_KINDS='bvh2 cwbvh8'"
       " ACCEL_LAYOUTS=treelet ACCEL_SIZES=4k"
-      " INFLIGHT_SCENES=robot INFLIGHT_WIDTH=16 INFLIGHT_HEIGHT=12 INFLIGHT_RAYS='1 4' INFLIGHT_UNITS='1 2' 2>&1");
+      " INFLIGHT_SCENES=robot INFLIGHT_WIDTH=16 INFLIGHT_HEIGHT=12 INFLIGHT_RAYS='1 4' INFLIGHT_UNITS='1 2'"
+      " POLICY_SCENES=robot POLICY_SIZES=4k POLICY_ASSOCS='1 4' POLICY_WIDTH=16 POLICY_HEIGHT=12 2>&1");
   ASSERT_EQ(result.exit_code, 0) << result.out;
   for (const std::string file :
        {"table1/table1.md", "table1/table1.png", "baselines/baselines.md", "baselines/baselines.png",
@@ -279,7 +280,7 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
         "interpretations/interpretations.md", "interpretations/interpretations.csv",
         "interpretations/interpretations-cells.csv", "interpretations/interpretations.png", "accel/accel.md",
         "accel/accel.csv", "accel/accel.png", "inflight/inflight.md", "inflight/inflight.csv",
-        "inflight/inflight.png"}) {
+        "inflight/inflight.png", "policies/policies.md", "policies/policies.csv", "policies/policies.png"}) {
     EXPECT_TRUE(std::filesystem::exists(out / file)) << file;
   }
   // Every CSV the targets write (their tables and the runs behind them,
@@ -309,6 +310,19 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
   const auto inflight = read_file(out / "inflight" / "inflight.csv");
   EXPECT_EQ(count_lines_with(inflight, "robot,"), 12) << inflight;
   EXPECT_EQ(count_lines_with(inflight, "robot,2,4,"), 3) << inflight;
+  // Two structures x two blocks x two ways, each 5 single policies and 3 split ones.
+  const auto policies = read_file(out / "policies" / "policies.csv");
+  EXPECT_EQ(count_lines_with(policies, "robot,kdtree,4096,"), 2 * 2 * 8) << policies;
+  EXPECT_EQ(count_lines_with(policies, "robot,bvh2,4096,"), 2 * 2 * 8) << policies;
+  EXPECT_EQ(count_lines_with(policies, ",single,opt,"), 2 * 2 * 2) << policies;
+  // OPT closes all of its own gap; no policy of the single cache more than all.
+  std::istringstream policy_lines(policies);
+  for (std::string line; std::getline(policy_lines, line);) {
+    if (line.find(",single,opt,") != std::string::npos) EXPECT_TRUE(line.ends_with(",100.0")) << line;
+    if (line.find(",single,") != std::string::npos && !line.ends_with(",")) {
+      EXPECT_LE(std::stod(line.substr(line.rfind(',') + 1)), 100.0) << line;
+    }
+  }
   const auto frames = read_file(out / "frames" / "frames.csv");
   EXPECT_EQ(count_lines_with(frames, "robot,"), 2) << frames;
   EXPECT_EQ(count_lines_with(frames, "kitchen,"), 2) << frames;

@@ -107,6 +107,24 @@ class SampledRun {
           "windows are the ones its markers begin",
           context.source_name, rows_->method, rows_->every));
     }
+    for (const Configuration& config : configs) {
+      // MIN needs every fetch of the run; brrip's insertion counter and
+      // drrip's selector are shared by all sets, so sets sampled apart
+      // would not see the whole cache's.
+      if (config.policy == ReplacementPolicy::Opt) {
+        throw UsageError(fmt::format("--policy opt: not with sampling ({}): MIN needs every fetch of the "
+                                     "cache; simulate the whole trace",
+                                     rows_ ? context.source_name + " is row-sampled" : "--sample-windows, "
+                                     "--sample-sets"));
+      }
+      if (options.set_every != 0 &&
+          (config.policy == ReplacementPolicy::Brrip || config.policy == ReplacementPolicy::Drrip)) {
+        throw UsageError(fmt::format("--policy {} with --sample-sets: its insertion counter (and drrip's "
+                                     "selector) belong to the whole cache; allowed with --sample-sets: lru, "
+                                     "fifo, random, plru, srrip (or use --sample-windows)",
+                                     policy_name(config.policy)));
+      }
+    }
     if (options.set_every != 0) {
       groups_ = set_groups(configs, options.set_every);
       residue_ = base::mix64(options.seed ^ kSetStream) % options.set_every;

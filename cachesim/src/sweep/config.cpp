@@ -68,6 +68,19 @@ std::vector<Configuration> expand_configurations(const SweepOptions& options) {
                                    fetch_policy_name(options.fetch), options.prefetch_distance));
     }
   }
+  for (const ReplacementPolicy policy : options.policies) {
+    if (!dinero_has_policy(policy) && options.fetch != FetchPolicy::Demand) {
+      throw UsageError(fmt::format("--policy {} with --fetch {}: prefetching is simulated with Dinero IV's "
+                                   "policies only (lru, fifo, random); give --fetch demand",
+                                   policy_name(policy), fetch_policy_name(options.fetch)));
+    }
+    if (policy == ReplacementPolicy::Opt && (options.per_level || options.per_animation_frame)) {
+      throw UsageError(fmt::format("--policy opt: not with {} (MIN counts its misses only at the end of the "
+                                   "trace); run per-level or per-frame tables with lru, fifo, random, plru, "
+                                   "srrip, brrip or drrip",
+                                   options.per_level ? "--per-level" : "--per-frame"));
+    }
+  }
   std::vector<Configuration> configs;
   for (const std::uint64_t size : options.sizes) {
     for (const std::uint32_t block : options.blocks) {
