@@ -65,9 +65,10 @@ int run_subcommand(int argc, char** argv) {
     }
     options.dinero = wrap::find_dinero(dinero.empty() ? std::nullopt
                                                       : std::optional<std::string>(dinero));
-    const std::vector<Configuration> configs = expand_configurations(sweep);
+    std::vector<Configuration> configs = expand_configurations(sweep);
     std::vector<ResultRow> rows;
     std::vector<std::string> notes;
+    if (const std::optional<std::string> repeated = merge_repeated_configurations(configs)) notes.push_back(*repeated);
     for (const std::string& trace : line.traces) {
       TraceResult result = wrap::wrap_run(trace, configs, trace, sweep.per_level, options, sweep.per_animation_frame);
       rows.insert(rows.end(), result.rows.begin(), result.rows.end());

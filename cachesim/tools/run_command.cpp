@@ -58,10 +58,11 @@ int curve_command(const RunCommandLine& line, const SweepOptions& options) {
     const std::vector<CurvePoint> more = run_curve(*reader, curve, trace);
     points.insert(points.end(), more.begin(), more.end());
   }
+  const std::optional<std::string> repeated = merge_repeated_points(points);
   const ReportFormat format = parse_report_format(line.format).value_or(ReportFormat::Table);
   const std::string text = format_curve(points, format);
   std::fwrite(text.data(), 1, text.size(), stdout);
-  std::fflush(stdout);
+  print_notes(repeated ? std::vector<std::string>{*repeated} : std::vector<std::string>{}, format);
   return 0;
 }
 
@@ -143,10 +144,9 @@ const formats::TraceReader* row_sampled(const Readers& readers) {
 }
 
 int sampled_command(const RunCommandLine& line, const std::vector<Configuration>& configs,
-                    const SamplingOptions& sampling, const Readers& readers) {
+                    const SamplingOptions& sampling, const Readers& readers, std::vector<std::string> notes) {
   std::vector<SampledRow> rows;
   std::vector<GainRow> gains;
-  std::vector<std::string> notes;
   for (std::size_t t = 0; t < readers.size(); ++t) {
     SampledResult result = run_sampled_sweep(*readers[t], configs, line.traces[t], sampling);
     rows.insert(rows.end(), result.rows.begin(), result.rows.end());
@@ -160,23 +160,32 @@ int sampled_command(const RunCommandLine& line, const std::vector<Configuration>
   return 0;
 }
 
+// What of --units private and --l2-size was given, for the errors about them.
+std::string unit_options_given(const UnitSweepOptions& unit_options) {
+  if (unit_options.private_units && unit_options.l2) return "--units private and --l2-size";
+  return unit_options.private_units ? "--units private" : "--l2-size";
+}
+
 // --units private: every unit's own caches; the report sums them, and
 // --per-unit writes one row per unit and configuration. --l2-size: a second
 // level shared by the units, over private or shared first levels.
 int unit_caches_command(const RunCommandLine& line, const SweepOptions& options,
                         const std::vector<Configuration>& configs, const Readers& readers,
-                        const UnitSweepOptions& unit_options) {
+                        const UnitSweepOptions& unit_options, std::vector<std::string> notes) {
   if (options.per_level || options.per_animation_frame) {
-    throw base::UsageError("--units private and --l2-size: not with --per-level or --per-frame (--per-unit gives "
-                           "each unit's rows)");
+    const char* given = options.per_level && options.per_animation_frame ? "--per-level and --per-frame"
+                        : options.per_level                            ? "--per-level"
+                                                                       : "--per-frame";
+    throw base::UsageError(fmt::format("{}: not with {} (its rows are totals over the units; --per-unit gives "
+                                       "each unit's rows)",
+                                       unit_options_given(unit_options), given));
   }
   if (options.fetch != FetchPolicy::Demand) {
-    throw base::UsageError(
-        fmt::format("--fetch {}: --units private and --l2-size simulate demand fetch only", line.fetch));
+    throw base::UsageError(fmt::format("--fetch {}: {} simulates demand fetch only", line.fetch,
+                                       unit_options_given(unit_options)));
   }
   std::vector<ResultRow> rows;
   std::vector<UnitRow> unit_rows;
-  std::vector<std::string> notes;
   for (std::size_t t = 0; t < readers.size(); ++t) {
     if (unit_options.private_units && readers[t]->units() == 1) {
       notes.push_back(fmt::format("{}: its records carry no unit (no \"units\" above 1 in a header): one unit",
@@ -237,7 +246,9 @@ int run_command(int argc, char** argv) {
       check_curve_options(app);
       return curve_command(line, options);
     }
-    const std::vector<Configuration> configs = expand_configurations(options);
+    std::vector<Configuration> configs = expand_configurations(options);
+    std::vector<std::string> notes;
+    if (const std::optional<std::string> repeated = merge_repeated_configurations(configs)) notes.push_back(*repeated);
     const Readers readers = open_traces(line, sampling);
     if (!line.per_unit.empty() && line.units != "private") {
       throw base::UsageError("--per-unit: the rows of private caches need --units private");
@@ -257,10 +268,11 @@ int run_command(int argc, char** argv) {
     }
     if (unit_options.private_units || unit_options.l2) {
       if (sampling.sampling() || row_sampled(readers)) {
-        throw base::UsageError("--units private and --l2-size: not with sampling (--sample-windows, "
-                               "--sample-sets or a row-sampled trace)");
+        throw base::UsageError(fmt::format("{}: not with sampling (--sample-windows, --sample-sets or a row-sampled "
+                                           "trace)",
+                                           unit_options_given(unit_options)));
       }
-      return unit_caches_command(line, options, configs, readers, unit_options);
+      return unit_caches_command(line, options, configs, readers, unit_options, notes);
     }
     if (const formats::TraceReader* sampled = row_sampled(readers)) {
       if (!line.per_level.empty() || !line.per_animation_frame.empty()) {
@@ -274,12 +286,11 @@ int run_command(int argc, char** argv) {
         throw base::UsageError(fmt::format("--fetch {}: not on a row-sampled trace (demand-fetch only)",
                                               line.fetch));
       }
-      return sampled_command(line, configs, sampling, readers);
+      return sampled_command(line, configs, sampling, readers, notes);
     }
     std::vector<ResultRow> rows;
     std::vector<LevelRow> levels;
     std::vector<AnimationFrameRow> frames;
-    std::vector<std::string> notes;
     nodetrace::cli::ProgressLine progress_line;
     std::string current_trace;
     std::optional<std::uint64_t> current_total;

@@ -218,13 +218,15 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
     throw base::UsageError(
         "--per-level - and --per-frame -: one table per output; write at least one of them to a file");
   }
-  for (const std::string* file : {&line.per_level, &line.per_animation_frame}) {
+  for (const std::string* file : {&line.per_level, &line.per_animation_frame, &line.per_unit}) {
     if (file->empty() || *file == "-") continue;
     for (const std::string& trace : line.traces) {
       if (trace == *file) {
         throw base::UsageError(fmt::format("{}: named both as a trace and as a table to write", *file));
       }
     }
+    // Before the simulation, not after it.
+    base::check_output_writable(*file);
   }
   return options;
 }

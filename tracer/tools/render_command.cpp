@@ -3,7 +3,6 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <fmt/core.h>
-#include <unistd.h>
 
 #include <bit>
 #include <chrono>
@@ -19,7 +18,10 @@
 #include "nodetrace/cli/exit_status.hpp"
 #include "nodetrace/cli/progress_line.hpp"
 #include "nodetrace/cli/archive_option.hpp"
+#include "nodetrace/cli/zstd_level_option.hpp"
 #include "nodetrace/base/error.hpp"
+#include "nodetrace/base/output_file.hpp"
+#include "nodetrace/base/standard_output.hpp"
 #include "nodetrace/formats/write/trace_output.hpp"
 #include "nodetrace/tracer/scene/scene_loader.hpp"
 #include "nodetrace/tracer/render/trace_job.hpp"
@@ -103,16 +105,30 @@ struct RenderCommand {
   void check_outputs(const TraceJobOptions& options) const;
 };
 
-// An empty name is no output, and an output whose folder is missing would
-// fail only after the whole render: both are refused before it starts.
+// An empty name is no output, two outputs into one file spoil each other, and
+// an output whose folder is missing or not writable would fail only after
+// the whole render: all are refused before it starts.
 void RenderCommand::check_outputs(const TraceJobOptions& options) const {
   std::vector<std::pair<CLI::Option*, const std::string*>> outputs{{image_option, &image}, {output_option, &output}};
   if (output_option->count() != 0) {
     outputs.back().second = &options.output;
     for (const auto& other : options.other_layouts) outputs.emplace_back(output_option, &other.output);
   }
-  for (const auto& [option, path] : outputs) {
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const auto& [option, path] = outputs[i];
     if (option->count() == 0) continue;
+    // The image and a trace in one file (or both on standard output) would
+    // interleave or overwrite each other; a device (/dev/null) takes both.
+    // (Two layouts' traces in one file: run_trace_job says so.)
+    for (std::size_t j = 0; j < i; ++j) {
+      if (outputs[j].first != option && outputs[j].first->count() != 0 && *outputs[j].second == *path &&
+          !path->empty() &&
+          base::plan_output(*path).method != base::OutputMethod::Direct) {
+        throw base::UsageError(fmt::format(
+            "{} and {} both name '{}'{}: one output each; write one of them to another file",
+            outputs[j].first->get_name(), option->get_name(), *path, *path == "-" ? " (standard output)" : ""));
+      }
+    }
     if (path->empty()) {
       throw base::UsageError(fmt::format("{}: an empty name: give a file name{}", option->get_name(),
                                          option == output_option ? ", or - for standard output" : ""));
@@ -122,6 +138,11 @@ void RenderCommand::check_outputs(const TraceJobOptions& options) const {
     if (!folder.empty() && !std::filesystem::is_directory(folder)) {
       throw base::IoError(fmt::format("{}: cannot write: folder '{}' does not exist (checked before rendering)",
                                       *path, folder.string()));
+    }
+    try {
+      base::check_output_writable(*path);
+    } catch (const base::IoError& error) {
+      throw base::IoError(std::string(error.what()) + " (checked before rendering)");
     }
   }
 }
@@ -176,11 +197,7 @@ void RenderCommand::add_options(CLI::App& app) {
                  "records to write, comma-separated: nodes, lists (leaf primitive lists, tag p), "
                  "triangles (tag t)")
       ->capture_default_str();
-  CLI::Option* level =
-      app.add_option("--zstd-level", zstd_level, "zstd level of the trace's data frames (higher: smaller and slower)")
-          ->check(CLI::Range(1, 19))
-          ->capture_default_str();
-  cli::add_archive_flag(app, archive, level);
+  cli::add_archive_flag(app, archive, cli::add_zstd_level_option(app, zstd_level));
   app.add_flag("--discard-records", discard,
                "make every record but write none: the cost of recording alone (benchmarks)")
       ->excludes("--output");
@@ -199,12 +216,10 @@ int RenderCommand::run() const {
     options.discard_records = discard;
     std::optional<formats::RecordForm> named_form;
     if (!records_name.empty()) named_form = formats::parse_form_name(records_name);
-    options.form = formats::decide_trace_output(output, formats::OutputKind::Auto, named_form).form;
+    options.form = formats::choose_output_form(output, named_form, formats::RecordForm::Din);
     choose_bvh_record_form(options, output, named_form.has_value());
     options.render.streams = parse_streams(streams);
-    if (output == "-" && isatty(STDOUT_FILENO)) {
-      throw base::UsageError("refusing to write a trace to a terminal; redirect standard output");
-    }
+    base::refuse_binary_on_terminal(output, "a trace");
     warn_of_din_node_size(options);
     const std::string spec = scene_spec.empty() ? default_scene_name() : scene_spec;
     const auto source = open_scene(spec);

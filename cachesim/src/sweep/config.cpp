@@ -169,7 +169,27 @@ bool has_split(const std::vector<Configuration>& configs) {
                      [](const auto& config) { return config.scheme == Scheme::Split; });
 }
 
+std::optional<std::string> merge_repeated_configurations(std::vector<Configuration>& configs) {
+  std::vector<Configuration> distinct;
+  for (const Configuration& config : configs) {
+    if (std::find(distinct.begin(), distinct.end(), config) == distinct.end()) distinct.push_back(config);
+  }
+  const std::size_t repeated = configs.size() - distinct.size();
+  configs = std::move(distinct);
+  if (repeated == 0) return std::nullopt;
+  return fmt::format("{} configuration{} repeated an earlier one (a value listed twice, or `full` and the "
+                     "number of ways of a one-set cache): each cache is simulated and reported once",
+                     repeated, repeated == 1 ? "" : "s");
+}
+
 void throw_untagged_trace(const TraceContext& context, std::string_view what) {
+  if (context.form == formats::RecordForm::Binary) {
+    // --tags-are-levels cannot help: the form has no field for a tag.
+    throw UsageError(fmt::format(
+        "{}: {} needs the node level of every record, but Dinero binary records carry no tag; "
+        "use a din or extended din trace of the same records (a trace converted to binary lost its levels)",
+        context.source_name, what));
+  }
   throw UsageError(fmt::format(
       "{}: {} needs the node level of every record, but this trace's records are untagged "
       "(no container header says \"tag\": \"node-level\"); if the field after the address "

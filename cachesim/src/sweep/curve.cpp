@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <bit>
 #include <memory>
 
@@ -226,6 +227,35 @@ std::vector<CurvePoint> run_curve(formats::TraceReader& reader, const CurveOptio
   return points;
 }
 
+namespace {
+
+// `full` as in the report: no ways given, or as many as the cache has blocks.
+std::string assoc_label(const CurvePoint& point) {
+  const bool full = point.assoc == 0 || (point.size / point.block > 1 && point.assoc == point.size / point.block);
+  return full ? std::string("full") : std::to_string(point.assoc);
+}
+
+}  // namespace
+
+std::optional<std::string> merge_repeated_points(std::vector<CurvePoint>& points) {
+  const auto same = [](const CurvePoint& a, const CurvePoint& b) {
+    return a.trace == b.trace && a.scheme == b.scheme && a.policy == b.policy && a.block == b.block &&
+           a.size == b.size && assoc_label(a) == assoc_label(b);
+  };
+  std::vector<CurvePoint> distinct;
+  for (const CurvePoint& point : points) {
+    if (std::none_of(distinct.begin(), distinct.end(), [&](const CurvePoint& kept) { return same(kept, point); })) {
+      distinct.push_back(point);
+    }
+  }
+  const std::size_t repeated = points.size() - distinct.size();
+  points = std::move(distinct);
+  if (repeated == 0) return std::nullopt;
+  return fmt::format("--curve: {} point{} repeated an earlier one (a one-set cache of N ways is the fully "
+                     "associative one, or a value was listed twice): each cache is printed once",
+                     repeated, repeated == 1 ? "" : "s");
+}
+
 std::string format_curve(const std::vector<CurvePoint>& points, ReportFormat format) {
   static const std::vector<std::string> columns{"trace", "scheme", "block",   "assoc",  "policy",
                                                 "split_level", "size", "fetches", "misses", "miss_ratio"};
@@ -233,10 +263,8 @@ std::string format_curve(const std::vector<CurvePoint>& points, ReportFormat for
   rows.reserve(points.size());
   for (const CurvePoint& point : points) {
     const bool split = point.scheme == Scheme::Split;
-    // `full` as in the report: no ways given, or as many as the cache has blocks.
-    const bool full = point.assoc == 0 || (point.size / point.block > 1 && point.assoc == point.size / point.block);
     rows.push_back({point.trace, split ? "split-low" : "single", std::to_string(point.block),
-                    full ? std::string("full") : std::to_string(point.assoc), std::string(policy_name(point.policy)),
+                    assoc_label(point), std::string(policy_name(point.policy)),
                     split ? std::to_string(point.split_level) : "", std::to_string(point.size),
                     std::to_string(point.fetches), std::to_string(point.misses),
                     miss_ratio_text(point.misses, point.fetches)});

@@ -47,6 +47,13 @@ struct CurvePoint {
 std::vector<CurvePoint> run_curve(formats::TraceReader& reader, const CurveOptions& options,
                                   const std::string& trace_column);
 
+// Removes every point that is the same cache as an earlier one: the same
+// trace, scheme, policy, block and size and the same `assoc` label (a one-set cache
+// of N ways is the fully associative one, so `--assoc 4,full` meet at the
+// 4-block size; a value listed twice repeats a whole curve). The note says
+// how many were merged (nullopt: none).
+std::optional<std::string> merge_repeated_points(std::vector<CurvePoint>& points);
+
 // Columns trace,scheme,block,assoc,policy,split_level,size,fetches,misses,miss_ratio
 // as a table, CSV or JSON (report.hpp's shapes).
 std::string format_curve(const std::vector<CurvePoint>& points, ReportFormat format);
