@@ -3,24 +3,33 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <new>
 
 #include "nodetrace/base/error.hpp"
 
 namespace nodetrace::cachesim {
 
-std::uint32_t OptStream::id_of(std::uint64_t block) {
-  if (block == last_block_) return last_id_;  // the same node again: no probe
+std::uint32_t OptStream::new_id(std::uint64_t block) {
+  const auto id = static_cast<std::uint32_t>(blocks_.size());
+  if (id == kInvalidateBit) {
+    throw base::UsageError("--policy opt: more than 2^31 distinct blocks in one cache's stream");
+  }
+  blocks_.push_back(block);
+  return id;
+}
+
+std::uint32_t OptStream::id_outside_window(std::uint64_t block) {
+  if (!window_) {  // the first block: the window starts here
+    window_.reset(static_cast<std::uint32_t*>(std::calloc(kWindow, sizeof(std::uint32_t))));
+    if (!window_) throw std::bad_alloc();
+    window_first_ = block;
+    return id_of(block);
+  }
   std::uint32_t id = ids_.find(block);
   if (id == BlockIndex::kAbsent) {
-    id = static_cast<std::uint32_t>(blocks_.size());
-    if (id == kInvalidateBit) {
-      throw base::UsageError("--policy opt: more than 2^31 distinct blocks in one cache's stream");
-    }
-    blocks_.push_back(block);
+    id = new_id(block);
     ids_.insert(block, id);
   }
-  last_block_ = block;
-  last_id_ = id;
   return id;
 }
 

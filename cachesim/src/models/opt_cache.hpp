@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdlib>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -43,14 +44,31 @@ class OptStream {
  private:
   static constexpr std::uint32_t kInvalidateBit = std::uint32_t{1} << 31;
 
-  std::uint32_t id_of(std::uint64_t block);
+  std::uint32_t id_of(std::uint64_t block) {
+    if (block - window_first_ < kWindow && window_) {
+      std::uint32_t& slot = window_[block - window_first_];
+      if (slot == 0) slot = new_id(block) + 1;
+      return slot - 1;
+    }
+    return id_outside_window(block);
+  }
+  std::uint32_t new_id(std::uint64_t block);
+  std::uint32_t id_outside_window(std::uint64_t block);
   void append(std::uint32_t event);
 
   ChunkedArray events_;
   std::vector<std::uint64_t> blocks_;  // per id
+  // Ids of the blocks in a window from the first block fetched (a tree's
+  // nodes lie above its root), by index: id + 1, 0 for none yet (pages of
+  // the window are zeroed by the system when first touched). Other blocks'
+  // ids are in the hash index.
+  static constexpr std::uint64_t kWindow = std::uint64_t{1} << 22;
+  struct Free {
+    void operator()(std::uint32_t* window) const { std::free(window); }
+  };
+  std::unique_ptr<std::uint32_t[], Free> window_;
+  std::uint64_t window_first_ = 0;
   BlockIndex ids_;
-  std::uint64_t last_block_ = ~std::uint64_t{0};
-  std::uint32_t last_id_ = 0;
 };
 
 // MIN's misses on `stream` in a cache of `sets` sets of `assoc` ways.
