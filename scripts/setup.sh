@@ -2,6 +2,8 @@
 # Installs the Debian packages nodetrace needs (when missing), then configures
 # and builds into build/ (programs in build/bin/).
 #   scripts/setup.sh [--sanitize] [--build-dir DIR]
+# --help: this comment, before anything else runs.
+if [ "${1:-}" = --help ] || [ "${1:-}" = -h ]; then sed -n '2,4s/^# \{0,1\}//p' "$0"; exit 0; fi
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

@@ -17,6 +17,7 @@
 #include "nodetrace/base/byte_size.hpp"
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/base/output_file.hpp"
+#include "nodetrace/cli/format_option.hpp"
 #include "nodetrace/cli/option_limits.hpp"
 #include "nodetrace/formats/read/trace_reader.hpp"
 
@@ -138,9 +139,7 @@ inline void add_run_options(CLI::App& app, RunCommandLine& line, bool side_table
                    "carries it alone)")
         ->type_name("FILE");
   }
-  app.add_option("--format", line.format, "Report format")
-      ->check(CLI::IsMember({"table", "csv", "json"}))
-      ->capture_default_str();
+  cli::add_format_option(app, line.format, "csv: one table, json: {\"columns\": [...], \"rows\": [...]}");
   app.add_option("--informat", line.informat,
                  "Record form of plain traces: din, xdin or binary (default: detected)")
       ->check(CLI::IsMember({"din", "xdin", "binary"}));
@@ -251,6 +250,14 @@ inline void print_notes(const std::vector<std::string>& notes, ReportFormat form
   std::fflush(stdout);
 }
 
+// The format of a side table's file: a name ending in .csv or .json says
+// it (README: --per-frame frames.csv), any other name and "-" take --format.
+inline ReportFormat table_file_format(const std::string& path, ReportFormat format) {
+  if (path.ends_with(".csv")) return ReportFormat::Csv;
+  if (path.ends_with(".json")) return ReportFormat::Json;
+  return format;
+}
+
 // Writes one table to `path` ("-": standard output), whole or not at all.
 inline void write_table(const std::string& path, const std::string& text) {
   if (path == "-") {
@@ -271,11 +278,16 @@ inline void print_report(const std::vector<ResultRow>& rows, const std::vector<L
                          const std::vector<AnimationFrameRow>& frames = {},
                          const std::vector<UnitRow>& unit_rows = {}) {
   const ReportFormat format = parse_report_format(line.format).value_or(ReportFormat::Table);
-  if (!line.per_level.empty()) write_table(line.per_level, format_level_rows(levels, format));
-  if (!line.per_animation_frame.empty()) {
-    write_table(line.per_animation_frame, format_animation_frame_rows(frames, format));
+  if (!line.per_level.empty()) {
+    write_table(line.per_level, format_level_rows(levels, table_file_format(line.per_level, format)));
   }
-  if (!line.per_unit.empty()) write_table(line.per_unit, format_unit_rows(unit_rows, format));
+  if (!line.per_animation_frame.empty()) {
+    write_table(line.per_animation_frame,
+                format_animation_frame_rows(frames, table_file_format(line.per_animation_frame, format)));
+  }
+  if (!line.per_unit.empty()) {
+    write_table(line.per_unit, format_unit_rows(unit_rows, table_file_format(line.per_unit, format)));
+  }
   if (line.per_level != "-" && line.per_animation_frame != "-" && line.per_unit != "-") {
     const std::string report = format_rows(rows, format);
     std::fwrite(report.data(), 1, report.size(), stdout);

@@ -13,6 +13,8 @@
 
 #include "nodetrace/cli/archive_option.hpp"
 #include "nodetrace/cli/command_line.hpp"
+#include "nodetrace/cli/csv_text.hpp"
+#include "nodetrace/cli/format_option.hpp"
 #include "nodetrace/cli/exit_status.hpp"
 #include "nodetrace/cli/subcommand_dispatch.hpp"
 #include "nodetrace/base/error.hpp"
@@ -66,33 +68,6 @@ void warn_of_dropped_fields(const formats::TraceReader& reader) {
              "pass --tags-are-levels to keep a tag field of node levels\n",
              reader.source_name(), dropped, dropped == 1 ? "" : "s",
              reader.form() == formats::RecordForm::ExtendedDin ? "size" : "address");
-}
-
-// RFC 4180: a field with a comma, quote or line break is quoted, quotes doubled.
-std::string csv_field(const std::string& text) {
-  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
-  std::string quoted = "\"";
-  for (const char c : text) {
-    if (c == '"') quoted += '"';
-    quoted += c;
-  }
-  return quoted + '"';
-}
-
-// A JSON pointer ("/header/layout/node_size") as dotted keys
-// ("header.layout.node_size"), its escapes (~1 for /, ~0 for ~) undone.
-std::string dotted(const std::string& pointer) {
-  std::string out;
-  for (std::size_t i = 1; i < pointer.size(); ++i) {
-    if (pointer[i] == '/') {
-      out += '.';
-    } else if (pointer[i] == '~' && i + 1 < pointer.size()) {
-      out += pointer[++i] == '1' ? '/' : '~';
-    } else {
-      out += pointer[i];
-    }
-  }
-  return out;
 }
 
 int run_info(const std::string& path, const std::string& format, bool tags_are_levels, const std::string& form) {
@@ -152,14 +127,7 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
     return 0;
   }
   if (format == "csv") {
-    // One tidy table: a row per fact, nested keys joined with dots, values as
-    // in JSON except that text is unquoted.
-    fmt::print("field,value\n");
-    const nlohmann::json flat = info.flatten();
-    for (const auto& [field, value] : flat.items()) {
-      const std::string text = value.is_string() ? value.get<std::string>() : value.dump();
-      fmt::print("{},{}\n", csv_field(dotted(field)), csv_field(text));
-    }
+    fmt::print("{}", cli::field_value_csv(info));
     return 0;
   }
   const auto row = [](std::string_view key, const std::string& value) { fmt::print("{:<20} {}\n", key, value); };
@@ -390,8 +358,7 @@ struct InfoCommand {
   InputOptions input;
   void add_options(CLI::App& app) {
     app.add_option("FILE", path, "Trace file, or - for standard input")->required();
-    app.add_option("--format", format, "Output: table, json (one object) or csv (one table: field,value)")
-        ->check(CLI::IsMember({"table", "json", "csv"}));
+    cli::add_format_option(app, format, "json: one object, csv: one table field,value");
     input.add_to(app);
   }
   int run() const {

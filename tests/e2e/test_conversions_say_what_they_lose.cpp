@@ -22,7 +22,7 @@ class Conversions : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = new TempDir;
-    for (const std::string options : {"-o " + shell_quoted(kd()), "--accel bvh2 -o " + shell_quoted(bvh()),
+    for (const std::string& options : {"-o " + shell_quoted(kd()), "--accel bvh2 -o " + shell_quoted(bvh()),
                                       "--sample-rows 1/4 -o " + shell_quoted(sampled())}) {
       const auto rendered = run_command(shell_quoted(program("tracer")) +
                                         " render mountain --width 64 --height 48 -q --high-size 1k " + options);
@@ -117,13 +117,23 @@ CommandResult on_a_terminal(const std::string& command) {
 TEST_F(Conversions, BinaryIsNotWrittenToATerminal) {
   if (run_command("command -v script").exit_code != 0) GTEST_SKIP() << "no script(1) to make a terminal";
   const std::string tool = program("tracetool").string() + " ";
-  for (const std::string arguments : {"convert " + kd().string() + " -", "cat --records binary " + kd().string()}) {
+  for (const std::string& arguments : {"convert " + kd().string() + " -", "cat --records binary " + kd().string()}) {
     const auto result = on_a_terminal(tool + arguments);
     EXPECT_EQ(result.exit_code, 2) << arguments << ": " << result.out;
     EXPECT_NE(result.out.find("to a terminal; redirect standard output"), std::string::npos) << result.out;
   }
   const auto text = on_a_terminal(tool + "cat " + kd().string() + " | head -1");
   EXPECT_EQ(text.exit_code, 0) << text.out;
+}
+
+// tracetool convert --archive ran for seconds on a terminal without a word.
+TEST_F(Conversions, ConvertShowsProgressOnATerminal) {
+  if (run_command("command -v script").exit_code != 0) GTEST_SKIP() << "no script(1) to make a terminal";
+  const auto result = on_a_terminal(program("tracetool").string() + " convert " + kd().string() + " " +
+                                    out("p.din.zst").string());
+  EXPECT_EQ(result.exit_code, 0) << result.out;
+  EXPECT_NE(result.out.find("converting " + kd().string() + ": "), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find(" records ("), std::string::npos) << result.out;  // of the trailer's total
 }
 
 TEST_F(Conversions, BinByNameIsReadAsBinary) {

@@ -142,7 +142,7 @@ const HostileCase kCases[] = {
   {"CachesimNoTraces", "$B/cachesim run", 2, "cachesim run: traces is required"},
   {"CachesimPolicyLfu", "$B/cachesim run t.din --policy lfu", 2, "cachesim run: --policy: 'lfu' is not one of lru, fifo, random, plru, srrip, brrip, drrip, opt"},
   {"CachesimSchemeBad", "$B/cachesim run t.din --scheme both", 2, "cachesim run: --scheme: 'both' is not one of single, split"},
-  {"TracetoolInfoFormatXml", "$B/tracetool info t.din --format xml", 2, "tracetool info: --format: xml not in {table,json,csv}"},
+  {"TracetoolInfoFormatXml", "$B/tracetool info t.din --format xml", 2, "tracetool info: --format: xml not in {table,csv,json}"},
   // Threads.
   {"TracerThreads", "$B/tracer render ok.obj --width 4 --height 3 --threads 100000", 2, "tracer render: --threads 100000: at most"},
   {"ConvertThreads", "$B/tracetool convert t.din out.din.zst --tags-are-levels --threads 100000", 2, "tracetool convert: --threads 100000: at most"},

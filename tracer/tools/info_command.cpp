@@ -11,6 +11,8 @@
 
 #include "commands.hpp"
 #include "nodetrace/cli/command_line.hpp"
+#include "nodetrace/cli/csv_text.hpp"
+#include "nodetrace/cli/format_option.hpp"
 #include "nodetrace/cli/exit_status.hpp"
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/base/split_level.hpp"
@@ -23,7 +25,7 @@ namespace {
 
 // The options of `tracer info` and what it does with them.
 struct InfoCommand {
-  std::string scene_spec, format = "text";
+  std::string scene_spec, format = "table";
   int max_depth = 10;
   unsigned threads = 0;
   std::optional<std::uint32_t> node_size_option;  // default: the acceleration structure's
@@ -35,7 +37,7 @@ struct InfoCommand {
 
 void InfoCommand::add_options(CLI::App& app) {
   app.add_option("scene", scene_spec, "an .obj or .aff file, or a built-in scene's name")->required();
-  app.add_option("--format", format, "text or json")->check(CLI::IsMember({"text", "json"}))->capture_default_str();
+  cli::add_format_option(app, format, "json: one object, csv: one table field,value");
   app.add_option("--max-depth", max_depth, "ray tree depth assumed for the ray kinds")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
@@ -108,7 +110,6 @@ int InfoCommand::run() const {
                               {"primitive_references", s.primitive_references},
                               {"sah_cost", s.sah_cost},
                               {"build_seconds", s.build_seconds},
-                   {"build_cpu_seconds", s.build_cpu_seconds},
                               {"build_cpu_seconds", s.build_cpu_seconds},
                               {"split_level_for_high_size", split_levels}};
       j["accel"] = accel;
@@ -139,6 +140,10 @@ int InfoCommand::run() const {
 
     if (format == "json") {
       std::fputs((j.dump(2) + "\n").c_str(), stdout);
+      return 0;
+    }
+    if (format == "csv") {
+      std::fputs(cli::field_value_csv(j).c_str(), stdout);
       return 0;
     }
     fmt::print("scene {}: {} triangles, {} materials, {} lights, {} frame(s), camera: {}\n",

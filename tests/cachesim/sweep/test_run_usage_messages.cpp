@@ -50,5 +50,22 @@ TEST(RunUsageMessages, TableFileInAMissingFolderFailsBeforeTheTraceIsRead) {
   }
 }
 
+// The README's `--per-frame frames.csv`: a table file's name chooses CSV or
+// JSON, whatever --format gives the main report.
+TEST(RunUsageMessages, TableFileNamedCsvOrJsonIsWrittenSo) {
+  testing::TempDir dir;
+  const std::string trace = trace_of_units(dir);
+  const auto result = run_command(cachesim() + " run " + shell_quoted(trace) + " --scheme split --per-frame " +
+                                  shell_quoted(dir / "frames.csv") + " --per-level " +
+                                  shell_quoted(dir / "levels.json"));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.out.rfind("trace ", 0), 0u) << result.out;  // the main report: a readable table
+  const std::string frames = testing::read_file(dir / "frames.csv");
+  EXPECT_EQ(testing::one_csv_table(frames), "") << frames;
+  EXPECT_EQ(frames.rfind("trace,frame,scheme,", 0), 0u) << frames;
+  const std::string levels = testing::read_file(dir / "levels.json");
+  EXPECT_EQ(levels.rfind("{\"columns\": [", 0), 0u) << levels;
+}
+
 }  // namespace
 }  // namespace nodetrace::cachesim
