@@ -83,6 +83,23 @@ TEST(PathTracer, WhiteFurnaceAConvexDiffuseObjectReflectsAlbedoTimesTheBackgroun
   EXPECT_EQ(r.stats.rays[static_cast<int>(RayKind::Diffuse)], 12u * 12u * spp);
 }
 
+TEST(PathTracer, WhiteFurnaceADiffuseAndMirrorObjectReflectsTheSumOfItsLobes) {
+  // The mixture rule: each bounce picks the diffuse or the mirror lobe by
+  // weight, and the pixel converges to (Kd + reflectance) x background.
+  Scene scene = test_scenes::closed_sphere(24, 48, 1.0f, {0, 0, 0});
+  scene.ambient = {0, 0, 0};
+  scene.materials[0].diffuse = {0.3f, 0.2f, 0.1f};
+  scene.materials[0].reflectance = 0.4f;
+  scene.background = {0.8f, 0.6f, 0.4f};
+  scene.camera = Camera{{0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 8.0f};
+  const std::uint32_t spp = 256;
+  const Rendered r = render(scene, path_options(6, 6, spp, 8));
+  const Vec3 albedo = scene.materials[0].diffuse + Vec3{0.4f, 0.4f, 0.4f};
+  expect_means(r.image, spp, [&](int, int) { return albedo * scene.background; }, 1e-6f);
+  EXPECT_GT(r.stats.rays[static_cast<int>(RayKind::Reflection)], 0u);
+  EXPECT_GT(r.stats.rays[static_cast<int>(RayKind::Diffuse)], 0u);
+}
+
 TEST(PathTracer, LambertPlaneUnderOnePointLightMatchesTheAnalyticValue) {
   Scene scene;
   scene.ambient = {0, 0, 0};  // the light is the only light
@@ -131,6 +148,19 @@ TEST(PathTracer, APerfectMirrorShowsTheBackgroundExactly) {
   }
   EXPECT_GT(r.stats.rays[static_cast<int>(RayKind::Reflection)], 0u);
   EXPECT_EQ(r.stats.rays[static_cast<int>(RayKind::Shadow)], 0u);
+}
+
+TEST(PathTracer, AHalfSilveredMirrorShowsHalfTheBackground) {
+  Scene scene;
+  Material mirror;
+  mirror.diffuse = {0, 0, 0};
+  mirror.reflectance = 0.5f;
+  scene.materials = {mirror};
+  test_scenes::add_quad(scene, {-10, -10, 0}, {10, -10, 0}, {10, 10, 0}, {-10, 10, 0}, 0);
+  scene.background = {0.2f, 0.4f, 0.6f};
+  scene.camera = Camera{{0, -0.5f, 3}, {0, 0, 0}, {0, 0, 1}, 20.0f};  // the plane fills the view
+  const Rendered r = render(scene, path_options(8, 6, 2, 3));
+  for (const Vec3& p : r.image.pixels) EXPECT_EQ(p, scene.background * 0.5f);
 }
 
 TEST(PathTracer, NoBouncesTracesExactlyTheCameraRaysAndTheirShadowRays) {

@@ -126,7 +126,9 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
       weight = material.specular * ((n + 2.0f) / (n + 1.0f) * cos_out * (total / w.glossy));
     } else {
       kind = RayKind::Reflection;
-      weight = Vec3{1, 1, 1} * (total / (lobe == 2 ? w.mirror : w.dielectric));
+      // The lobe's weight (reflectance or transmittance) over its probability
+      // (that weight over the total); Fresnel's F or 1 - F cancels its own choice.
+      weight = Vec3{1, 1, 1} * total;
       bool reflects = true;
       if (lobe == 3) {
         const float eta_i = at.entering ? 1.0f : material.ior, eta_t = at.entering ? material.ior : 1.0f;
