@@ -136,14 +136,14 @@ sampled_run() {
 # bounces) writing its trace against the same render with
 # --discard-records (every record made, none written): wall and CPU (user +
 # sys) of the whole command, medians of alternating runs; target: at most
-# 2.0x the CPU. Then the rays per second per core of the render loop (rays
-# of every kind over render seconds x threads) and the rays of each kind.
+# 2.0x the CPU. Then the rays per CPU second (rays of every kind over the
+# --discard-records run's user + sys, scene loading and the tree build
+# included: a rate per core that a busy machine does not change), and the
+# rays of each kind.
 path_tracing() {
   echo "path tracing, ${width}x${height} --spp 4, medians of $runs alternating run(s); load average $(cut -d' ' -f1 /proc/loadavg)"
-  printf '%-12s %10s %9s %11s %10s %10s %9s %13s\n' scene discard_wall discard_cpu traced_wall traced_cpu wall_ratio cpu_ratio Mrays_s_core
+  printf '%-12s %10s %9s %11s %10s %10s %9s %12s\n' scene discard_wall discard_cpu traced_wall traced_cpu wall_ratio cpu_ratio Mrays_cpu_s
   local bart scene kind run
-  local threads_used="$threads"
-  [ "$threads_used" = 0 ] && threads_used="$(nproc)"
   for bart in robots/Robot.aff kitchen/kitchen.aff; do
     scene="$shared/$bart"
     [ -f "$scene" ] || continue
@@ -155,19 +155,19 @@ path_tracing() {
         [ "$kind" = traced ] && out_args=(-o "$work/path.din.zst")
         /usr/bin/time -f '%e %U %S' -o "$work/t" "$tracer" render "$scene" --width "$width" --height "$height" \
           --integrator path --spp 4 "${thread_args[@]}" "${out_args[@]}" 2> "$work/$kind.txt"
-        echo "$(cat "$work/t") $(render_seconds "$work/$kind.txt")" \
-          "$(sed -n 's/^  rays: .*; total \([0-9]*\)$/\1/p' "$work/$kind.txt")" >> "$work/$kind.all"
+        echo "$(cat "$work/t") $(sed -n 's/^  rays: .*; total \([0-9]*\)$/\1/p' "$work/$kind.txt")" \
+          >> "$work/$kind.all"
       done
     done
-    awk -v n="$(basename "$scene")" -v t="$threads_used" \
+    awk -v n="$(basename "$scene")" \
         -v dw="$(column 1 < "$work/discard.all" | median)" -v dc="$(awk '{print $2 + $3}' "$work/discard.all" | median)" \
         -v tw="$(column 1 < "$work/traced.all" | median)" -v tc="$(awk '{print $2 + $3}' "$work/traced.all" | median)" \
-        -v rs="$(column 4 < "$work/discard.all" | median)" -v rays="$(column 5 < "$work/discard.all" | median)" 'BEGIN {
-      printf "%-12s %10.2f %9.2f %11.2f %10.2f %10.2f %9.2f %13.3f\n", n, dw, dc, tw, tc, tw / dw, tc / dc, rays / rs / t / 1e6 }'
+        -v rays="$(column 4 < "$work/discard.all" | median)" 'BEGIN {
+      printf "%-12s %10.2f %9.2f %11.2f %10.2f %10.2f %9.2f %12.3f\n", n, dw, dc, tw, tc, tw / dw, tc / dc, rays / dc / 1e6 }'
     sed -n 's/^  rays: /  rays of each kind: /p' "$work/discard.txt"
   done
   echo "discard: --discard-records; traced: -o T.din.zst; cpu = user + sys; ratios traced / discard (target: cpu_ratio"
-  echo "<= 2.0); Mrays_s_core: rays of every kind / render-loop seconds / threads, with --discard-records"
+  echo "<= 2.0); Mrays_cpu_s: millions of rays of every kind per CPU second of the --discard-records run"
 }
 
 if [ "$path_only" = 1 ]; then
