@@ -97,6 +97,7 @@ struct RenderCommand {
   CLI::Option* image_option = nullptr;
   std::string pfm, variance_pfm;
   CLI::Option* pfm_option = nullptr;
+  CLI::Option* max_depth_option = nullptr;
   CLI::Option* variance_pfm_option = nullptr;
   bool quiet = false;
   // The container's default level 3: on the default scene level 1 writes the
@@ -207,11 +208,15 @@ void RenderCommand::add_options(CLI::App& app) {
   app.add_flag("-q,--quiet", quiet, "no summary on standard error");
   add_scene_options(app, scene_options);
   add_render_options(app, render_options);
+  max_depth_option = app.get_option("--max-depth");
 }
 
 int RenderCommand::run() const {
   return cli::exit_status_of("tracer render", [&] {
     TraceJobOptions options = make_job_options(render_options, scene_options, output);
+    if (options.render.integrator == Integrator::Path && max_depth_option->count() != 0) {
+      throw base::UsageError("--max-depth is the Whitted tracer's ray depth: --integrator path takes --max-bounces");
+    }
     check_outputs(options);
     options.image = image;
     options.pfm = pfm;

@@ -49,6 +49,7 @@ TEST(PathTracerCli, OptionsThatCannotWorkAreUsageErrorsNamingTheOption) {
       {"--max-bounces 2", "--max-bounces"},
       {"--integrator whitted --variance-pfm v.pfm", "--variance-pfm"},
       {"--integrator path --rays primary", "--rays"},
+      {"--integrator path --max-depth 4", "--max-depth"},
   };
   for (const auto& [options, named] : cases) {
     const auto result = run_command(render + options);
