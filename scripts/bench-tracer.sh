@@ -11,9 +11,10 @@
 # most 1.3x CPU) and the peak RSS at 1, 32 and 128; a row-sampled run (1/8)
 # against the full run (render + simulate, target at most 0.25x CPU); last,
 # primary rays per second against Embree where libembree-dev is installed (a
-# benchmark-only reference). --path-only: a path-traced frame (--spp 4)
-# writing its trace against --discard-records (target at most 2.0x CPU),
-# and its rays per second per core.
+# benchmark-only reference), and a path tracer's rays kind by kind against
+# Embree (rays/s per core of each kind). --path-only: a path-traced frame
+# (--spp 4) writing its trace against --discard-records (target at most
+# 2.0x CPU), and its rays per CPU second.
 #   scripts/bench-tracer.sh [--build-dir build] [--runs 3] [--width 400 --height 300]
 #                           [--max-depth 10] [--threads N] [--scenes "a b c"]
 #                           [--in-flight-only | --sampled-only | --path-only]
@@ -34,7 +35,7 @@ while [ $# -gt 0 ]; do
     --max-depth) max_depth="$2"; shift 2 ;;
     --threads) threads="$2"; shift 2 ;;
     --scenes) scenes="$2"; shift 2 ;;
-    -h|--help) sed -n '2,20s/^# \{0,1\}//p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,22s/^# \{0,1\}//p' "$0"; exit 0 ;;
     *) echo "bench-tracer.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -334,3 +335,12 @@ for bart in robots/Robot.aff kitchen/kitchen.aff; do
   "$build_dir/bin/primary_rays_bench" "$shared/$bart" --width "$width" --height "$height" --runs "$runs"
 done
 echo "ratio = kd-tree rays/s / Embree rays/s (target >= 0.6); same_first_hit: rays whose first hit is the same triangle"
+# A path tracer's rays (--integrator path --spp 1), kind by kind: rays/s per
+# core of each ray kind through our kd-tree, and against Embree (target for
+# the bounce rays: ratio >= 0.5).
+echo "a path tracer's rays (1 spp), ${width}x${height}, by kind, one thread each, medians of $runs run(s); load average $(cut -d' ' -f1 /proc/loadavg)"
+for bart in robots/Robot.aff kitchen/kitchen.aff; do
+  [ -f "$shared/$bart" ] || continue
+  "$build_dir/bin/primary_rays_bench" "$shared/$bart" --width "$width" --height "$height" --runs "$runs" --path 1
+done
+echo "shadow rays are any-hit queries (rtcOccluded1), the others closest-hit; kdtree_rays_per_s: rays/s per core of each kind"

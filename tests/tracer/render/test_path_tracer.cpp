@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -264,6 +266,33 @@ TEST(PathTracer, SameRaysWhateverTheThreadsPixelOrderRaysInFlightAndSampledRows)
   ASSERT_EQ(first.records.size() + middle.records.size() + last.records.size(), one.records.size());
   EXPECT_TRUE(std::equal(middle.records.begin(), middle.records.end(), one.records.begin() + first.records.size()));
   for (std::size_t p = 5 * 24; p < 12 * 24; ++p) EXPECT_EQ(middle.image.pixels[p], one.image.pixels[p]);
+}
+
+TEST(PathTracer, CastRaysListsEveryRayTheRenderCastsWithItsKind) {
+  const Scene scene = test_scenes::cornell_box();
+  for (const Integrator integrator : {Integrator::Path, Integrator::Whitted}) {
+    RenderOptions options = path_options(12, 9, 2, 5);
+    options.integrator = integrator;
+    const Rendered r = render(scene, options);
+    const KdTree tree = KdTree::build(scene.triangles);
+    const Renderer renderer(scene, tree, make_layout(tree, LayoutKind::Dfl), options);
+    std::array<std::uint64_t, kRayKindCount> counts{};
+    const auto rays = renderer.cast_rays(0, 12 * 9);
+    for (const auto& cast : rays) ++counts[static_cast<int>(cast.kind)];
+    EXPECT_EQ(counts, r.stats.rays);
+    ASSERT_FALSE(rays.empty());
+    EXPECT_EQ(rays.front().kind, RayKind::Primary);
+    // Tracing the listed rays one by one fetches what the render fetched.
+    std::vector<Record> records;
+    for (const auto& cast : rays) {
+      if (cast.kind == RayKind::Shadow) {
+        renderer.occluded(cast.ray, 1.0f - 1e-4f, &records, nullptr);
+      } else {
+        renderer.closest_hit(cast.ray, std::numeric_limits<float>::infinity(), &records, nullptr);
+      }
+    }
+    EXPECT_TRUE(records == r.records);
+  }
 }
 
 TEST(PathTracer, PlanListsTheKindsTheSceneCanCast) {

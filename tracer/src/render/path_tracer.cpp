@@ -62,6 +62,7 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
   };
   for (int bounce = 0;; ++bounce) {
     ++context.stats.rays[static_cast<int>(kind)];
+    context.note(kind, ray);
     const std::uint32_t self = context.begin_ray(context.parent);
     const auto hit = closest_hit(ray, std::numeric_limits<float>::infinity(), context.records, &context.stats);
     context.end_ray(self);

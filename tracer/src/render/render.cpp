@@ -70,6 +70,17 @@ bool Renderer::occluded(const Ray& ray, float t_max, std::vector<Record>* record
   return traversal_->any_hit(ray, t_max, records, stats);
 }
 
+std::vector<Renderer::CastRay> Renderer::cast_rays(std::uint64_t begin, std::uint64_t end) const {
+  const auto sequence = pixel_sequence(options_.width, options_.height, options_.pixel_order, options_.tile_size);
+  std::vector<CastRay> rays;
+  Context context;
+  context.cast = &rays;
+  for (std::uint64_t i = begin; i < std::min<std::uint64_t>(end, sequence.size()); ++i) {
+    render_pixel(sequence[i], context, nullptr);
+  }
+  return rays;
+}
+
 RenderStats Renderer::render(const RecordCallback& sink, Image* image, const Progress& progress) const {
   if (options_.rays_in_flight > 1 || options_.units > 1) return render_in_flight(sink, image, progress);
   const PixelRun all{0, static_cast<std::uint64_t>(options_.width) * static_cast<std::uint64_t>(options_.height)};

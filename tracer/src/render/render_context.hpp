@@ -35,6 +35,11 @@ struct Renderer::Context {
   // ray, when the samples' rays are kept apart (rays in flight: each sample
   // is a tree of its own).
   std::function<void()> begin_sample;
+  // Set by Renderer::cast_rays: every ray cast is noted here.
+  std::vector<CastRay>* cast = nullptr;
+  void note(RayKind kind, const Ray& ray) {
+    if (cast) cast->push_back({kind, ray});
+  }
   // The ray whose hit the next ray shade() casts depends on.
   std::uint32_t parent = PixelRays::kNoParent;
   // A ray cast by `caster` begins; returns its number in the pixel.

@@ -46,6 +46,7 @@ bool Renderer::light_visible(const Vec3& origin, const PointLight& light, std::u
                              Context& context) const {
   ++context.stats.rays[static_cast<int>(RayKind::Shadow)];
   const Ray shadow{origin, light.position - origin};
+  context.note(RayKind::Shadow, shadow);
   const std::uint32_t shadow_ray = context.begin_ray(caster);
   const bool blocked = occluded(shadow, 1.0f - 1e-4f, context.records, &context.stats);
   context.end_ray(shadow_ray);
@@ -55,6 +56,7 @@ bool Renderer::light_visible(const Vec3& origin, const PointLight& light, std::u
 
 Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) const {
   ++context.stats.rays[static_cast<int>(kind)];
+  context.note(kind, ray);
   const std::uint32_t self = context.begin_ray(context.parent);
   const auto hit = closest_hit(ray, std::numeric_limits<float>::infinity(), context.records,
                                &context.stats);

@@ -103,6 +103,17 @@ class Renderer {
   RenderStats render_runs(std::span<const PixelRun> runs, const RunStart& run_start, const RecordCallback& sink,
                           Image* image, const Progress& progress = {}) const;
 
+  // A ray the render cast, and its kind.
+  struct CastRay {
+    RayKind kind = RayKind::Primary;
+    Ray ray;
+  };
+  // Every ray the render casts for positions [begin, end) of the pixel
+  // sequence, in the order cast, traced on this thread with nothing
+  // recorded: the same rays render() casts there (benchmarks of traversal
+  // by ray kind).
+  std::vector<CastRay> cast_rays(std::uint64_t begin, std::uint64_t end) const;
+
   // One traversal each, appending its records to `records` when not null;
   // the acceleration structure's traversal does the work.
   std::optional<Hit> closest_hit(const Ray& ray, float t_max, std::vector<formats::Record>* records,
