@@ -1,7 +1,7 @@
 // `tracer render --integrator path` end to end: its options and their usage
 // errors, the header's integrator settings and ray kinds, the trailer's
-// count of dropped samples, the float images, a black scene's note, and the
-// same bytes for any thread count.
+// count of dropped samples (hostile materials), the float images, a black
+// scene's note, and the same bytes for any thread count.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -129,6 +129,23 @@ TEST(PathTracerCli, NoLightAndABlackBackgroundGivesABlackImageAValidTraceAndANot
   EXPECT_TRUE(pfm.substr(pfm_header.size()) == std::string(32u * 24u * 12u, '\0'));  // every pixel black
   EXPECT_EQ(run_command(program("tracetool").string() + " verify " + trace.string()).exit_code, 0);
   EXPECT_TRUE(header_of(trace).at("render").contains("notes"));
+}
+
+TEST(PathTracerCli, HostileMaterialsRenderAndTheTrailerCountsTheDroppedSamples) {
+  TempDir dir;
+  // Colour 1e38 x Kd 3 overflows, shininess 1e30, glass of index 0.
+  std::string text = matte_scene(true, "0.2 0.3 0.4");
+  text.replace(text.find("f 0.8 0.7 0.6 1 0 0 0 1"), 23, "f 1e38 1e38 1e38 3 0.5 1e30 0.5 0");
+  write_file(dir / "hostile.aff", text);
+  const auto trace = dir / "h.din.zst";
+  const auto result = run_command(program("tracer").string() + " render " + (dir / "hostile.aff").string() +
+                                  " --width 32 --height 24 --integrator path --spp 2 -o " + trace.string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.err.find("samples dropped (NaN or infinite throughput or radiance): "), std::string::npos)
+      << result.err;
+  auto reader = formats::TraceReader::open(trace.string());
+  EXPECT_GT(reader->trailer()->totals.at("nonfinite_samples").get<int>(), 0);
+  EXPECT_EQ(run_command(program("tracetool").string() + " verify " + trace.string()).exit_code, 0);
 }
 
 TEST(PathTracerCli, InfoShowsThePathTracersKinds) {
