@@ -363,12 +363,12 @@ goals := $(or $(MAKECMDGOALS),$(.DEFAULT_GOAL))
 wanted = $(filter $1 all,$(goals))
 
 .PHONY: all table1 baselines assoc levels sensitivity calibration calibration-grid interpretations \
-  interpretations-grid frames sampling accel inflight policies clean FORCE
+  interpretations-grid frames sampling accel inflight policies workloads convergence clean FORCE
 .DELETE_ON_ERROR:
 
 # Every study; `all` makes them (a new study adds its target here and its section below).
 ALL_TARGETS := table1 baselines assoc levels sensitivity calibration interpretations frames sampling accel inflight \
-  policies
+  policies workloads convergence
 all: $(ALL_TARGETS)
 
 %/.dir:
@@ -632,6 +632,9 @@ endif
 # The renders this make runs (progress: which of them this one is): the
 # leaders of the groups with a trace missing, one render each.
 to_render := $(foreach g,$(all_groups),$(if $(filter-out $(wildcard $(group_files_$g)),$(group_files_$g)),$(group_leader_$g)))
+
+# The path-tracing studies (workloads, convergence).
+include $(MK_DIR)/path-tracing.mk
 
 clean:
 	rm -rf $(OUT)/traces $(addprefix $(OUT)/,$(ALL_TARGETS) calibration-grid interpretations-grid)

@@ -27,6 +27,8 @@ namespace {
 struct InfoCommand {
   std::string scene_spec, format = "table";
   int max_depth = 10;
+  std::string integrator = "whitted";
+  std::optional<int> max_bounces;
   unsigned threads = 0;
   std::optional<std::uint32_t> node_size_option;  // default: the acceleration structure's
   SceneCommandOptions scene_options;
@@ -41,6 +43,14 @@ void InfoCommand::add_options(CLI::App& app) {
   app.add_option("--max-depth", max_depth, "ray tree depth assumed for the ray kinds")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
+  app.add_option("--integrator", integrator, "whitted or path: whose ray kinds to show")
+      ->check(CLI::IsMember({"whitted", "path"}))
+      ->capture_default_str();
+  app.add_option("--max-bounces", max_bounces,
+                 fmt::format("--integrator path: bounce rays after the camera ray assumed for the ray kinds, 0 to {} "
+                             "(default {})",
+                             kMaxBounces, kDefaultMaxBounces))
+      ->check(CLI::Range(0, kMaxBounces));
   app.add_option("--node-size", node_size_option,
                  "bytes per node, for the bytes and split levels shown (at most 65535; default: the structure's)")
       ->check(CLI::Range(1, kMaxNodeSize));
@@ -53,6 +63,8 @@ int InfoCommand::run() const {
     // Options first, before a scene is loaded.
     if (scene_options.time) cli::check_finite(*scene_options.time, "--time");
     KdBuildOptions build_options = make_build_options(scene_options);
+    const bool path = *parse_integrator(integrator) == Integrator::Path;
+    if (max_bounces && !path) throw base::UsageError("--max-bounces needs --integrator path (Whitted: --max-depth)");
     build_options.threads = cli::check_thread_count(threads, "--threads");
     const auto source = open_scene(scene_spec);
     for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer info: warning: %s\n", warning.c_str());
@@ -66,7 +78,8 @@ int InfoCommand::run() const {
         AccelerationStructure::build(scene.triangles, kind, {build_options, make_bvh_options(scene_options)});
     const KdTreeStats& s = tree.stats();
     const std::uint32_t node_size = node_size_option.value_or(default_node_size(kind));
-    const RayKindPlan plan = plan_ray_kinds(scene, max_depth);
+    const int bounces = max_bounces.value_or(kDefaultMaxBounces);
+    const RayKindPlan plan = path ? plan_path_ray_kinds(scene, bounces) : plan_ray_kinds(scene, max_depth);
     const Bounds bounds = scene.bounds();
 
     nlohmann::json j;
@@ -131,12 +144,18 @@ int InfoCommand::run() const {
                    {"split_level_for_high_size", split_levels}};
     }
     nlohmann::json rays = nlohmann::json::object();
-    for (int k = 0; k < kRayKindCount; ++k) {
-      rays[std::string(ray_kind_name(static_cast<RayKind>(k)))] =
+    for (const RayKind kind : plan.kinds) {
+      const int k = static_cast<int>(kind);
+      rays[std::string(ray_kind_name(kind))] =
           plan.cast[k] ? nlohmann::json("cast") : nlohmann::json("left out: " + plan.why_not[k]);
     }
     j["rays"] = rays;
-    j["rays_max_depth"] = max_depth;
+    if (path) {
+      j["rays_integrator"] = "path";
+      j["rays_max_bounces"] = bounces;
+    } else {
+      j["rays_max_depth"] = max_depth;
+    }
 
     if (format == "json") {
       std::fputs((j.dump(2) + "\n").c_str(), stdout);
@@ -171,10 +190,14 @@ int InfoCommand::run() const {
                node_size, split_levels["1024"].get<int>(), split_levels["2048"].get<int>(),
                split_levels["4096"].get<int>(), split_levels["8192"].get<int>(),
                split_levels["16384"].get<int>());
-    fmt::print("rays (max depth {}):\n", max_depth);
-    for (int k = 0; k < kRayKindCount; ++k) {
-      fmt::print("  {:<10} {}\n", ray_kind_name(static_cast<RayKind>(k)),
-                 plan.cast[k] ? "cast" : "left out: " + plan.why_not[k]);
+    if (path) {
+      fmt::print("rays (path tracing, max bounces {}):\n", bounces);
+    } else {
+      fmt::print("rays (max depth {}):\n", max_depth);
+    }
+    for (const RayKind kind : plan.kinds) {
+      const int k = static_cast<int>(kind);
+      fmt::print("  {:<10} {}\n", ray_kind_name(kind), plan.cast[k] ? "cast" : "left out: " + plan.why_not[k]);
     }
     return 0;
   }, "the scene is");

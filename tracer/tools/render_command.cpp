@@ -1,4 +1,5 @@
-// tracer render [SCENE] -o TRACE: render with the Whitted ray tracer and
+// tracer render [SCENE] -o TRACE: render with the Whitted ray tracer (or the
+// path tracer) and
 // write every kd-tree node fetch as a level-tagged trace.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -43,10 +44,13 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
   for (std::size_t i = 0; i < options.other_layouts.size(); ++i) {
     layout += ", " + describe(options.other_layouts[i].layout, first.other_split_levels[i]);
   }
-  std::fprintf(stderr, "tracer: %s, %dx%d, max depth %d, %zu frame(s), layout%s %s\n",
-               scene_name.c_str(), options.render.width, options.render.height,
-               options.render.max_depth, result.frames.size(), options.other_layouts.empty() ? "" : "s",
-               layout.c_str());
+  const RenderOptions& r = options.render;
+  const std::string integrator =
+      r.integrator == Integrator::Path
+          ? fmt::format("path tracing, {} spp, max bounces {}", r.path.samples_per_pixel, r.path.max_bounces)
+          : fmt::format("max depth {}", r.max_depth);
+  std::fprintf(stderr, "tracer: %s, %dx%d, %s, %zu frame(s), layout%s %s\n", scene_name.c_str(), r.width, r.height,
+               integrator.c_str(), result.frames.size(), options.other_layouts.empty() ? "" : "s", layout.c_str());
   const std::string accel = options.accel == AccelKind::KdTree ? "kd-tree" : std::string(accel_name(options.accel));
   std::fprintf(stderr,
                "  %s: %llu triangles, %llu nodes, %llu leaves (%llu empty), depth %u, built in %.2f s\n",
@@ -56,9 +60,10 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
                static_cast<unsigned long long>(first.tree.empty_leaves), first.tree.depth,
                build_seconds);
   std::string kinds;
-  for (int k = 0; k < kRayKindCount; ++k) {
+  for (const RayKind kind : result.plan.kinds) {
+    const int k = static_cast<int>(kind);
     if (!kinds.empty()) kinds += ", ";
-    kinds += fmt::format("{} {}", ray_kind_name(static_cast<RayKind>(k)), t.rays[k]);
+    kinds += fmt::format("{} {}", ray_kind_name(kind), t.rays[k]);
     if (!result.plan.cast[k]) kinds += " (" + result.plan.why_not[k] + ")";
   }
   std::fprintf(stderr, "  rays: %s; total %llu\n", kinds.c_str(),
@@ -78,6 +83,10 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
                  static_cast<unsigned long long>(band_count(options.render.height, sampling->band_height) *
                                                  result.frames.size()));
   }
+  if (t.nonfinite_samples) {
+    std::fprintf(stderr, "  samples dropped (NaN or infinite throughput or radiance): %llu\n",
+                 static_cast<unsigned long long>(t.nonfinite_samples));
+  }
   std::fprintf(stderr, "  render: %.3f s, %.3f M rays/s; %llu records\n", t.seconds,
                t.seconds > 0 ? double(t.total_rays()) / t.seconds / 1e6 : 0.0,
                static_cast<unsigned long long>(t.records));
@@ -88,6 +97,10 @@ struct RenderCommand {
   std::string scene_spec, output, records_name, image, streams = "nodes";
   CLI::Option* output_option = nullptr;
   CLI::Option* image_option = nullptr;
+  std::string pfm, variance_pfm;
+  CLI::Option* pfm_option = nullptr;
+  CLI::Option* max_depth_option = nullptr;
+  CLI::Option* variance_pfm_option = nullptr;
   bool quiet = false;
   // The container's default level 3: on the default scene level 1 writes the
   // trace only about 10% faster for 6% more bytes, and at 3 a trace is no
@@ -109,7 +122,10 @@ struct RenderCommand {
 // an output whose folder is missing or not writable would fail only after
 // the whole render: all are refused before it starts.
 void RenderCommand::check_outputs(const TraceJobOptions& options) const {
-  std::vector<std::pair<CLI::Option*, const std::string*>> outputs{{image_option, &image}, {output_option, &output}};
+  std::vector<std::pair<CLI::Option*, const std::string*>> outputs{{image_option, &image},
+                                                                        {pfm_option, &pfm},
+                                                                        {variance_pfm_option, &variance_pfm},
+                                                                        {output_option, &output}};
   if (output_option->count() != 0) {
     outputs.back().second = &options.output;
     for (const auto& other : options.other_layouts) outputs.emplace_back(output_option, &other.output);
@@ -192,7 +208,12 @@ void RenderCommand::add_options(CLI::App& app) {
                  "without it nothing is written (render only)");
   app.add_option("--records", records_name, "record form: din, xdin or binary (default: from the file name)")
       ->check(CLI::IsMember({"din", "xdin", "binary"}));
-  image_option = app.add_option("--image", image, "also write the first frame as a PNG");
+  image_option = app.add_option("--image", image,
+                                 "also write the first frame as a PNG (path tracing: the mean radiance, clamped to "
+                                 "0..1, through the sRGB curve)");
+  pfm_option = app.add_option("--pfm", pfm, "also write the first frame as a float PFM (path tracing: the mean radiance)");
+  variance_pfm_option = app.add_option("--variance-pfm", variance_pfm,
+                                       "--integrator path: also write each pixel's sample variance as a float PFM");
   app.add_option("--streams", streams,
                  "records to write, comma-separated: nodes, lists (leaf primitive lists, tag p), "
                  "triangles (tag t)")
@@ -204,13 +225,19 @@ void RenderCommand::add_options(CLI::App& app) {
   app.add_flag("-q,--quiet", quiet, "no summary on standard error");
   add_scene_options(app, scene_options);
   add_render_options(app, render_options);
+  max_depth_option = app.get_option("--max-depth");
 }
 
 int RenderCommand::run() const {
   return cli::exit_status_of("tracer render", [&] {
     TraceJobOptions options = make_job_options(render_options, scene_options, output);
+    if (options.render.integrator == Integrator::Path && max_depth_option->count() != 0) {
+      throw base::UsageError("--max-depth is the Whitted tracer's ray depth: --integrator path takes --max-bounces");
+    }
     check_outputs(options);
     options.image = image;
+    options.pfm = pfm;
+    options.variance_pfm = variance_pfm;
     options.zstd_level = zstd_level;
     options.archive = archive;
     options.discard_records = discard;
@@ -238,6 +265,7 @@ int RenderCommand::run() const {
     }
     const TraceJobResult result = run_trace_job(*source, options, progress);
     progress_line.clear();
+    for (const auto& note : result.notes) std::fprintf(stderr, "tracer render: note: %s\n", note.c_str());
     if (!quiet) {
       double build_seconds = 0;
       for (const auto& f : result.frames) build_seconds += f.tree.build_seconds;
@@ -251,7 +279,8 @@ int RenderCommand::run() const {
 
 int render_command(int argc, char** argv) {
   return cli::run_command<RenderCommand>("tracer render",
-                                        "Render a scene with a Whitted ray tracer over a SAH kd-tree or a BVH (--accel)\n"
+                                        "Render a scene with a Whitted ray tracer (or a path tracer: --integrator path)\n"
+                                        "over a SAH kd-tree or a BVH (--accel)\n"
                                         "and write every node fetch (address, node level) as a trace.", argc, argv);
 }
 

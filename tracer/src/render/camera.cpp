@@ -36,9 +36,11 @@ PinholeCamera::PinholeCamera(const Camera& camera, int width, int height)
   half_width_ = half_height_ * width_ / height_;
 }
 
-Ray PinholeCamera::primary_ray(int x, int y) const {
-  const float sx = ((float(x) + 0.5f) / width_ * 2.0f - 1.0f) * half_width_;
-  const float sy = (1.0f - (float(y) + 0.5f) / height_ * 2.0f) * half_height_;
+Ray PinholeCamera::primary_ray(int x, int y) const { return ray_through(float(x) + 0.5f, float(y) + 0.5f); }
+
+Ray PinholeCamera::ray_through(float px, float py) const {
+  const float sx = (px / width_ * 2.0f - 1.0f) * half_width_;
+  const float sy = (1.0f - py / height_ * 2.0f) * half_height_;
   return {eye_, normalize(forward_ + right_ * sx + up_ * sy)};
 }
 
