@@ -109,9 +109,9 @@ TEST(MergeRepeatedConfigurations, KeepsTheFirstOfEachInOrder) {
 }
 
 TEST(MergeRepeatedPoints, OneSetCacheOfNWaysIsTheFullyAssociativeOne) {
-  CurvePoint four_way{"t", Scheme::Single, 8, 4, 0, 32, 10, 5};
-  CurvePoint full{"t", Scheme::Single, 8, 0, 0, 32, 10, 5};
-  CurvePoint larger{"t", Scheme::Single, 8, 4, 0, 64, 10, 4};
+  CurvePoint four_way{"t", Scheme::Single, 8, 4, ReplacementPolicy::Lru, 0, 32, 10, 5};
+  CurvePoint full{"t", Scheme::Single, 8, 0, ReplacementPolicy::Lru, 0, 32, 10, 5};
+  CurvePoint larger{"t", Scheme::Single, 8, 4, ReplacementPolicy::Lru, 0, 64, 10, 4};
   std::vector<CurvePoint> points = {four_way, larger, full};
   ASSERT_TRUE(merge_repeated_points(points).has_value());
   ASSERT_EQ(points.size(), 2u);
