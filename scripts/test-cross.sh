@@ -84,14 +84,15 @@ if grep -qw fma /proc/cpuinfo && [ -n "$loader" ] &&
   exit 1
 fi
 
+root=$PWD
 run() {
   local variant=$1 program=$2
   shift 2
   case "$variant" in
-    native) build/bin/"$program" "$@" ;;
-    tunables) GLIBC_TUNABLES=$tunables build/bin/"$program" "$@" ;;
-    arm64) qemu-aarch64 -L / build-cross/arm64/bin/"$program" "$@" ;;
-    *) "${v3_runner[@]}" build-cross/"$variant"/bin/"$program" "$@" ;;
+    native) "$root"/build/bin/"$program" "$@" ;;
+    tunables) GLIBC_TUNABLES=$tunables "$root"/build/bin/"$program" "$@" ;;
+    arm64) qemu-aarch64 -L / "$root"/build-cross/arm64/bin/"$program" "$@" ;;
+    *) "${v3_runner[@]}" "$root"/build-cross/"$variant"/bin/"$program" "$@" ;;
   esac
 }
 
@@ -168,16 +169,19 @@ print(json.dumps(strip(json.load(sys.stdin)), indent=1, sort_keys=True))'
   done >"$work/$variant/info.json"
 }
 
-# cachesim and tracetool of VARIANT on the traces TRACES_FROM wrote.
+# cachesim and tracetool of VARIANT on the traces TRACES_FROM wrote, named
+# relative to their folder (the reports print the name).
 read_traces() {
   local variant=$1 traces_from=$2 into="$work/$1/read-$2"
   mkdir -p "$into"
-  run "$variant" cachesim run "$work/$traces_from/robot-0.din.zst" --size 4k,8k,16k --assoc 1,4 \
-    --scheme single,split --format csv >"$into/robot-0.csv"
-  run "$variant" cachesim run "$work/$traces_from/kitchen.din.zst" --size 8k --assoc 1,full \
-    --format csv >"$into/kitchen.csv"
-  run "$variant" tracetool verify "$work/$traces_from/robot-bvh2.xdin.zst" >"$into/verify.txt"
-  run "$variant" tracetool info "$work/$traces_from/layouts-veb.din.zst" >"$into/info.txt"
+  (
+    cd "$work/$traces_from"
+    run "$variant" cachesim run robot-0.din.zst --size 4k,8k,16k --assoc 1,4 --scheme single,split \
+      --format csv >"$into/robot-0.csv" 2>/dev/null
+    run "$variant" cachesim run kitchen.din.zst --size 8k --assoc 1,full --format csv >"$into/kitchen.csv"
+    run "$variant" tracetool verify robot-bvh2.xdin.zst >"$into/verify.txt"
+    run "$variant" tracetool info layouts-veb.din.zst >"$into/info.txt"
+  )
 }
 
 variants=(native arm64 gcc-v3 clang-v3 tunables)
