@@ -31,12 +31,22 @@
 # Dinero IV is $DINEROIV (a program), else dineroIV on PATH, else the one
 # scripts/build-dinero.sh builds from ../shared (built when it can be).
 #
+#   - replacement policies (issue 33) on the BART Kitchen trace: opt for one
+#     configuration against LRU (goal 2.5 x in CPU), --curve with opt against
+#     --curve with lru (goal 3 x), a grid of 4 policies x 3 sizes x 3 ways
+#     (goal 3 x) and the 36 LRU configurations (goal 2 x) against one LRU
+#     configuration; peak RSS of each
+#   - many ways (issue 34): 8k fully associative (1,024 ways) FIFO, LRU and
+#     random against `zstd -dc | cachesim dinero` with the same cache, on
+#     sphereflake 320x240 (48.6 M records; goal at most 1 x), and 4 ways
+#
 #   scripts/bench-cachesim.sh [--build-dir DIR] [--repeat N] [--trace FILE]
 #                             [--split-level K|auto] [--no-500m] [--one-only]
-#                             [--reading-only]
+#                             [--reading-only] [--policies-only]
 #
 # --one-only stops after the one-configuration and reading comparisons;
-# --reading-only runs the reading comparison alone.
+# --reading-only runs the reading comparison alone; --policies-only the
+# policies and many-ways comparisons alone.
 #
 # Without --trace it renders (once) DIR/bench/render75m.din.zst: the default
 # built-in scene at 400x300, depth 10, hybrid layout for a 4 KB high cache
@@ -55,6 +65,7 @@ split_level=auto
 big=1
 one_only=0
 reading_only=0
+policies_only=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --build-dir) build_dir=$2; shift 2 ;;
@@ -64,7 +75,8 @@ while [ $# -gt 0 ]; do
     --no-500m) big=0; shift ;;
     --one-only) one_only=1; shift ;;
     --reading-only) reading_only=1; shift ;;
-    -h|--help) sed -n '2,47p' "$0"; exit 0 ;;
+    --policies-only) policies_only=1; shift ;;
+    -h|--help) sed -n '2,57p' "$0"; exit 0 ;;
     *) echo "bench-cachesim.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -87,7 +99,7 @@ elif command -v dineroIV >/dev/null; then
 elif [ -f ../shared/dinero-iv/d4-7.tar.gz ]; then
   dinero=$(scripts/build-dinero.sh) || dinero=
 fi
-if [ -z "$trace" ] && [ "$reading_only" = 0 ]; then
+if [ -z "$trace" ] && [ "$reading_only" = 0 ] && [ "$policies_only" = 0 ]; then
   trace=$build_dir/bench/render75m.din.zst
   if [ ! -s "$trace" ]; then
     mkdir -p "$build_dir/bench"
@@ -172,8 +184,8 @@ compare_one_config() {
 }
 
 # Medians of paired runs, taken in turn, of commands given as "label|command"
-# (the first is the reference): CPU (user + sys) and wall of each, and each
-# one's median ratio to the reference over the rounds.
+# (the first is the reference): CPU (user + sys), wall and the largest peak
+# RSS of each, and each one's median ratio to the reference over the rounds.
 compare_reading_pairs() {
   local goal=$1; shift
   local dir i load0 load1
@@ -182,20 +194,55 @@ compare_reading_pairs() {
   for _ in $(seq "$repeat"); do
     for i in $(seq 0 $(($# - 1))); do
       local entry=${*:$((i + 1)):1}
-      wall_cpu_rss bash -c "${entry#*|}" | cut -d' ' -f1,2 >>"$dir/$i"
+      wall_cpu_rss bash -c "${entry#*|}" >>"$dir/$i"
     done
   done
   load1=$(cut -d' ' -f1 /proc/loadavg)
   echo "  load average before $load0, after $load1; medians of $repeat paired runs; goal $goal x in cpu"
   for i in $(seq 0 $(($# - 1))); do
     local entry=${*:$((i + 1)):1}
-    local wm cm rw rc
+    local wm cm rm rw rc
     wm=$(cut -d' ' -f1 "$dir/$i" | median) cm=$(cut -d' ' -f2 "$dir/$i" | median)
-    rw=$(paste -d' ' "$dir/$i" "$dir/0" | awk '{ printf "%.3f\n", $1 / $3 }' | median)
-    rc=$(paste -d' ' "$dir/$i" "$dir/0" | awk '{ printf "%.3f\n", $2 / $4 }' | median)
-    printf '    %-34s wall %6s s  cpu %6s s  ratio wall %5s x  cpu %5s x\n' "${entry%%|*}" "$wm" "$cm" "$rw" "$rc"
+    rm=$(cut -d' ' -f3 "$dir/$i" | sort -n | tail -1)
+    rw=$(paste -d' ' "$dir/$i" "$dir/0" | awk '{ printf "%.3f\n", $1 / $4 }' | median)
+    rc=$(paste -d' ' "$dir/$i" "$dir/0" | awk '{ printf "%.3f\n", $2 / $5 }' | median)
+    printf '    %-34s wall %6s s  cpu %6s s  ratio wall %5s x  cpu %5s x  peak RSS %7s KB\n' \
+      "${entry%%|*}" "$wm" "$cm" "$rw" "$rc" "$rm"
   done
   rm -rf "$dir"
+}
+
+# Issue 33's policies on one trace (BART Kitchen): opt, the curves and a grid
+# of policies against one LRU configuration, CPU ratios with peak RSS.
+compare_policies() {
+  local file=$1 one="--size 8k --block 8 --assoc 4 --scheme single --format csv"
+  echo "replacement policies (issue 33) on $file, CPU (user + sys), wall and peak RSS:"
+  echo "  opt, one configuration (8k, 4 ways):"
+  compare_reading_pairs 2.5 "lru 8k 4-way|'$cachesim' run '$file' $one" \
+    "opt 8k 4-way|'$cachesim' run '$file' $one --policy opt"
+  echo "  --curve, fully associative, every power-of-two size to 64 MB:"
+  compare_reading_pairs 3 "--curve lru|'$cachesim' run '$file' --curve --assoc full --policy lru --format csv" \
+    "--curve opt|'$cachesim' run '$file' --curve --assoc full --policy opt --format csv"
+  echo "  grids against one LRU configuration (goals: 4 policies x 3 sizes x 3 ways 3 x; 36 LRU 2 x):"
+  compare_reading_pairs 3 "lru 8k 4-way|'$cachesim' run '$file' $one" \
+    "lru,plru,srrip,drrip x 4k,8k,16k x 1,4,8|'$cachesim' run '$file' --size 4k,8k,16k --assoc 1,4,8 \
+      --policy lru,plru,srrip,drrip --format csv" \
+    "36 lru (1k..256k x 1,2,4,8)|'$cachesim' run '$file' --size 1k,2k,4k,8k,16k,32k,64k,128k,256k \
+      --assoc 1,2,4,8 --format csv"
+}
+
+# Issue 34's slow path: sets of many ways (8k fully associative: 1,024 ways)
+# against cachesim dinero asked the same question (goal: at most 1 x).
+compare_many_ways() {
+  local file=$1 policy letter
+  echo "many ways (issue 34) on $file: cachesim run against zstd -dc | cachesim dinero, same cache:"
+  for policy in fifo lru random; do
+    letter=${policy:0:1}
+    compare_reading_pairs 1 "cachesim dinero 8k full $policy|zstd -q -dc '$file' | '$cachesim' dinero -informat d \
+      -l1-dsize 8k -l1-dbsize 8 -l1-dassoc 1024 -l1-drepl $letter" \
+      "cachesim run 8k full $policy|'$cachesim' run '$file' --size 8k --assoc full --policy $policy --format csv" \
+      "cachesim run 8k 4-way $policy|'$cachesim' run '$file' --size 8k --assoc 4 --policy $policy --format csv"
+  done
 }
 
 # Issue 25's reading goals on one trace (a container): the container, its
@@ -221,7 +268,8 @@ compare_reading() {
 }
 
 kitchen_scene=../shared/scenes/bart/kitchen/kitchen.aff
-[ "$reading_only" = 1 ] || compare_one_config "$trace" "the trace"
+only=$((reading_only + policies_only))
+[ "$only" -gt 0 ] || compare_one_config "$trace" "the trace"
 if [ -r "$kitchen_scene" ]; then
   kitchen=$build_dir/bench/kitchen400.din.zst
   if [ ! -s "$kitchen" ]; then
@@ -229,12 +277,22 @@ if [ -r "$kitchen_scene" ]; then
     echo "making $kitchen (BART Kitchen, 400x300, high cache 4k) ..." >&2
     "$tracer" render "$kitchen_scene" --width 400 --height 300 --high-size 4k -q -o "$kitchen"
   fi
-  [ "$reading_only" = 1 ] || compare_one_config "$kitchen" "BART Kitchen"
-  compare_reading "$kitchen"
+  [ "$only" -gt 0 ] || compare_one_config "$kitchen" "BART Kitchen"
+  [ "$policies_only" = 1 ] || compare_reading "$kitchen"
+  [ "$reading_only" = 1 ] || compare_policies "$kitchen"
 else
   echo "no BART Kitchen scene at $kitchen_scene: the Kitchen comparisons are skipped"
 fi
-[ "$reading_only" = 1 ] && exit 0
+if [ "$reading_only" = 0 ]; then
+  sphereflake=$build_dir/bench/sphereflake320.din.zst
+  if [ ! -s "$sphereflake" ]; then
+    mkdir -p "$build_dir/bench"
+    echo "making $sphereflake (sphereflake, 320x240) ..." >&2
+    "$tracer" render sphereflake --width 320 --height 240 -q -o "$sphereflake"
+  fi
+  compare_many_ways "$sphereflake"
+fi
+[ "$only" -gt 0 ] && exit 0
 [ "$one_only" = 1 ] && exit 0
 
 one_config=(run "$trace" --size 8k --block 8 --assoc 1 --scheme single --format csv)

@@ -11,16 +11,21 @@
 # most 1.3x CPU) and the peak RSS at 1, 32 and 128; a row-sampled run (1/8)
 # against the full run (render + simulate, target at most 0.25x CPU); last,
 # primary rays per second against Embree where libembree-dev is installed (a
-# benchmark-only reference).
+# benchmark-only reference), and a path tracer's rays kind by kind against
+# Embree (rays/s per core of each kind). --path-only: a path-traced frame
+# (--spp 4) writing its trace against --discard-records (target at most
+# 2.0x CPU), and its rays per CPU second.
 #   scripts/bench-tracer.sh [--build-dir build] [--runs 3] [--width 400 --height 300]
 #                           [--max-depth 10] [--threads N] [--scenes "a b c"]
-#                           [--in-flight-only | --sampled-only]
+#                           [--in-flight-only | --sampled-only | --path-only]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 build_dir=build runs=3 width=400 height=300 max_depth=10 threads=0 scenes="" in_flight_only=0 sampled_only=0
+path_only=0
 while [ $# -gt 0 ]; do
   case "$1" in
+    --path-only) path_only=1; shift ;;
     --in-flight-only) in_flight_only=1; shift ;;
     --sampled-only) sampled_only=1; shift ;;
     --build-dir) build_dir="$2"; shift 2 ;;
@@ -30,7 +35,7 @@ while [ $# -gt 0 ]; do
     --max-depth) max_depth="$2"; shift 2 ;;
     --threads) threads="$2"; shift 2 ;;
     --scenes) scenes="$2"; shift 2 ;;
-    -h|--help) sed -n '2,17s/^# \{0,1\}//p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,22s/^# \{0,1\}//p' "$0"; exit 0 ;;
     *) echo "bench-tracer.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -128,6 +133,48 @@ sampled_run() {
   echo "ratios sampled / full (target: cpu_ratio <= 0.25)"
 }
 
+# A path-traced frame of each BART scene (--integrator path --spp 4, default
+# bounces) writing its trace against the same render with
+# --discard-records (every record made, none written): wall and CPU (user +
+# sys) of the whole command, medians of alternating runs; target: at most
+# 2.0x the CPU. Then the rays per CPU second (rays of every kind over the
+# --discard-records run's user + sys, scene loading and the tree build
+# included: a rate per core that a busy machine does not change), and the
+# rays of each kind.
+path_tracing() {
+  echo "path tracing, ${width}x${height} --spp 4, medians of $runs alternating run(s); load average $(cut -d' ' -f1 /proc/loadavg)"
+  printf '%-12s %10s %9s %11s %10s %10s %9s %12s\n' scene discard_wall discard_cpu traced_wall traced_cpu wall_ratio cpu_ratio Mrays_cpu_s
+  local bart scene kind run
+  for bart in robots/Robot.aff kitchen/kitchen.aff; do
+    scene="$shared/$bart"
+    [ -f "$scene" ] || continue
+    : > "$work/discard.all"
+    : > "$work/traced.all"
+    for ((run = 0; run < runs; run++)); do
+      for kind in discard traced; do
+        local out_args=(--discard-records)
+        [ "$kind" = traced ] && out_args=(-o "$work/path.din.zst")
+        /usr/bin/time -f '%e %U %S' -o "$work/t" "$tracer" render "$scene" --width "$width" --height "$height" \
+          --integrator path --spp 4 "${thread_args[@]}" "${out_args[@]}" 2> "$work/$kind.txt"
+        echo "$(cat "$work/t") $(sed -n 's/^  rays: .*; total \([0-9]*\)$/\1/p' "$work/$kind.txt")" \
+          >> "$work/$kind.all"
+      done
+    done
+    awk -v n="$(basename "$scene")" \
+        -v dw="$(column 1 < "$work/discard.all" | median)" -v dc="$(awk '{print $2 + $3}' "$work/discard.all" | median)" \
+        -v tw="$(column 1 < "$work/traced.all" | median)" -v tc="$(awk '{print $2 + $3}' "$work/traced.all" | median)" \
+        -v rays="$(column 4 < "$work/discard.all" | median)" 'BEGIN {
+      printf "%-12s %10.2f %9.2f %11.2f %10.2f %10.2f %9.2f %12.3f\n", n, dw, dc, tw, tc, tw / dw, tc / dc, rays / dc / 1e6 }'
+    sed -n 's/^  rays: /  rays of each kind: /p' "$work/discard.txt"
+  done
+  echo "discard: --discard-records; traced: -o T.din.zst; cpu = user + sys; ratios traced / discard (target: cpu_ratio"
+  echo "<= 2.0); Mrays_cpu_s: millions of rays of every kind per CPU second of the --discard-records run"
+}
+
+if [ "$path_only" = 1 ]; then
+  path_tracing
+  exit 0
+fi
 if [ "$in_flight_only" = 1 ]; then
   rays_in_flight
   exit 0
@@ -271,6 +318,7 @@ echo "ratios traced / render (target <= 2.0 in wall and CPU time)"
 
 rays_in_flight
 sampled_run
+path_tracing
 
 # Primary rays against Embree's rtcIntersect1 (a benchmark-only reference,
 # where libembree-dev is installed): the same rays and triangles, one thread
@@ -287,3 +335,12 @@ for bart in robots/Robot.aff kitchen/kitchen.aff; do
   "$build_dir/bin/primary_rays_bench" "$shared/$bart" --width "$width" --height "$height" --runs "$runs"
 done
 echo "ratio = kd-tree rays/s / Embree rays/s (target >= 0.6); same_first_hit: rays whose first hit is the same triangle"
+# A path tracer's rays (--integrator path --spp 1), kind by kind: rays/s per
+# core of each ray kind through our kd-tree, and against Embree (target for
+# the bounce rays: ratio >= 0.5).
+echo "a path tracer's rays (1 spp), ${width}x${height}, by kind, one thread each, medians of $runs run(s); load average $(cut -d' ' -f1 /proc/loadavg)"
+for bart in robots/Robot.aff kitchen/kitchen.aff; do
+  [ -f "$shared/$bart" ] || continue
+  "$build_dir/bin/primary_rays_bench" "$shared/$bart" --width "$width" --height "$height" --runs "$runs" --path 1
+done
+echo "shadow rays are any-hit queries (rtcOccluded1), the others closest-hit; kdtree_rays_per_s: rays/s per core of each kind"

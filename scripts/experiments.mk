@@ -152,6 +152,20 @@ INTERP_BEST ?= 8
 INTERP_FINAL_SCENES ?= robot kitchen forest
 INTERP_FINAL_WIDTH ?= $(WIDTH)
 INTERP_FINAL_HEIGHT ?= $(HEIGHT)
+# Replacement policies: the single cache under each of POLICY_SINGLE and the
+# split with each of POLICY_SPLIT in its low cache, Table 1's sizes at
+# POLICY_ASSOCS ways and POLICY_BLOCKS-byte blocks, for each structure of
+# POLICY_ACCELS, at POLICY_WIDTH x POLICY_HEIGHT (opt keeps 8 bytes a fetch
+# of each block size: Kitchen at 400x300, 76 M fetches, about 0.7 GB).
+POLICY_SCENES ?= robot kitchen
+POLICY_ACCELS ?= kdtree bvh2
+POLICY_SIZES ?= $(SIZES)
+POLICY_BLOCKS ?= 8 64
+POLICY_ASSOCS ?= 1 4 8
+POLICY_SINGLE ?= lru plru srrip drrip opt
+POLICY_SPLIT ?= lru drrip opt
+POLICY_WIDTH ?= 400
+POLICY_HEIGHT ?= 300
 # Rays in flight: traversal units of INFLIGHT_RAYS ray slots each, every
 # unit its own node caches of each size of SIZES (per unit), and a second
 # level shared by the units behind them. Pixels dealt to the units in 8x8
@@ -376,11 +390,12 @@ goals := $(or $(MAKECMDGOALS),$(.DEFAULT_GOAL))
 wanted = $(filter $1 all,$(goals))
 
 .PHONY: all table1 baselines assoc levels sensitivity calibration calibration-grid interpretations \
-  interpretations-grid frames sampling accel inflight clean FORCE
+  interpretations-grid frames sampling accel inflight policies workloads convergence clean FORCE
 .DELETE_ON_ERROR:
 
 # Every study; `all` makes them (a new study adds its target here and its section below).
-ALL_TARGETS := table1 baselines assoc levels sensitivity calibration interpretations frames sampling accel inflight
+ALL_TARGETS := table1 baselines assoc levels sensitivity calibration interpretations frames sampling accel inflight \
+  policies workloads convergence
 all: $(ALL_TARGETS)
 
 %/.dir:
@@ -629,9 +644,31 @@ inflight_lines := $(common_params) param;inflight_width=$(INFLIGHT_WIDTH) param;
 $(eval $(call study_rule,inflight))
 endif
 
+# --- policies: hardware replacement policies and the optimum beside the split --
+# One trace per scene, structure and size (hybrid layout sized for that
+# size's high cache, K = auto); per block size one run of the single cache
+# under every policy and one of the split (high cache retained) with each
+# low-cache policy: the opt configurations of a run share their kept fetches.
+policies_figures := policies.png
+ifneq ($(call wanted,policies),)
+pol_render = $(call render_options,$(POLICY_WIDTH),$(POLICY_HEIGHT),$(FRAME),$(kd_default))$(if $(filter \
+  kdtree,$1),, --accel $1) $(call hybrid_for,$2)
+pol_sim = $(call sim,policies,$(call trace,$1,$(call pol_render,$2,$3)),--size $3 --block $4 --assoc $(call \
+  join_commas,$(POLICY_ASSOCS)) $5)
+policies_lines := $(common_params) param;policy_width=$(POLICY_WIDTH) param;policy_height=$(POLICY_HEIGHT) \
+  $(foreach s,$(POLICY_SCENES),$(foreach a,$(POLICY_ACCELS),$(foreach z,$(POLICY_SIZES),$(foreach \
+  b,$(POLICY_BLOCKS),row;scene=$s;accel=$a;size=$z;block=$b;single=$(call pol_sim,$s,$a,$z,$b,--policy $(call \
+  join_commas,$(POLICY_SINGLE)) --scheme single);split=$(call pol_sim,$s,$a,$z,$b,--policy $(call \
+  join_commas,$(POLICY_SPLIT)) --scheme split --split-level auto)))))
+$(eval $(call study_rule,policies))
+endif
+
 # The renders this make runs (progress: which of them this one is): the
 # leaders of the groups with a trace missing, one render each.
 to_render := $(foreach g,$(all_groups),$(if $(filter-out $(wildcard $(group_files_$g)),$(group_files_$g)),$(group_leader_$g)))
+
+# The path-tracing studies (workloads, convergence).
+include $(MK_DIR)/path-tracing.mk
 
 clean:
 	rm -rf $(OUT)/traces $(addprefix $(OUT)/,$(ALL_TARGETS) calibration-grid interpretations-grid)

@@ -10,6 +10,8 @@
 #   scripts/fuzz.sh --target din ...  only the named targets (repeatable)
 # Prints executions and coverage (libFuzzer's cov/ft) per target; corpora grow
 # in build-fuzz/corpus/TARGET, findings land in build-fuzz/findings/.
+# --help: this comment, before anything else runs.
+if [ "${1:-}" = --help ] || [ "${1:-}" = -h ]; then sed -n '2,12s/^# \{0,1\}//p' "$0"; exit 0; fi
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

@@ -2,6 +2,8 @@
 # Installs the named Debian packages that are not installed yet (apt-get,
 # through sudo unless root). Used by setup.sh and fuzz.sh.
 #   scripts/install-packages.sh PACKAGE...
+# --help: this comment, before anything else runs.
+if [ "${1:-}" = --help ] || [ "${1:-}" = -h ]; then sed -n '2,4s/^# \{0,1\}//p' "$0"; exit 0; fi
 set -euo pipefail
 missing=()
 for package in "$@"; do

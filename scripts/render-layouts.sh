@@ -13,6 +13,8 @@
 # LAYOUT is a name tracer render gives {layout}: dfl, bfl, veb, treelet,
 # hybrid-kK or hybrid-SIZE. The traces of a group share their suffix
 # (.din.zst, .xdin.zst). Each file is written under a temporary name and renamed.
+# --help: this comment, before anything else runs.
+if [ "${1:-}" = --help ] || [ "${1:-}" = -h ]; then sed -n '2,16s/^# \{0,1\}//p' "$0"; exit 0; fi
 set -euo pipefail
 if [ $# -lt 4 ]; then
   echo "usage: render-layouts.sh LOCK TRACER SCENE [RENDER-OPTIONS...] -- MEMBER..." >&2

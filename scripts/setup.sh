@@ -2,6 +2,8 @@
 # Installs the Debian packages nodetrace needs (when missing), then configures
 # and builds into build/ (programs in build/bin/).
 #   scripts/setup.sh [--sanitize] [--build-dir DIR]
+# --help: this comment, before anything else runs.
+if [ "${1:-}" = --help ] || [ "${1:-}" = -h ]; then sed -n '2,4s/^# \{0,1\}//p' "$0"; exit 0; fi
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -15,9 +17,11 @@ while [ $# -gt 0 ]; do
   esac
 done
 
-# groff-base: the test that the manual pages render without warnings.
+# groff-base: the test that the manual pages render without warnings. librandom123-dev:
+# Philox, the path tracer's counter-based random numbers (header-only).
 packages=(cmake g++ make pkg-config zstd python3-matplotlib libzstd-dev libxxhash-dev libcli11-dev libfmt-dev
-          libtinyobjloader-dev nlohmann-json3-dev libpng-dev libgtest-dev libgmock-dev groff-base)
+          libtinyobjloader-dev nlohmann-json3-dev libpng-dev libgtest-dev libgmock-dev groff-base
+          librandom123-dev)
 scripts/install-packages.sh "${packages[@]}"
 
 # ccache, where installed, makes rebuilds cheap (also across clones: paths are

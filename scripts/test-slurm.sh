@@ -8,6 +8,8 @@
 #   scripts/test-slurm.sh [--build-dir DIR]
 # Exit: 0 pass, 1 mismatch or failure; skips (exit 0, saying why) only when
 # slurmd cannot run here, quoting its error.
+# --help: this comment, before anything else runs.
+if [ "${1:-}" = --help ] || [ "${1:-}" = -h ]; then sed -n '2,10s/^# \{0,1\}//p' "$0"; exit 0; fi
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

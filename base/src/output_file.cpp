@@ -173,6 +173,12 @@ unsigned remove_stale_temporaries(const std::string& target) {
   return removed;
 }
 
+void check_output_writable(const std::string& path) {
+  if (plan_output(path).method != OutputMethod::Replace) return;
+  OutputFile probe(path);
+  probe.abandon();
+}
+
 OutputFile::OutputFile(const std::string& path) : name_(path == "-" ? "<stdout>" : path), plan_(plan_output(path)) {
   switch (plan_.method) {
     case OutputMethod::StandardOutput: fd_ = STDOUT_FILENO; return;

@@ -6,6 +6,10 @@
 #include <cstring>
 #include <iostream>
 
+#include <unistd.h>
+
+#include "nodetrace/base/error.hpp"
+
 namespace nodetrace::base {
 
 namespace {
@@ -30,6 +34,12 @@ std::optional<std::string> flush_standard_output() {
   if (error == 0 && is_write_error(pending)) error = pending;
   const std::string reason = error != 0 ? std::strerror(error) : "an earlier write failed";
   return fmt::format("<stdout>: cannot write: {}", reason);
+}
+
+void refuse_binary_on_terminal(const std::string& path, const std::string& what) {
+  if (path == "-" && ::isatty(STDOUT_FILENO)) {
+    throw UsageError(fmt::format("refusing to write {} to a terminal; redirect standard output", what));
+  }
 }
 
 }  // namespace nodetrace::base

@@ -56,11 +56,19 @@ int run_subcommand(int argc, char** argv) {
     options.jobs = cli::check_thread_count(jobs, "--jobs", "processes");
     options.reader = tools::reader_options(line);
     const SweepOptions sweep = tools::sweep_options(line);
+    for (const ReplacementPolicy policy : sweep.policies) {
+      if (!dinero_has_policy(policy)) {
+        throw base::UsageError(fmt::format(
+            "--policy {}: Dinero IV has lru, fifo and random only; cachesim run simulates {}",
+            policy_name(policy), policy_name(policy)));
+      }
+    }
     options.dinero = wrap::find_dinero(dinero.empty() ? std::nullopt
                                                       : std::optional<std::string>(dinero));
-    const std::vector<Configuration> configs = expand_configurations(sweep);
+    std::vector<Configuration> configs = expand_configurations(sweep);
     std::vector<ResultRow> rows;
     std::vector<std::string> notes;
+    if (const std::optional<std::string> repeated = merge_repeated_configurations(configs)) notes.push_back(*repeated);
     for (const std::string& trace : line.traces) {
       TraceResult result = wrap::wrap_run(trace, configs, trace, sweep.per_level, options, sweep.per_animation_frame);
       rows.insert(rows.end(), result.rows.begin(), result.rows.end());

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <string_view>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "nodetrace/base/byte_size.hpp"
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/base/output_file.hpp"
+#include "nodetrace/cli/format_option.hpp"
 #include "nodetrace/cli/option_limits.hpp"
 #include "nodetrace/formats/read/trace_reader.hpp"
 
@@ -61,6 +63,23 @@ struct RunCommandLine {
   unsigned threads = 0;  // decoding threads; 0 = one per core
 };
 
+// --policy's description. `cachesim_run`: the policies Dinero IV does not have too.
+inline std::string policy_help(bool cachesim_run) {
+  if (!cachesim_run) {
+    return "Replacement: lru, fifo, random (list); random draws Dinero IV's sequence. The other policies "
+           "of cachesim run (plru, srrip, brrip, drrip, opt) are not Dinero IV's: not here";
+  }
+  return "Replacement (list): lru, fifo, random (Dinero IV's: random draws its sequence, glibc's random() "
+         "after srandom(1), one generator per cache); plru (tree pseudo-LRU, power-of-two ways); srrip "
+         "(2-bit RRIP: insert at 2, 0 on a hit, victim the first way at 3 after ageing the set); brrip (insert "
+         "at 3 but every 32nd insertion of the cache at 2: the 32nd, 64th, ...); drrip (set dueling, 10-bit "
+         "PSEL from 511: of S sets, min(32, S/2) runs of consecutive sets, each run's first set an srrip "
+         "leader and its last a brrip leader; other sets brrip while PSEL >= 512); opt (Belady's MIN: on a "
+         "miss in a full set the block whose next use is farthest, never used again counting as farthest, "
+         "is kept out, the incoming one included: it is then not placed; MIN within each set; the trace is "
+         "read once and its fetches kept, 8 bytes each). A miss fills the lowest invalid way first";
+}
+
 // `side_tables`: --per-level and --per-frame (cachesim run only: Dinero IV
 // reports totals, so dinero-wrap does not list options that cannot work).
 // `traces_positional`: false for a caller that gives the traces itself
@@ -80,7 +99,7 @@ inline void add_run_options(CLI::App& app, RunCommandLine& line, bool side_table
   app.add_option("--assoc", line.assocs, "Associativities: ways or 'full' (list)")
       ->delimiter(',')
       ->capture_default_str();
-  app.add_option("--policy", line.policies, "Replacement: lru, fifo, random (list)")
+  app.add_option("--policy", line.policies, policy_help(side_tables))
       ->delimiter(',')
       ->capture_default_str();
   app.add_option("--scheme", line.schemes, "single, split (list)")
@@ -125,9 +144,7 @@ inline void add_run_options(CLI::App& app, RunCommandLine& line, bool side_table
                    "carries it alone)")
         ->type_name("FILE");
   }
-  app.add_option("--format", line.format, "Report format")
-      ->check(CLI::IsMember({"table", "csv", "json"}))
-      ->capture_default_str();
+  cli::add_format_option(app, line.format, "csv: one table, json: {\"columns\": [...], \"rows\": [...]}");
   app.add_option("--informat", line.informat,
                  "Record form of plain traces: din, xdin or binary (default: detected)")
       ->check(CLI::IsMember({"din", "xdin", "binary"}));
@@ -174,7 +191,8 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
   }
   options.assocs.clear();
   for (const auto& text : line.assocs) options.assocs.push_back(parse_assoc(text));
-  options.policies = parse_list<ReplacementPolicy>(line.policies, "--policy", parse_policy_name, "lru, fifo, random");
+  options.policies =
+      parse_list<ReplacementPolicy>(line.policies, "--policy", parse_policy_name, kPolicyNames.data());
   options.schemes = parse_list<Scheme>(line.schemes, "--scheme", parse_scheme_name, "single, split");
   options.high_policies =
       parse_list<HighPolicy>(line.high_policies, "--high-policy", parse_high_policy_name, "retain, cache");
@@ -204,13 +222,15 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
     throw base::UsageError(
         "--per-level - and --per-frame -: one table per output; write at least one of them to a file");
   }
-  for (const std::string* file : {&line.per_level, &line.per_animation_frame}) {
+  for (const std::string* file : {&line.per_level, &line.per_animation_frame, &line.per_unit}) {
     if (file->empty() || *file == "-") continue;
     for (const std::string& trace : line.traces) {
       if (trace == *file) {
         throw base::UsageError(fmt::format("{}: named both as a trace and as a table to write", *file));
       }
     }
+    // Before the simulation, not after it.
+    base::check_output_writable(*file);
   }
   return options;
 }
@@ -247,6 +267,14 @@ inline void print_run_report(const RunReport& report) {
   std::fwrite(report.err.data(), 1, report.err.size(), stderr);
 }
 
+// The format of a side table's file: a name ending in .csv or .json says
+// it (README: --per-frame frames.csv), any other name and "-" take --format.
+inline ReportFormat table_file_format(const std::string& path, ReportFormat format) {
+  if (path.ends_with(".csv")) return ReportFormat::Csv;
+  if (path.ends_with(".json")) return ReportFormat::Json;
+  return format;
+}
+
 // Writes one table to `path` ("-": the report's own output), whole or not at all.
 inline void write_table(const std::string& path, const std::string& text, RunReport& report) {
   if (path == "-") {
@@ -267,11 +295,16 @@ inline RunReport run_report(const std::vector<ResultRow>& rows, const std::vecto
                             const std::vector<UnitRow>& unit_rows = {}) {
   RunReport report;
   const ReportFormat format = parse_report_format(line.format).value_or(ReportFormat::Table);
-  if (!line.per_level.empty()) write_table(line.per_level, format_level_rows(levels, format), report);
-  if (!line.per_animation_frame.empty()) {
-    write_table(line.per_animation_frame, format_animation_frame_rows(frames, format), report);
+  if (!line.per_level.empty()) {
+    write_table(line.per_level, format_level_rows(levels, table_file_format(line.per_level, format)), report);
   }
-  if (!line.per_unit.empty()) write_table(line.per_unit, format_unit_rows(unit_rows, format), report);
+  if (!line.per_animation_frame.empty()) {
+    write_table(line.per_animation_frame,
+                format_animation_frame_rows(frames, table_file_format(line.per_animation_frame, format)), report);
+  }
+  if (!line.per_unit.empty()) {
+    write_table(line.per_unit, format_unit_rows(unit_rows, table_file_format(line.per_unit, format)), report);
+  }
   if (line.per_level != "-" && line.per_animation_frame != "-" && line.per_unit != "-") {
     report.out += format_rows(rows, format);
   }

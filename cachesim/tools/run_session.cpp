@@ -30,17 +30,21 @@ void check_curve_options(const CLI::App& app) {
 }
 
 CurveOptions curve_options(const SweepOptions& options) {
-  if (options.policies.size() != 1 || options.split_levels.size() != 1) {
-    throw base::UsageError("--curve takes one --policy and one --split-level");
-  }
+  if (options.split_levels.size() != 1) throw base::UsageError("--curve takes one --split-level");
   CurveOptions curve;
   curve.blocks = options.blocks;
   curve.assocs = options.assocs;
   curve.schemes = options.schemes;
-  curve.policy = options.policies[0];
+  curve.policies = options.policies;
   curve.split_level = options.split_levels[0];
   curve.high_size = options.high_size;
   return curve;
+}
+
+// What of --units private and --l2-size was given, for the errors about them.
+std::string unit_options_given(const UnitSweepOptions& unit_options) {
+  if (unit_options.private_units && unit_options.l2) return "--units private and --l2-size";
+  return unit_options.private_units ? "--units private" : "--l2-size";
 }
 
 void add_sampling_options(CLI::App& app, SamplingCommandLine& line) {
@@ -127,6 +131,9 @@ void RunSession::prepare(const CLI::App& app) {
     return;
   }
   configs_ = expand_configurations(options_);
+  if (const std::optional<std::string> repeated = merge_repeated_configurations(configs_)) {
+    configuration_notes_.push_back(*repeated);
+  }
   if (!line_.per_unit.empty() && line_.units != "private") {
     throw base::UsageError("--per-unit: the rows of private caches need --units private");
   }
@@ -144,12 +151,16 @@ void RunSession::prepare(const CLI::App& app) {
   }
   if (unit_options_.private_units || unit_options_.l2) {
     if (options_.per_level || options_.per_animation_frame) {
-      throw base::UsageError("--units private and --l2-size: not with --per-level or --per-frame (--per-unit gives "
-                             "each unit's rows)");
+      const char* given = options_.per_level && options_.per_animation_frame ? "--per-level and --per-frame"
+                          : options_.per_level                             ? "--per-level"
+                                                                           : "--per-frame";
+      throw base::UsageError(fmt::format("{}: not with {} (its rows are totals over the units; --per-unit gives "
+                                         "each unit's rows)",
+                                         unit_options_given(unit_options_), given));
     }
     if (options_.fetch != FetchPolicy::Demand) {
-      throw base::UsageError(
-          fmt::format("--fetch {}: --units private and --l2-size simulate demand fetch only", line_.fetch));
+      throw base::UsageError(fmt::format("--fetch {}: {} simulates demand fetch only", line_.fetch,
+                                         unit_options_given(unit_options_)));
     }
   }
 }
@@ -166,8 +177,9 @@ RunMode RunSession::mode_for(const std::vector<const formats::TraceReader*>& rea
   const formats::TraceReader* sampled = row_sampled(readers);
   if (unit_options_.private_units || unit_options_.l2) {
     if (sampling_.sampling() || sampled) {
-      throw base::UsageError("--units private and --l2-size: not with sampling (--sample-windows, "
-                             "--sample-sets or a row-sampled trace)");
+      throw base::UsageError(fmt::format("{}: not with sampling (--sample-windows, --sample-sets or a row-sampled "
+                                         "trace)",
+                                         unit_options_given(unit_options_)));
     }
     return RunMode::UnitCaches;
   }
@@ -218,12 +230,15 @@ RunReport RunSession::report(RunMode mode, const std::vector<TraceOutcome>& outc
   if (mode == RunMode::Curve) {
     std::vector<CurvePoint> points;
     for (const auto& outcome : outcomes) append(points, outcome.curve);
-    return {format_curve(points, curve_options(options_).policy, format), {}};
+    const std::optional<std::string> repeated = merge_repeated_points(points);
+    RunReport report{format_curve(points, format), {}};
+    add_notes(report, repeated ? std::vector<std::string>{*repeated} : std::vector<std::string>{}, format);
+    return report;
   }
   if (mode == RunMode::Sampled) {
     std::vector<SampledRow> rows;
     std::vector<GainRow> gains;
-    std::vector<std::string> notes;
+    std::vector<std::string> notes = configuration_notes_;
     for (const auto& outcome : outcomes) {
       append(rows, outcome.sampled.rows);
       append(gains, outcome.sampled.gains);
@@ -237,7 +252,7 @@ RunReport RunSession::report(RunMode mode, const std::vector<TraceOutcome>& outc
   std::vector<LevelRow> levels;
   std::vector<AnimationFrameRow> frames;
   std::vector<UnitRow> unit_rows;
-  std::vector<std::string> notes;
+  std::vector<std::string> notes = configuration_notes_;
   for (const auto& outcome : outcomes) {
     append(rows, outcome.sweep.rows);
     append(levels, outcome.sweep.level_rows);

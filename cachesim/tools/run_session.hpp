@@ -74,6 +74,8 @@ class RunSession {
   SweepOptions options_;
   SamplingOptions sampling_;
   std::vector<Configuration> configs_;
+  // The note that repeated configurations were merged, first of the report's.
+  std::vector<std::string> configuration_notes_;
   UnitSweepOptions unit_options_;
 };
 

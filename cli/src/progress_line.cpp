@@ -36,7 +36,13 @@ std::string progress_text(std::string_view what, std::uint64_t done, std::option
   if (elapsed_seconds <= 0 || done == 0) return text;
   const double rate = static_cast<double>(done) / elapsed_seconds;
   text += fmt::format(", {} {}/s", count_text(rate), unit);
-  if (total && *total > done) text += fmt::format(", {} left", duration_text(static_cast<double>(*total - done) / rate));
+  // An estimate from the first moments (a tree still building, caches
+  // cold) is mostly noise: none until enough work has been timed.
+  const bool enough = elapsed_seconds >= kMinEstimateSeconds &&
+                      static_cast<double>(done) >= kMinEstimateFraction * static_cast<double>(total.value_or(0));
+  if (total && *total > done && enough) {
+    text += fmt::format(", {} left", duration_text(static_cast<double>(*total - done) / rate));
+  }
   return text;
 }
 

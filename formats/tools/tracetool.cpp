@@ -13,14 +13,20 @@
 
 #include "nodetrace/cli/archive_option.hpp"
 #include "nodetrace/cli/command_line.hpp"
+#include "nodetrace/cli/csv_text.hpp"
+#include "nodetrace/cli/format_option.hpp"
 #include "nodetrace/cli/exit_status.hpp"
 #include "nodetrace/cli/subcommand_dispatch.hpp"
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/cli/option_limits.hpp"
+#include "nodetrace/cli/progress_line.hpp"
+#include "nodetrace/cli/zstd_level_option.hpp"
 #include "nodetrace/formats/read/trace_reader.hpp"
 #include "nodetrace/formats/record/record_summary.hpp"
 #include "nodetrace/base/standard_output.hpp"
 #include "nodetrace/formats/record/tag_filter.hpp"
+#include "nodetrace/formats/write/conversion_losses.hpp"
+#include "nodetrace/formats/write/trace_output.hpp"
 #include "nodetrace/formats/write/trace_writer.hpp"
 
 namespace base = nodetrace::base;
@@ -44,6 +50,14 @@ std::optional<formats::RecordForm> form_option(const std::string& name) {
   return formats::parse_form_name(name);
 }
 
+// docs/ARCHITECTURE.md: a trace without animation-frame markers is one
+// animation frame (info and verify count alike).
+std::uint64_t animation_frame_count(std::uint64_t markers) { return std::max<std::uint64_t>(markers, 1); }
+
+void print_warnings(const formats::ConversionLosses& losses) {
+  for (const std::string& warning : losses.warnings()) fmt::print(stderr, "tracetool: warning: {}\n", warning);
+}
+
 // A conversion keeps only the fields it read: say how many records lost
 // others (docs/ARCHITECTURE.md: simulation ignores them, a conversion says so).
 void warn_of_dropped_fields(const formats::TraceReader& reader) {
@@ -54,33 +68,6 @@ void warn_of_dropped_fields(const formats::TraceReader& reader) {
              "pass --tags-are-levels to keep a tag field of node levels\n",
              reader.source_name(), dropped, dropped == 1 ? "" : "s",
              reader.form() == formats::RecordForm::ExtendedDin ? "size" : "address");
-}
-
-// RFC 4180: a field with a comma, quote or line break is quoted, quotes doubled.
-std::string csv_field(const std::string& text) {
-  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
-  std::string quoted = "\"";
-  for (const char c : text) {
-    if (c == '"') quoted += '"';
-    quoted += c;
-  }
-  return quoted + '"';
-}
-
-// A JSON pointer ("/header/layout/node_size") as dotted keys
-// ("header.layout.node_size"), its escapes (~1 for /, ~0 for ~) undone.
-std::string dotted(const std::string& pointer) {
-  std::string out;
-  for (std::size_t i = 1; i < pointer.size(); ++i) {
-    if (pointer[i] == '/') {
-      out += '.';
-    } else if (pointer[i] == '~' && i + 1 < pointer.size()) {
-      out += pointer[++i] == '1' ? '/' : '~';
-    } else {
-      out += pointer[i];
-    }
-  }
-  return out;
 }
 
 int run_info(const std::string& path, const std::string& format, bool tags_are_levels, const std::string& form) {
@@ -108,7 +95,7 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
     info["records"] = trailer->totals["records"];
     info["records_per_tag"] = trailer->totals.value("records_per_tag", nlohmann::json::object());
     info["records_per_type"] = trailer->totals.value("records_per_type", nlohmann::json::object());
-    info["animation_frames"] = trailer->totals.value("animation_frames", 0);
+    info["animation_frames"] = animation_frame_count(trailer->totals.value("animation_frames", std::uint64_t{0}));
     info["data_frames"] = trailer->index.size();
     info["decompressed_bytes"] = trailer->totals["record_bytes"];
     info["totals"] = trailer->totals;
@@ -123,7 +110,7 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
     info["records"] = summary.records();
     info["records_per_tag"] = summary.records_per_tag();
     info["records_per_type"] = summary.records_per_type();
-    info["animation_frames"] = animation_frames;
+    info["animation_frames"] = animation_frame_count(animation_frames);
     info["data_frames"] = reader->trailer() ? reader->trailer()->index.size() : 0;
     info["decompressed_bytes"] = reader->record_bytes();
     if (reader->trailer()) info["totals"] = reader->trailer()->totals;
@@ -140,14 +127,7 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
     return 0;
   }
   if (format == "csv") {
-    // One tidy table: a row per fact, nested keys joined with dots, values as
-    // in JSON except that text is unquoted.
-    fmt::print("field,value\n");
-    const nlohmann::json flat = info.flatten();
-    for (const auto& [field, value] : flat.items()) {
-      const std::string text = value.is_string() ? value.get<std::string>() : value.dump();
-      fmt::print("{},{}\n", csv_field(dotted(field)), csv_field(text));
-    }
+    fmt::print("{}", cli::field_value_csv(info));
     return 0;
   }
   const auto row = [](std::string_view key, const std::string& value) { fmt::print("{:<20} {}\n", key, value); };
@@ -181,8 +161,8 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
   return 0;
 }
 
-int run_cat(const std::string& path, const std::string& tags, const std::string& to, std::optional<unsigned> unit,
-            bool tags_are_levels, const std::string& form) {
+int run_cat(const std::string& path, const std::string& tags, const std::string& records_form,
+            std::optional<unsigned> unit, bool tags_are_levels, const std::string& form) {
   auto reader = formats::TraceReader::open(path, reader_options(tags_are_levels, form_option(form)));
   if (unit && *unit >= reader->units()) {
     throw base::UsageError(
@@ -203,8 +183,10 @@ int run_cat(const std::string& path, const std::string& tags, const std::string&
     }
   }
   formats::WriterOptions options;
-  options.form = to.empty() ? reader->form() : *formats::parse_form_name(to);
+  options.form = formats::choose_output_form("-", form_option(records_form), reader->form());
   options.kind = formats::OutputKind::Plain;
+  if (options.form == formats::RecordForm::Binary) base::refuse_binary_on_terminal("-", "binary records");
+  formats::ConversionLosses losses(*reader, options.form, false);
   options.threads = 1;
   // All units keep their field (the text zstdcat shows); one unit's records
   // are a trace of one unit, without it.
@@ -222,6 +204,7 @@ int run_cat(const std::string& path, const std::string& tags, const std::string&
   std::vector<Record> kept;
   while (reader->next(batch)) {
     if (!filter && !node_size && !unit) {
+      losses.count(batch.records);
       writer->write(batch.records);
       continue;
     }
@@ -232,10 +215,12 @@ int run_cat(const std::string& path, const std::string& tags, const std::string&
       if (node_size && formats::is_level(record.tag)) record.size = *node_size;
       kept.push_back(record);
     }
+    losses.count(kept);
     writer->write(kept);
   }
   writer->finish();
   warn_of_dropped_fields(*reader);
+  print_warnings(losses);
   return 0;
 }
 
@@ -247,8 +232,7 @@ int run_verify(const std::string& path, bool tags_are_levels, const std::string&
     records += batch.records.size();
     if (batch.marker) ++markers;
   }
-  // docs/ARCHITECTURE.md: a trace without animation-frame markers is one animation frame.
-  const std::uint64_t animation_frames = std::max<std::uint64_t>(markers, 1);
+  const std::uint64_t animation_frames = animation_frame_count(markers);
   if (reader->input_kind() == "container") {
     const std::uint64_t data_frames = reader->trailer() ? reader->trailer()->index.size() : 0;
     fmt::print("OK: {} records, {} animation frame{}, {} data frame{}\n", records, animation_frames,
@@ -265,7 +249,7 @@ int run_verify(const std::string& path, bool tags_are_levels, const std::string&
 }
 
 struct ConvertOptions {
-  std::string to;
+  std::string records;
   std::string form;
   int zstd_level = 3;
   unsigned threads = 0;
@@ -280,7 +264,11 @@ int run_convert(const std::string& in, const std::string& out, const ConvertOpti
   auto reader =
       formats::TraceReader::open(in, reader_options(convert.tags_are_levels, form_option(convert.form), convert.threads));
   formats::WriterOptions options;
-  options.form = convert.to.empty() ? reader->form() : *formats::parse_form_name(convert.to);
+  const formats::TraceOutput output = formats::decide_trace_output(
+      out, formats::OutputKind::Auto,
+      formats::choose_output_form(out, form_option(convert.records), reader->form()));
+  options.form = output.form;
+  base::refuse_binary_on_terminal(out, output.container ? "a trace" : "binary records");
   options.zstd_level = convert.zstd_level;
   options.threads = convert.threads;
   options.records_per_data_frame = convert.frame_records;
@@ -292,11 +280,21 @@ int run_convert(const std::string& in, const std::string& out, const ConvertOpti
   nlohmann::json header = reader->header().json;
   for (const char* key : {"container", "records", "tag", "trailer"}) header.erase(key);
   auto writer = formats::TraceWriter::create(out, header, options);
+  formats::ConversionLosses losses(*reader, options.form, output.container);
+  cli::ProgressLine progress_line;
+  const std::optional<std::uint64_t> total =
+      reader->trailer() && reader->trailer()->totals.contains("records")
+          ? std::optional<std::uint64_t>(reader->trailer()->totals["records"].get<std::uint64_t>())
+          : std::nullopt;
+  std::uint64_t records = 0;
   formats::RecordBatch batch;
   while (reader->next(batch)) {
     if (batch.marker) writer->begin_animation_frame(*batch.marker);
     if (batch.window) writer->begin_window(*batch.window);
+    losses.count(batch);
     writer->write(batch.records);
+    records += batch.records.size();
+    if (progress_line.shown()) progress_line.update_count("converting " + reader->source_name(), records, total, "records");
   }
   if (reader->trailer()) {
     nlohmann::json totals = reader->trailer()->totals;
@@ -306,7 +304,9 @@ int run_convert(const std::string& in, const std::string& out, const ConvertOpti
     if (options.form == reader->form()) writer->add_totals(totals);
   }
   writer->finish();
+  progress_line.clear();
   warn_of_dropped_fields(*reader);
+  print_warnings(losses);
   return 0;
 }
 
@@ -326,6 +326,22 @@ constexpr const char* kUsage =
 
 const std::vector<std::string> kForms = {"din", "xdin", "binary"};
 
+// The record form of plain input: --informat, as in cachesim and Dinero IV.
+void add_informat_option(CLI::App& app, std::string& form) {
+  app.add_option("--informat", form,
+                 "Record form of plain input: din, xdin or binary (default: detected; binary from a .bin or "
+                 ".bin.zst name)")
+      ->check(CLI::IsMember(kForms));
+}
+
+// The record form of the output: --records, as in tracer render (--to is the
+// old name, kept as an alias).
+void add_records_option(CLI::App& app, std::string& form, const char* unnamed) {
+  app.add_option("--records,--to", form,
+                 fmt::format("Output record form: din, xdin or binary (default: {}); --to is an alias", unnamed))
+      ->check(CLI::IsMember(kForms));
+}
+
 // The options every subcommand reads a trace with.
 struct InputOptions {
   std::string form;
@@ -333,8 +349,7 @@ struct InputOptions {
 
   void add_to(CLI::App& app) {
     app.add_flag("--tags-are-levels", tags_are_levels, "Read a plain trace's tag field as node levels");
-    app.add_option("--informat,--form", form, "Record form of plain input (binary is never guessed); --form is an alias")
-        ->check(CLI::IsMember(kForms));
+    add_informat_option(app, form);
   }
 };
 
@@ -343,8 +358,7 @@ struct InfoCommand {
   InputOptions input;
   void add_options(CLI::App& app) {
     app.add_option("FILE", path, "Trace file, or - for standard input")->required();
-    app.add_option("--format", format, "Output: table, json (one object) or csv (one table: field,value)")
-        ->check(CLI::IsMember({"table", "json", "csv"}));
+    cli::add_format_option(app, format, "json: one object, csv: one table field,value");
     input.add_to(app);
   }
   int run() const {
@@ -353,7 +367,7 @@ struct InfoCommand {
 };
 
 struct CatCommand {
-  std::string path, tags, to;
+  std::string path, tags, records_form;
   std::optional<unsigned> unit;
   InputOptions input;
   void add_options(CLI::App& app) {
@@ -362,11 +376,11 @@ struct CatCommand {
     app.add_option("--unit", unit,
                    "Keep the records of this traversal unit (0-based; a trace whose header says \"units\"), "
                    "written without the unit field");
-    app.add_option("--to", to, "Output record form (default: the input's)")->check(CLI::IsMember(kForms));
+    add_records_option(app, records_form, "the input's");
     input.add_to(app);
   }
   int run() const {
-    return cli::exit_status_of("tracetool cat", [&] { return run_cat(path, tags, to, unit, input.tags_are_levels, input.form); });
+    return cli::exit_status_of("tracetool cat", [&] { return run_cat(path, tags, records_form, unit, input.tags_are_levels, input.form); });
   }
 };
 
@@ -388,8 +402,9 @@ struct ConvertCommand {
   void add_options(CLI::App& app) {
     app.add_option("IN", in, "Input trace, or - for standard input")->required();
     app.add_option("OUT", out, "Output: *.zst or - for a container, any other name for plain records")->required();
-    auto* level = app.add_option("--zstd-level", options.zstd_level, "zstd compression level")->check(CLI::Range(-7, 22));
-    app.add_option("--to", options.to, "Output record form (default: the input's)")->check(CLI::IsMember(kForms));
+    auto* level = cli::add_zstd_level_option(app, options.zstd_level);
+    add_records_option(app, options.records, "what OUT's name says (.din, .xdin, .bin, each with or without .zst), "
+                       "else the input's");
     app.add_flag("--tags-are-levels", options.tags_are_levels, "The input's tag field holds node levels");
     app.add_option("--threads", options.threads, "Compression and decoding threads (0: one per core; at most 16 per core)");
     // At most 2^24 records per data frame: each compressing thread buffers a
@@ -399,8 +414,7 @@ struct ConvertCommand {
             ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 24));
     cli::add_archive_flag(app, options.archive, level, frame_records);
     app.add_flag("--address16", options.address16, "Write 16 hex address digits instead of 8");
-    app.add_option("--informat,--form", options.form, "Record form of plain input (binary is never guessed); --form is an alias")
-        ->check(CLI::IsMember(kForms));
+    add_informat_option(app, options.form);
   }
   int run() const {
     return cli::exit_status_of("tracetool convert", [&] { return run_convert(in, out, options); });

@@ -24,5 +24,15 @@ TEST(ProgressText, NoRateBeforeTimePasses) {
   EXPECT_EQ(progress_text("t", 100, 100, "records", 1.0), "t: 100 of 100 records (100%), 100 records/s");
 }
 
+// tracer's first estimate said "1:04 min left" for a 2-second render: the
+// time left waits for a second and 5% of the work (issue 34 item 18).
+TEST(ProgressText, NoTimeLeftBeforeEnoughWorkIsTimed) {
+  EXPECT_EQ(progress_text("r", 600, 30'000, "pixels", 0.5), "r: 600 of 30000 pixels (2%), 1200 pixels/s");
+  EXPECT_EQ(progress_text("r", 600, 30'000, "pixels", 3.0), "r: 600 of 30000 pixels (2%), 200 pixels/s");
+  EXPECT_EQ(progress_text("r", 6'000, 30'000, "pixels", 0.5), "r: 6000 of 30000 pixels (20%), 12000 pixels/s");
+  EXPECT_EQ(progress_text("r", 1'500, 30'000, "pixels", 1.0),
+            "r: 1500 of 30000 pixels (5%), 1500 pixels/s, 19 s left");
+}
+
 }  // namespace
 }  // namespace nodetrace::cli

@@ -104,6 +104,22 @@ TEST(InRenderSimulation, BvhRecordsAsExtendedDinAndOtherStreams) {
                                 {"b.xdin.zst"}, "--size 4k --block 32,64 --assoc 2");
 }
 
+TEST(InRenderSimulation, PathTracedRenderWithRaysInFlight) {
+  expect_report_as_cachesim_run(tracer() + kRender + " --integrator path --spp 2 --rays-in-flight 8 --layout "
+                                                     "hybrid,dfl --high-size 1k",
+                                "p-{layout}.din.zst", {"p-hybrid-1k.din.zst", "p-dfl.din.zst"},
+                                "--size 2k,4k --assoc 1,4 --scheme single,split --per-level levels.csv",
+                                {"levels.csv"});
+}
+
+TEST(InRenderSimulation, HardwarePoliciesAndTheOptimum) {
+  expect_report_as_cachesim_run(tracer() + kRender + " --high-size 1k", "o.din.zst", {"o.din.zst"},
+                                "--size 2k,4k --assoc 4 --policy lru,plru,srrip,brrip,drrip,opt --scheme "
+                                "single,split --format csv");
+  expect_report_as_cachesim_run(tracer() + kRender + " --high-size 1k", "q.din.zst", {"q.din.zst"},
+                                "--curve --policy lru,opt --assoc 1,full --format csv");
+}
+
 TEST(InRenderSimulation, WithoutATraceTheReportNamesEachLayout) {
   TempDir dir;
   const auto rendered = run_command(tracer() + kRender + " -q --layout dfl,hybrid --high-size 1k "

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <iterator>
+#include <map>
 #include <ostream>
 #include <regex>
 #include <sstream>
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "nodetrace/formats/read/trace_reader.hpp"
+#include "help_text.hpp"
 #include "test_support.hpp"
 
 namespace nodetrace::testing {
@@ -38,73 +40,6 @@ const std::vector<ManualPage> kPages = {{"tracer", "tracer/man/tracer.1"},
 void PrintTo(const ManualPage& page, std::ostream* out) { *out << page.program; }
 
 fs::path source_path(const std::string& relative) { return fs::path(NODETRACE_SOURCE_DIR) / relative; }
-
-void add_unique(std::vector<std::string>& list, const std::string& item) {
-  if (std::find(list.begin(), list.end(), item) == list.end()) list.push_back(item);
-}
-
-// Options named in a help text: a word of one or two dashes and a letter
-// (`--size`, `-o`, Dinero IV's `-lN-Tsize`), after a blank, comma, bracket
-// or parenthesis. `-` alone and negative numbers are no options.
-std::vector<std::string> options_in(const std::string& text) {
-  static const std::regex option(R"((^|[\s,\[(])(--?[A-Za-z][A-Za-z0-9-]*))");
-  std::vector<std::string> found;
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), option); it != std::sregex_iterator(); ++it) {
-    add_unique(found, (*it)[2]);
-  }
-  return found;
-}
-
-// A help text's options: `listed`, those of its option column (a line that
-// begins, after blanks, with a dash: the part before the description, which
-// stands two or more blanks further on), and `mentioned`, the others it names
-// (in descriptions, usage lines and examples).
-struct HelpOptions {
-  std::vector<std::string> listed, mentioned;
-};
-
-HelpOptions options_in_help(const std::string& help) {
-  HelpOptions options;
-  std::istringstream lines(help);
-  std::string line;
-  while (std::getline(lines, line)) {
-    const std::size_t start = line.find_first_not_of(' ');
-    if (start == std::string::npos) continue;
-    const std::size_t column_end = line[start] == '-' ? std::min(line.find("  ", start), line.size()) : start;
-    for (const auto& name : options_in(line.substr(start, column_end - start))) add_unique(options.listed, name);
-  }
-  for (const auto& name : options_in(help)) {
-    if (std::find(options.listed.begin(), options.listed.end(), name) == options.listed.end()) {
-      options.mentioned.push_back(name);
-    }
-  }
-  return options;
-}
-
-// Subcommands a program's --help lists: usage lines `  PROGRAM NAME ...`
-// (tracer, cachesim, dinero-wrap), or the lines under CLI11's `Subcommands:`
-// (tracetool).
-std::vector<std::string> subcommands_in_help(const std::string& program, const std::string& help) {
-  std::vector<std::string> found;
-  const std::regex usage_line("^\\s+" + program + " ([a-z][a-z0-9-]*)");
-  const std::regex listed_line(R"(^\s+([a-z][a-z0-9-]*)\s)");
-  std::istringstream lines(help);
-  std::string line;
-  bool in_subcommands = false;
-  while (std::getline(lines, line)) {
-    std::smatch match;
-    if (line == "Subcommands:") {
-      in_subcommands = true;
-    } else if (std::regex_search(line, match, usage_line)) {
-      add_unique(found, match[1]);
-    } else if (in_subcommands && std::regex_search(line, match, listed_line)) {
-      add_unique(found, match[1]);
-    } else if (line.empty()) {
-      in_subcommands = false;
-    }
-  }
-  return found;
-}
 
 // What a reader sees of one line of the man(7) subset the pages use.
 std::string resolve_escapes(const std::string& roff) {
@@ -271,6 +206,37 @@ TEST_P(ManualPageTest, DocumentsEveryOptionOfEveryHelpUnderItsSubcommandsHeading
   }
 }
 
+// The other way round: every option a subcommand's section documents in a
+// .TP paragraph is one its --help lists, so a page cannot document options
+// the program refuses (the check above missed `dinero-wrap run --per-level`).
+TEST_P(ManualPageTest, DocumentsNoOptionItsSubcommandsHelpDoesNotList) {
+  const ManualPage& page = GetParam();
+  const std::vector<Section> sections = page_sections(page_source(page));
+  const std::string top_help = help_of(shell_quoted(program(page.program)));
+  const std::vector<std::string> subcommands = subcommands_in_help(page.program, top_help);
+  std::map<std::string, std::string> helps;
+  for (const std::string& subcommand : subcommands) {
+    helps[subcommand] = help_of(shell_quoted(program(page.program)) + " " + subcommand);
+  }
+  for (const Section& section : sections) {
+    // What the subcommands the heading names (`render, info`: both) say.
+    std::string named, said;
+    for (const std::string& subcommand : subcommands) {
+      if (!has_word(section.heading, subcommand)) continue;
+      named += (named.empty() ? "`" : ", `") + page.program + " " + subcommand + " --help`";
+      said += helps[subcommand];
+    }
+    if (named.empty()) continue;
+    const HelpOptions help = options_in_help(said);
+    for (const std::string& option : options_in(section.entries)) {
+      const bool in_help = std::find(help.listed.begin(), help.listed.end(), option) != help.listed.end() ||
+                           std::find(help.mentioned.begin(), help.mentioned.end(), option) != help.mentioned.end();
+      EXPECT_TRUE(in_help) << page.page << " documents " << option << " under \"" << section.heading
+                           << "\", but " << named << " does not name it";
+    }
+  }
+}
+
 TEST_P(ManualPageTest, HasTheSectionsOfAManualPage) {
   const ManualPage& page = GetParam();
   const std::vector<Section> sections = page_sections(page_source(page));
@@ -303,6 +269,27 @@ TEST_P(ManualPageTest, RendersWithoutGroffWarnings) {
       run_command("groff -ww -man -Tutf8 " + shell_quoted(source_path(page.page)) + " >/dev/null");
   EXPECT_EQ(result.exit_code, 0) << page.page << ": " << result.err;
   EXPECT_EQ(result.err, "") << page.page << ": groff -ww -man warns";
+}
+
+// A request line's arguments lose their double quotes to roff: the JSON
+// shape `{"columns": ..., "rows": ...}` must reach the reader with them.
+TEST_P(ManualPageTest, JsonShapeKeepsItsQuotes) {
+  if (run_command("command -v groff").exit_code != 0) GTEST_SKIP() << "groff is not installed";
+  const ManualPage& page = GetParam();
+  if (page_source(page).find("columns") == std::string::npos) GTEST_SKIP() << page.page << " shows no JSON shape";
+  const auto rendered =
+      run_command("groff -man -Tutf8 " + shell_quoted(source_path(page.page)) + " 2>/dev/null | sed 's/.\\x08//g'");
+  std::string text;
+  for (const char c : rendered.out) {
+    if (c == '\n') {
+      text += ' ';
+    } else if (c != ' ' || (!text.empty() && text.back() != ' ')) {
+      text += c;  // blanks squeezed: justification and line breaks do not matter
+    }
+  }
+  if (text.find("columns\": [...],") == std::string::npos) return;  // no JSON shape shown
+  EXPECT_NE(text.find("{\"columns\": [...], \"rows\": [...]}"), std::string::npos)
+      << page.page << " does not show the JSON shape with its quotes";
 }
 
 // The version a trace's header records as producer.version, from a small render.

@@ -140,9 +140,9 @@ const HostileCase kCases[] = {
   {"VerifyEmptyZst", ": > empty.din.zst; $B/tracetool verify empty.din.zst", 1, "tracetool verify: empty.din.zst: 0 bytes: not a zstd stream"},
   {"CachesimFormatXml", "$B/cachesim run t.din --format xml", 2, "cachesim run: --format: xml not in {table,csv,json}"},
   {"CachesimNoTraces", "$B/cachesim run", 2, "cachesim run: traces is required"},
-  {"CachesimPolicyLfu", "$B/cachesim run t.din --policy lfu", 2, "cachesim run: --policy: 'lfu' is not one of lru, fifo, random"},
+  {"CachesimPolicyLfu", "$B/cachesim run t.din --policy lfu", 2, "cachesim run: --policy: 'lfu' is not one of lru, fifo, random, plru, srrip, brrip, drrip, opt"},
   {"CachesimSchemeBad", "$B/cachesim run t.din --scheme both", 2, "cachesim run: --scheme: 'both' is not one of single, split"},
-  {"TracetoolInfoFormatXml", "$B/tracetool info t.din --format xml", 2, "tracetool info: --format: xml not in {table,json,csv}"},
+  {"TracetoolInfoFormatXml", "$B/tracetool info t.din --format xml", 2, "tracetool info: --format: xml not in {table,csv,json}"},
   // Threads.
   {"TracerThreads", "$B/tracer render ok.obj --width 4 --height 3 --threads 100000", 2, "tracer render: --threads 100000: at most"},
   {"ConvertThreads", "$B/tracetool convert t.din out.din.zst --tags-are-levels --threads 100000", 2, "tracetool convert: --threads 100000: at most"},
@@ -177,9 +177,10 @@ const HostileCase kCases[] = {
   {"VerifyNamesBinaryInput", "$B/tracetool convert t.din t.bin --to binary --tags-are-levels && "
       "$B/tracetool verify t.bin --informat binary", 0, "", "OK: 15000 records, 1 animation frame (a plain Dinero binary trace"},
   // Option names and scripts.
-  // --informat everywhere (Dinero IV's own -informat); tracetool's --form stays as an alias.
+  // --informat everywhere (Dinero IV's own -informat) for the input's form, --records for the output's;
+  // tracetool's --form, an input alias easily read as the output's, is gone (one name each).
   {"TracetoolInformat", "$B/tracetool info t.din --informat xdin", 1, "tracetool info: t.din: record 1: unknown access type '0'"},
-  {"TracetoolFormAlias", "$B/tracetool info t.din --form xdin", 1, "tracetool info: t.din: record 1: unknown access type '0'"},
+  {"TracetoolFormIsGone", "$B/tracetool info t.din --form xdin", 2, "tracetool info: The following arguments were not expected: xdin --form"},
   {"CachesimInformat", "$B/cachesim run t.din --informat xdin", 1, "cachesim run: t.din: record 1: unknown access type '0'"},
   {"TestScriptHelp", "$SRC/scripts/test.sh --help", 0, ""},
 };

@@ -304,6 +304,53 @@ TEST_F(ExperimentsMakeTest, AccelTargetCoversEveryStructureLayoutAndConfiguratio
   }
 }
 
+TEST_F(ExperimentsMakeTest, WorkloadsTargetCoversEveryIntegratorStructureRaysInFlightAndCache) {
+  const auto out = dir_ / "workloads";
+  const std::string options = "workloads WORKLOADS_SCENES=robot WORKLOADS_WIDTH=16 WORKLOADS_HEIGHT=12 "
+                              "WORKLOADS_SPP=2 WORKLOADS_ACCELS='kdtree bvh2' WORKLOADS_RAYS='1 4'";
+  const std::string log = make(options, out);
+  // Whitted and path at 2 spp x two structures x two rays in flight: 8 renders,
+  // each simulating the hybrid layouts of both sizes inside it (members
+  // CSV=LAYOUT=OPTIONS, spaces as ^): one simulation per trace, none written.
+  EXPECT_EQ(count_lines_with(log, "render-layouts.sh"), 8) << log;
+  EXPECT_EQ(count_lines_with(log, "cachesim run"), 0) << log;
+  std::size_t simulations = 0;
+  for (std::size_t at = log.find("=--size^"); at != std::string::npos; at = log.find("=--size^", at + 1)) {
+    ++simulations;
+  }
+  EXPECT_EQ(simulations, 16u) << log;
+  const auto csv = read_file(out / "workloads" / "workloads.csv");
+  // ... x two sizes x direct-mapped and 4-way.
+  EXPECT_EQ(count_lines_with(csv, "robot,"), 32) << csv;
+  EXPECT_EQ(count_lines_with(csv, "robot,path-2,bvh2,4,"), 4) << csv;
+  EXPECT_TRUE(csv.starts_with("scene,integrator,accel,rays_in_flight,size,assoc,rays,split_level,single_percent,"
+                              "split_percent,split_minus_single,nodes_per_ray,fetches_per_ray,"
+                              "single_bytes_missed_per_ray,split_bytes_missed_per_ray\n"))
+      << csv;
+  const auto md = read_file(out / "workloads" / "workloads.md");
+  EXPECT_NE(md.find("path, 2 spp"), std::string::npos) << md;
+  EXPECT_TRUE(std::filesystem::exists(out / "workloads" / "workloads.png"));
+  EXPECT_EQ(make(options, out), "");  // nothing is rendered or simulated twice
+}
+
+TEST_F(ExperimentsMakeTest, ConvergenceTargetMeasuresErrorAgainstAReferenceAndStatesTheSlope) {
+  const auto out = dir_ / "convergence";
+  const std::string options = "convergence CONV_SCENES=robot CONV_WIDTH=8 CONV_HEIGHT=6 CONV_SPP='1 2 4' "
+                              "CONV_REFERENCE_SPP=32";
+  const std::string log = make(options, out);
+  EXPECT_EQ(count_lines_with(log, "--integrator path"), 4) << log;  // three runs and the reference
+  const auto csv = read_file(out / "convergence" / "convergence.csv");
+  EXPECT_TRUE(csv.starts_with("scene,spp,cpu_seconds,rmse,relative_mse,reference_spp,reference_cpu_seconds\n"))
+      << csv;
+  EXPECT_EQ(count_lines_with(csv, "robot,"), 3) << csv;
+  EXPECT_EQ(count_lines_with(csv, ",32,"), 3) << csv;
+  const auto md = read_file(out / "convergence" / "convergence.md");
+  EXPECT_NE(md.find("Slope of log RMSE against log spp: "), std::string::npos) << md;
+  EXPECT_NE(md.find("(expected -0.5; within"), std::string::npos) << md;
+  EXPECT_TRUE(std::filesystem::exists(out / "convergence" / "convergence.png"));
+  EXPECT_EQ(make(options, out), "");  // nothing is rendered twice
+}
+
 TEST_F(ExperimentsMakeTest, AnUnknownSceneStopsMakeWithAMessage) {
   make("table1 SCENES=nosuch", dir_ / "out", false);
   EXPECT_NE(output_.find("unknown scene 'nosuch'"), std::string::npos) << output_;
@@ -329,7 +376,10 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
       " INTERP_RAY_SETS='whitted:first primary:all' INTERP_BEST=2 INTERP_FINAL_SCENES='robot forest'"
       " INTERP_FINAL_WIDTH=32 INTERP_FINAL_HEIGHT=24 ACCEL_SCENES=robot ACCEL_KINDS='bvh2 cwbvh8'"
       " ACCEL_LAYOUTS=treelet ACCEL_SIZES=4k"
-      " INFLIGHT_SCENES=robot INFLIGHT_WIDTH=16 INFLIGHT_HEIGHT=12 INFLIGHT_RAYS='1 4' INFLIGHT_UNITS='1 2' 2>&1");
+      " INFLIGHT_SCENES=robot INFLIGHT_WIDTH=16 INFLIGHT_HEIGHT=12 INFLIGHT_RAYS='1 4' INFLIGHT_UNITS='1 2'"
+      " POLICY_SCENES=robot POLICY_SIZES=4k POLICY_ASSOCS='1 4' POLICY_WIDTH=16 POLICY_HEIGHT=12"
+      " WORKLOADS_SCENES=robot WORKLOADS_WIDTH=16 WORKLOADS_HEIGHT=12 WORKLOADS_SPP=1 WORKLOADS_ACCELS=bvh2"
+      " WORKLOADS_RAYS=1 CONV_SCENES=robot CONV_WIDTH=8 CONV_HEIGHT=6 CONV_SPP='1 2' CONV_REFERENCE_SPP=8 2>&1");
   ASSERT_EQ(result.exit_code, 0) << result.out;
   for (const std::string file :
        {"table1/table1.md", "table1/table1.png", "baselines/baselines.md", "baselines/baselines.png",
@@ -341,7 +391,9 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
         "interpretations/interpretations.md", "interpretations/interpretations.csv",
         "interpretations/interpretations-cells.csv", "interpretations/interpretations.png", "accel/accel.md",
         "accel/accel.csv", "accel/accel.png", "inflight/inflight.md", "inflight/inflight.csv",
-        "inflight/inflight.png"}) {
+        "inflight/inflight.png", "policies/policies.md", "policies/policies.csv", "policies/policies.png",
+        "workloads/workloads.md", "workloads/workloads.csv", "workloads/workloads.png",
+        "convergence/convergence.md", "convergence/convergence.csv", "convergence/convergence.png"}) {
     EXPECT_TRUE(std::filesystem::exists(out / file)) << file;
   }
   // Every CSV the targets write (their tables and the runs behind them,
@@ -371,6 +423,19 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
   const auto inflight = read_file(out / "inflight" / "inflight.csv");
   EXPECT_EQ(count_lines_with(inflight, "robot,"), 12) << inflight;
   EXPECT_EQ(count_lines_with(inflight, "robot,2,4,"), 3) << inflight;
+  // Two structures x two blocks x two ways, each 5 single policies and 3 split ones.
+  const auto policies = read_file(out / "policies" / "policies.csv");
+  EXPECT_EQ(count_lines_with(policies, "robot,kdtree,4096,"), 2 * 2 * 8) << policies;
+  EXPECT_EQ(count_lines_with(policies, "robot,bvh2,4096,"), 2 * 2 * 8) << policies;
+  EXPECT_EQ(count_lines_with(policies, ",single,opt,"), 2 * 2 * 2) << policies;
+  // OPT closes all of its own gap; no policy of the single cache more than all.
+  std::istringstream policy_lines(policies);
+  for (std::string line; std::getline(policy_lines, line);) {
+    if (line.find(",single,opt,") != std::string::npos) EXPECT_TRUE(line.ends_with(",100.0")) << line;
+    if (line.find(",single,") != std::string::npos && !line.ends_with(",")) {
+      EXPECT_LE(std::stod(line.substr(line.rfind(',') + 1)), 100.0) << line;
+    }
+  }
   const auto frames = read_file(out / "frames" / "frames.csv");
   EXPECT_EQ(count_lines_with(frames, "robot,"), 2) << frames;
   EXPECT_EQ(count_lines_with(frames, "kitchen,"), 2) << frames;

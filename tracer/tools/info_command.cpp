@@ -13,6 +13,8 @@
 
 #include "commands.hpp"
 #include "nodetrace/cli/command_line.hpp"
+#include "nodetrace/cli/csv_text.hpp"
+#include "nodetrace/cli/format_option.hpp"
 #include "nodetrace/cli/exit_status.hpp"
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/base/split_level.hpp"
@@ -25,8 +27,10 @@ namespace {
 
 // The options of `tracer info` and what it does with them.
 struct InfoCommand {
-  std::string scene_spec, format = "text";
+  std::string scene_spec, format = "table";
   int max_depth = 10;
+  std::string integrator = "whitted";
+  std::optional<int> max_bounces;
   unsigned threads = 0;
   std::optional<std::uint32_t> node_size_option;  // default: the acceleration structure's
   SceneCommandOptions scene_options;
@@ -37,10 +41,18 @@ struct InfoCommand {
 
 void InfoCommand::add_options(CLI::App& app) {
   app.add_option("scene", scene_spec, "an .obj or .aff file, or a built-in scene's name")->required();
-  app.add_option("--format", format, "text or json")->check(CLI::IsMember({"text", "json"}))->capture_default_str();
+  cli::add_format_option(app, format, "json: one object, csv: one table field,value");
   app.add_option("--max-depth", max_depth, "ray tree depth assumed for the ray kinds")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
+  app.add_option("--integrator", integrator, "whitted or path: whose ray kinds to show")
+      ->check(CLI::IsMember({"whitted", "path"}))
+      ->capture_default_str();
+  app.add_option("--max-bounces", max_bounces,
+                 fmt::format("--integrator path: bounce rays after the camera ray assumed for the ray kinds, 0 to {} "
+                             "(default {})",
+                             kMaxBounces, kDefaultMaxBounces))
+      ->check(CLI::Range(0, kMaxBounces));
   app.add_option("--node-size", node_size_option,
                  "bytes per node, for the bytes and split levels shown (at most 65535; default: the structure's)")
       ->check(CLI::Range(1, kMaxNodeSize));
@@ -53,6 +65,8 @@ int InfoCommand::run() const {
     // Options first, before a scene is loaded.
     if (scene_options.time) cli::check_finite(*scene_options.time, "--time");
     KdBuildOptions build_options = make_build_options(scene_options);
+    const bool path = *parse_integrator(integrator) == Integrator::Path;
+    if (max_bounces && !path) throw base::UsageError("--max-bounces needs --integrator path (Whitted: --max-depth)");
     build_options.threads = cli::check_thread_count(threads, "--threads");
     const auto source = open_scene(scene_spec);
     for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer info: warning: %s\n", warning.c_str());
@@ -66,7 +80,8 @@ int InfoCommand::run() const {
         AccelerationStructure::build(scene.triangles, kind, {build_options, make_bvh_options(scene_options)});
     const KdTreeStats& s = tree.stats();
     const std::uint32_t node_size = node_size_option.value_or(default_node_size(kind));
-    const RayKindPlan plan = plan_ray_kinds(scene, max_depth);
+    const int bounces = max_bounces.value_or(kDefaultMaxBounces);
+    const RayKindPlan plan = path ? plan_path_ray_kinds(scene, bounces) : plan_ray_kinds(scene, max_depth);
     const Bounds bounds = scene.bounds();
 
     nlohmann::json j;
@@ -110,7 +125,6 @@ int InfoCommand::run() const {
                               {"primitive_references", s.primitive_references},
                               {"sah_cost", s.sah_cost},
                               {"build_seconds", s.build_seconds},
-                   {"build_cpu_seconds", s.build_cpu_seconds},
                               {"build_cpu_seconds", s.build_cpu_seconds},
                               {"split_level_for_high_size", split_levels}};
       j["accel"] = accel;
@@ -132,12 +146,18 @@ int InfoCommand::run() const {
                    {"split_level_for_high_size", split_levels}};
     }
     nlohmann::json rays = nlohmann::json::object();
-    for (int k = 0; k < kRayKindCount; ++k) {
-      rays[std::string(ray_kind_name(static_cast<RayKind>(k)))] =
+    for (const RayKind kind : plan.kinds) {
+      const int k = static_cast<int>(kind);
+      rays[std::string(ray_kind_name(kind))] =
           plan.cast[k] ? nlohmann::json("cast") : nlohmann::json("left out: " + plan.why_not[k]);
     }
     j["rays"] = rays;
-    j["rays_max_depth"] = max_depth;
+    if (path) {
+      j["rays_integrator"] = "path";
+      j["rays_max_bounces"] = bounces;
+    } else {
+      j["rays_max_depth"] = max_depth;
+    }
     // The process's high-water mark so far: the scene loaded and its tree built.
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
@@ -147,6 +167,10 @@ int InfoCommand::run() const {
 
     if (format == "json") {
       std::fputs((j.dump(2) + "\n").c_str(), stdout);
+      return 0;
+    }
+    if (format == "csv") {
+      std::fputs(cli::field_value_csv(j).c_str(), stdout);
       return 0;
     }
     fmt::print("scene {}: {} triangles, {} materials, {} lights, {} frame(s), camera: {}\n",
@@ -176,10 +200,14 @@ int InfoCommand::run() const {
                split_levels["16384"].get<int>());
     fmt::print("peak memory: {:.1f} MiB ({:.0f} bytes per triangle), the scene loaded and its {} built\n",
                double(peak_bytes) / (1 << 20), per_triangle, kind == AccelKind::KdTree ? "kd-tree" : accel_name(kind));
-    fmt::print("rays (max depth {}):\n", max_depth);
-    for (int k = 0; k < kRayKindCount; ++k) {
-      fmt::print("  {:<10} {}\n", ray_kind_name(static_cast<RayKind>(k)),
-                 plan.cast[k] ? "cast" : "left out: " + plan.why_not[k]);
+    if (path) {
+      fmt::print("rays (path tracing, max bounces {}):\n", bounces);
+    } else {
+      fmt::print("rays (max depth {}):\n", max_depth);
+    }
+    for (const RayKind kind : plan.kinds) {
+      const int k = static_cast<int>(kind);
+      fmt::print("  {:<10} {}\n", ray_kind_name(kind), plan.cast[k] ? "cast" : "left out: " + plan.why_not[k]);
     }
     return 0;
   }, "the scene is");

@@ -2,9 +2,12 @@
 // traversal (no trace recorded) against Embree's rtcIntersect1 on the same
 // rays and triangles, one thread each, for scripts/bench-tracer.sh. Embree is
 // a benchmark-only reference: this program is built only where
-// libembree-dev is installed, and nothing else links it.
-//   primary_rays_bench SCENE [--width W] [--height H] [--runs N]
-// Prints one line of key=value figures: medians of N runs (default 3).
+// libembree-dev is installed, and nothing else links it. With --path SPP the
+// rays are a path tracer's (Renderer::cast_rays, --integrator path --spp
+// SPP), timed kind by kind: shadow rays as any-hit queries (rtcOccluded1),
+// the others as closest-hit queries.
+//   primary_rays_bench SCENE [--width W] [--height H] [--runs N] [--path SPP]
+// Prints one line of key=value figures per ray kind: medians of N runs (default 3).
 #include <embree3/rtcore.h>
 
 #include <algorithm>
@@ -20,6 +23,7 @@
 #include "nodetrace/tracer/accel/layout.hpp"
 #include "nodetrace/tracer/accel/traversal.hpp"
 #include "nodetrace/tracer/render/camera.hpp"
+#include "nodetrace/tracer/render/render.hpp"
 #include "nodetrace/tracer/scene/scene_loader.hpp"
 
 namespace {
@@ -92,37 +96,53 @@ class EmbreeScene {
     return query.hit.geomID == RTC_INVALID_GEOMETRY_ID ? kNoHit : query.hit.primID;
   }
 
+  // 1 when something lies on the ray before t_max (the direction's length
+  // is the unit of t), else 0.
+  std::uint32_t occluded(const Ray& ray, float t_max) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay query{};
+    query.org_x = ray.origin.x;
+    query.org_y = ray.origin.y;
+    query.org_z = ray.origin.z;
+    query.dir_x = ray.direction.x;
+    query.dir_y = ray.direction.y;
+    query.dir_z = ray.direction.z;
+    query.tnear = 0;
+    query.tfar = t_max;
+    query.mask = ~0u;
+    rtcOccluded1(scene_, &context, &query);
+    return query.tfar < 0 ? 1 : 0;  // Embree sets tfar to -inf on a hit
+  }
+
  private:
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
 };
 
+// The shadow rays' t_max, as the renderer casts them (shading.cpp).
+constexpr float kShadowReach = 1.0f - 1e-4f;
+
 int run(int argc, char** argv) {
+  const char* usage = "usage: primary_rays_bench SCENE [--width W] [--height H] [--runs N] [--path SPP]";
   std::string spec;
-  int width = 400, height = 300, runs = 3;
+  int width = 400, height = 300, runs = 3, path_spp = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if ((arg == "--width" || arg == "--height" || arg == "--runs") && i + 1 < argc) {
+    if ((arg == "--width" || arg == "--height" || arg == "--runs" || arg == "--path") && i + 1 < argc) {
       const int value = std::stoi(argv[++i]);
       if (value < 1) throw nodetrace::base::UsageError(arg + ": expected a positive number");
-      (arg == "--width" ? width : arg == "--height" ? height : runs) = value;
+      (arg == "--width" ? width : arg == "--height" ? height : arg == "--runs" ? runs : path_spp) = value;
     } else if (spec.empty() && arg[0] != '-') {
       spec = arg;
     } else {
-      throw nodetrace::base::UsageError("usage: primary_rays_bench SCENE [--width W] [--height H] [--runs N]");
+      throw nodetrace::base::UsageError(usage);
     }
   }
-  if (spec.empty()) throw nodetrace::base::UsageError("usage: primary_rays_bench SCENE [--width W] [--height H] [--runs N]");
+  if (spec.empty()) throw nodetrace::base::UsageError(usage);
 
   const auto source = open_scene(spec);
   const Scene scene = source->at_frame(0);
-  const PinholeCamera camera(scene.camera.value_or(default_camera(scene.bounds())), width, height);
-  std::vector<Ray> rays;
-  rays.reserve(static_cast<std::size_t>(width) * height);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) rays.push_back(camera.primary_ray(x, y));
-  }
-
   const KdTree tree = KdTree::build(scene.triangles);
   const Layout layout = make_layout(tree, LayoutKind::Dfl);
   StreamSelection no_streams;
@@ -130,25 +150,54 @@ int run(int argc, char** argv) {
   const Traversal traversal(scene.triangles, tree, layout, no_streams, AddressMap{});
   const EmbreeScene embree(scene.triangles);
 
-  std::vector<std::uint32_t> ours(rays.size()), theirs(rays.size());
-  std::vector<double> our_seconds, their_seconds;
-  for (int r = 0; r < runs; ++r) {
-    our_seconds.push_back(time_rays(rays, ours, [&](const Ray& ray) {
-      Hit hit;
-      return traversal.closest_hit(ray, std::numeric_limits<float>::infinity(), hit, nullptr, nullptr)
-                 ? hit.triangle
-                 : kNoHit;
-    }));
-    their_seconds.push_back(time_rays(rays, theirs, [&](const Ray& ray) { return embree.closest(ray); }));
+  // The rays of each kind: the primary rays, or a path tracer's.
+  std::vector<std::vector<Ray>> rays(kRayKindCount);
+  if (path_spp == 0) {
+    const PinholeCamera camera(scene.camera.value_or(default_camera(scene.bounds())), width, height);
+    for (int y = 0; y < height; ++y) {
+      for (int x = 0; x < width; ++x) rays[0].push_back(camera.primary_ray(x, y));
+    }
+  } else {
+    RenderOptions options;
+    options.integrator = Integrator::Path;
+    options.path.samples_per_pixel = static_cast<std::uint32_t>(path_spp);
+    options.width = width;
+    options.height = height;
+    options.record = false;
+    const Renderer renderer(scene, tree, layout, options);
+    for (const auto& cast : renderer.cast_rays(0, std::uint64_t(width) * std::uint64_t(height))) {
+      rays[static_cast<int>(cast.kind)].push_back(cast.ray);
+    }
   }
-  std::size_t same = 0;
-  for (std::size_t i = 0; i < rays.size(); ++i) same += ours[i] == theirs[i];
-  const double our_rate = static_cast<double>(rays.size()) / median(our_seconds);
-  const double their_rate = static_cast<double>(rays.size()) / median(their_seconds);
-  std::printf("scene=%s rays=%zu triangles=%zu runs=%d kdtree_rays_per_s=%.0f embree_rays_per_s=%.0f "
-              "ratio=%.3f same_first_hit=%zu\n",
-              source->name().c_str(), rays.size(), scene.triangles.size(), runs, our_rate, their_rate,
-              our_rate / their_rate, same);
+
+  for (int k = 0; k < kRayKindCount; ++k) {
+    const std::vector<Ray>& kind_rays = rays[k];
+    if (kind_rays.empty()) continue;
+    const bool shadow = static_cast<RayKind>(k) == RayKind::Shadow;
+    std::vector<std::uint32_t> ours(kind_rays.size()), theirs(kind_rays.size());
+    std::vector<double> our_seconds, their_seconds;
+    for (int r = 0; r < runs; ++r) {
+      our_seconds.push_back(time_rays(kind_rays, ours, [&](const Ray& ray) -> std::uint32_t {
+        if (shadow) return traversal.any_hit(ray, kShadowReach, nullptr, nullptr) ? 1 : 0;
+        Hit hit;
+        return traversal.closest_hit(ray, std::numeric_limits<float>::infinity(), hit, nullptr, nullptr)
+                   ? hit.triangle
+                   : kNoHit;
+      }));
+      their_seconds.push_back(time_rays(kind_rays, theirs, [&](const Ray& ray) {
+        return shadow ? embree.occluded(ray, kShadowReach) : embree.closest(ray);
+      }));
+    }
+    std::size_t same = 0;
+    for (std::size_t i = 0; i < kind_rays.size(); ++i) same += ours[i] == theirs[i];
+    const double our_rate = static_cast<double>(kind_rays.size()) / median(our_seconds);
+    const double their_rate = static_cast<double>(kind_rays.size()) / median(their_seconds);
+    std::printf("scene=%s kind=%s rays=%zu triangles=%zu runs=%d kdtree_rays_per_s=%.0f embree_rays_per_s=%.0f "
+                "ratio=%.3f same_%s=%zu\n",
+                source->name().c_str(), std::string(ray_kind_name(static_cast<RayKind>(k))).c_str(),
+                kind_rays.size(), scene.triangles.size(), runs, our_rate, their_rate, our_rate / their_rate,
+                shadow ? "answer" : "first_hit", same);
+  }
   return 0;
 }
 

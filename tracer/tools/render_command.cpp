@@ -1,9 +1,9 @@
-// tracer render [SCENE] -o TRACE: render with the Whitted ray tracer and
+// tracer render [SCENE] -o TRACE: render with the Whitted ray tracer (or the
+// path tracer) and
 // write every kd-tree node fetch as a level-tagged trace.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <fmt/core.h>
-#include <unistd.h>
 
 #include <bit>
 #include <chrono>
@@ -19,7 +19,10 @@
 #include "nodetrace/cli/exit_status.hpp"
 #include "nodetrace/cli/progress_line.hpp"
 #include "nodetrace/cli/archive_option.hpp"
+#include "nodetrace/cli/zstd_level_option.hpp"
 #include "nodetrace/base/error.hpp"
+#include "nodetrace/base/output_file.hpp"
+#include "nodetrace/base/standard_output.hpp"
 #include "nodetrace/formats/write/trace_output.hpp"
 #include "nodetrace/tracer/scene/scene_loader.hpp"
 #include "nodetrace/tracer/render/trace_job.hpp"
@@ -44,10 +47,13 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
   for (std::size_t i = 0; i < options.other_layouts.size(); ++i) {
     layout += ", " + describe(options.other_layouts[i].layout, first.other_split_levels[i]);
   }
-  std::fprintf(stderr, "tracer: %s, %dx%d, max depth %d, %zu frame(s), layout%s %s\n",
-               scene_name.c_str(), options.render.width, options.render.height,
-               options.render.max_depth, result.frames.size(), options.other_layouts.empty() ? "" : "s",
-               layout.c_str());
+  const RenderOptions& r = options.render;
+  const std::string integrator =
+      r.integrator == Integrator::Path
+          ? fmt::format("path tracing, {} spp, max bounces {}", r.path.samples_per_pixel, r.path.max_bounces)
+          : fmt::format("max depth {}", r.max_depth);
+  std::fprintf(stderr, "tracer: %s, %dx%d, %s, %zu frame(s), layout%s %s\n", scene_name.c_str(), r.width, r.height,
+               integrator.c_str(), result.frames.size(), options.other_layouts.empty() ? "" : "s", layout.c_str());
   const std::string accel = options.accel == AccelKind::KdTree ? "kd-tree" : std::string(accel_name(options.accel));
   std::fprintf(stderr,
                "  %s: %llu triangles, %llu nodes, %llu leaves (%llu empty), depth %u, built in %.2f s\n",
@@ -57,9 +63,10 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
                static_cast<unsigned long long>(first.tree.empty_leaves), first.tree.depth,
                build_seconds);
   std::string kinds;
-  for (int k = 0; k < kRayKindCount; ++k) {
+  for (const RayKind kind : result.plan.kinds) {
+    const int k = static_cast<int>(kind);
     if (!kinds.empty()) kinds += ", ";
-    kinds += fmt::format("{} {}", ray_kind_name(static_cast<RayKind>(k)), t.rays[k]);
+    kinds += fmt::format("{} {}", ray_kind_name(kind), t.rays[k]);
     if (!result.plan.cast[k]) kinds += " (" + result.plan.why_not[k] + ")";
   }
   std::fprintf(stderr, "  rays: %s; total %llu\n", kinds.c_str(),
@@ -79,6 +86,10 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
                  static_cast<unsigned long long>(band_count(options.render.height, sampling->band_height) *
                                                  result.frames.size()));
   }
+  if (t.nonfinite_samples) {
+    std::fprintf(stderr, "  samples dropped (NaN or infinite throughput or radiance): %llu\n",
+                 static_cast<unsigned long long>(t.nonfinite_samples));
+  }
   std::fprintf(stderr, "  render: %.3f s, %.3f M rays/s; %llu records\n", t.seconds,
                t.seconds > 0 ? double(t.total_rays()) / t.seconds / 1e6 : 0.0,
                static_cast<unsigned long long>(t.records));
@@ -93,6 +104,10 @@ struct RenderCommand {
   CLI::Option* image_option = nullptr;
   CLI::Option* report_option = nullptr;
   CLI::Option* trace_info_option = nullptr;
+  std::string pfm, variance_pfm;
+  CLI::Option* pfm_option = nullptr;
+  CLI::Option* max_depth_option = nullptr;
+  CLI::Option* variance_pfm_option = nullptr;
   bool quiet = false;
   // The container's default level 3: on the default scene level 1 writes the
   // trace only about 10% faster for 6% more bytes, and at 3 a trace is no
@@ -158,18 +173,35 @@ void RenderCommand::write_report(const std::string& path, const cachesim::tools:
   std::fwrite(text.err.data(), 1, text.err.size(), stderr);
 }
 
-// An empty name is no output, and an output whose folder is missing would
-// fail only after the whole render: both are refused before it starts.
+// An empty name is no output, two outputs into one file spoil each other, and
+// an output whose folder is missing or not writable would fail only after
+// the whole render: all are refused before it starts.
 void RenderCommand::check_outputs(const TraceJobOptions& options) const {
-  std::vector<std::pair<CLI::Option*, const std::string*>> outputs{
-      {image_option, &image}, {trace_info_option, &trace_info}, {output_option, &output}};
-  for (const auto& report : reports) outputs.emplace_back(report_option, &report);
+  std::vector<std::pair<CLI::Option*, const std::string*>> outputs{{image_option, &image},
+                                                                        {pfm_option, &pfm},
+                                                                        {variance_pfm_option, &variance_pfm},
+                                                                        {trace_info_option, &trace_info},
+                                                                        {output_option, &output}};
+  for (const auto& report : reports) outputs.insert(outputs.end() - 1, {report_option, &report});
   if (output_option->count() != 0) {
     outputs.back().second = &options.output;
     for (const auto& other : options.other_layouts) outputs.emplace_back(output_option, &other.output);
   }
-  for (const auto& [option, path] : outputs) {
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const auto& [option, path] = outputs[i];
     if (option->count() == 0) continue;
+    // The image and a trace in one file (or both on standard output) would
+    // interleave or overwrite each other; a device (/dev/null) takes both.
+    // (Two layouts' traces in one file: run_trace_job says so.)
+    for (std::size_t j = 0; j < i; ++j) {
+      if (outputs[j].first != option && outputs[j].first->count() != 0 && *outputs[j].second == *path &&
+          !path->empty() &&
+          base::plan_output(*path).method != base::OutputMethod::Direct) {
+        throw base::UsageError(fmt::format(
+            "{} and {} both name '{}'{}: one output each; write one of them to another file",
+            outputs[j].first->get_name(), option->get_name(), *path, *path == "-" ? " (standard output)" : ""));
+      }
+    }
     if (path->empty()) {
       throw base::UsageError(fmt::format("{}: an empty name: give a file name{}", option->get_name(),
                                          option == output_option ? ", or - for standard output" : ""));
@@ -179,6 +211,11 @@ void RenderCommand::check_outputs(const TraceJobOptions& options) const {
     if (!folder.empty() && !std::filesystem::is_directory(folder)) {
       throw base::IoError(fmt::format("{}: cannot write: folder '{}' does not exist (checked before rendering)",
                                       *path, folder.string()));
+    }
+    try {
+      base::check_output_writable(*path);
+    } catch (const base::IoError& error) {
+      throw base::IoError(std::string(error.what()) + " (checked before rendering)");
     }
   }
 }
@@ -228,16 +265,17 @@ void RenderCommand::add_options(CLI::App& app) {
                  "without it nothing is written (render only)");
   app.add_option("--records", records_name, "record form: din, xdin or binary (default: from the file name)")
       ->check(CLI::IsMember({"din", "xdin", "binary"}));
-  image_option = app.add_option("--image", image, "also write the first frame as a PNG");
+  image_option = app.add_option("--image", image,
+                                 "also write the first frame as a PNG (path tracing: the mean radiance, clamped to "
+                                 "0..1, through the sRGB curve)");
+  pfm_option = app.add_option("--pfm", pfm, "also write the first frame as a float PFM (path tracing: the mean radiance)");
+  variance_pfm_option = app.add_option("--variance-pfm", variance_pfm,
+                                       "--integrator path: also write each pixel's sample variance as a float PFM");
   app.add_option("--streams", streams,
                  "records to write, comma-separated: nodes, lists (leaf primitive lists, tag p), "
                  "triangles (tag t)")
       ->capture_default_str();
-  CLI::Option* level =
-      app.add_option("--zstd-level", zstd_level, "zstd level of the trace's data frames (higher: smaller and slower)")
-          ->check(CLI::Range(1, 19))
-          ->capture_default_str();
-  cli::add_archive_flag(app, archive, level);
+  cli::add_archive_flag(app, archive, cli::add_zstd_level_option(app, zstd_level));
   app.add_flag("--discard-records", discard,
                "make every record but write none: the cost of recording alone (benchmarks)")
       ->excludes("--output");
@@ -261,25 +299,29 @@ void RenderCommand::add_options(CLI::App& app) {
   app.add_flag("-q,--quiet", quiet, "no summary on standard error");
   add_scene_options(app, scene_options);
   add_render_options(app, render_options);
+  max_depth_option = app.get_option("--max-depth");
 }
 
 int RenderCommand::run() const {
   return cli::exit_status_of("tracer render", [&] {
     check_simulations();
     TraceJobOptions options = make_job_options(render_options, scene_options, output, !simulations.empty());
+    if (options.render.integrator == Integrator::Path && max_depth_option->count() != 0) {
+      throw base::UsageError("--max-depth is the Whitted tracer's ray depth: --integrator path takes --max-bounces");
+    }
     check_outputs(options);
     options.image = image;
+    options.pfm = pfm;
+    options.variance_pfm = variance_pfm;
     options.zstd_level = zstd_level;
     options.archive = archive;
     options.discard_records = discard;
     std::optional<formats::RecordForm> named_form;
     if (!records_name.empty()) named_form = formats::parse_form_name(records_name);
-    options.form = formats::decide_trace_output(output, formats::OutputKind::Auto, named_form).form;
+    options.form = formats::choose_output_form(output, named_form, formats::RecordForm::Din);
     choose_bvh_record_form(options, output, named_form.has_value());
     options.render.streams = parse_streams(streams);
-    if (output == "-" && isatty(STDOUT_FILENO)) {
-      throw base::UsageError("refusing to write a trace to a terminal; redirect standard output");
-    }
+    base::refuse_binary_on_terminal(output, "a trace");
     warn_of_din_node_size(options);
     std::vector<std::unique_ptr<InRenderSimulation>> simulated;
     const std::vector<LayoutChoice> choices = layout_choices(render_options);
@@ -310,6 +352,7 @@ int RenderCommand::run() const {
     }
     const TraceJobResult result = run_trace_job(*source, options, progress);
     progress_line.clear();
+    for (const auto& note : result.notes) std::fprintf(stderr, "tracer render: note: %s\n", note.c_str());
     for (std::size_t i = 0; i < simulated.size(); ++i) write_report(reports[i], simulated[i]->report());
     if (!quiet) {
       double build_seconds = 0;
@@ -324,7 +367,8 @@ int RenderCommand::run() const {
 
 int render_command(int argc, char** argv) {
   return cli::run_command<RenderCommand>("tracer render",
-                                        "Render a scene with a Whitted ray tracer over a SAH kd-tree or a BVH (--accel)\n"
+                                        "Render a scene with a Whitted ray tracer (or a path tracer: --integrator path)\n"
+                                        "over a SAH kd-tree or a BVH (--accel)\n"
                                         "and write every node fetch (address, node level) as a trace.", argc, argv);
 }
 

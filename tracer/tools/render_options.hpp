@@ -166,11 +166,46 @@ struct RenderCommandOptions {
   std::string rays = "whitted", lights = "all";
   unsigned rays_in_flight = 1, units = 1, unit_pixels = 64;
   std::string ready_order = "depth-first";
+  // Path tracing: --integrator and the options only it takes.
+  std::string integrator = "whitted";
+  std::optional<std::uint32_t> spp;
+  std::optional<int> max_bounces;
 };
 
 // Ray slots per traversal unit at most: a step then issues up to 4096
 // fetches per unit.
 inline constexpr unsigned kMaxRaysInFlight = 4096;
+
+// --integrator and the path tracer's options (integrator.hpp states the
+// defaults and limits, and why).
+inline void add_path_options(CLI::App& app, RenderCommandOptions& o) {
+  app.add_option("--integrator", o.integrator,
+                 "whitted (the paper's ray tree) or path (a path tracer: random bounces, next-event estimation "
+                 "toward the lights, the background as environment light)")
+      ->check(CLI::IsMember({"whitted", "path"}))
+      ->capture_default_str();
+  app.add_option("--spp", o.spp,
+                 fmt::format("--integrator path: samples per pixel, 1 to {} (default {}: the smallest workload)",
+                             kMaxSamplesPerPixel, kDefaultSamplesPerPixel))
+      ->check(CLI::Range(1u, kMaxSamplesPerPixel));
+  app.add_option("--max-bounces", o.max_bounces,
+                 fmt::format("--integrator path: bounce rays after the camera ray, 0 to {} (default {}; Russian "
+                             "roulette from bounce {})",
+                             kMaxBounces, kDefaultMaxBounces, kRouletteFromBounce))
+      ->check(CLI::Range(0, kMaxBounces));
+}
+
+// The path tracer's settings; its options without --integrator path are refused.
+inline void apply_integrator(const RenderCommandOptions& r, RenderOptions& render) {
+  render.integrator = *parse_integrator(r.integrator);
+  if (render.integrator != Integrator::Path) {
+    if (r.spp) throw base::UsageError("--spp needs --integrator path (the Whitted tracer casts one ray per pixel)");
+    if (r.max_bounces) throw base::UsageError("--max-bounces needs --integrator path (Whitted: --max-depth)");
+    return;
+  }
+  render.path.samples_per_pixel = r.spp.value_or(kDefaultSamplesPerPixel);
+  render.path.max_bounces = r.max_bounces.value_or(kDefaultMaxBounces);
+}
 
 inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
   app.add_option("--width", o.width, "image width (at most 65535; width x height at most 2^26 pixels)")
@@ -259,6 +294,7 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
                  "order) or breadth-first (behind the secondary rays waiting)")
       ->check(CLI::IsMember({"depth-first", "breadth-first"}))
       ->capture_default_str();
+  add_path_options(app, o);
   app.add_option("--sample-seed", o.sample_seed,
                  "--sample-rows: seed of the band chosen in each run of K bands (same seed: same bands)")
       ->needs(rows)
@@ -394,6 +430,7 @@ inline TraceJobOptions make_job_options(const RenderCommandOptions& r, const Sce
                 : r.rays == "primary+shadow" ? RayScope::PrimaryShadow
                                              : RayScope::Whitted;
   render.first_light_only = r.lights == "first";
+  apply_integrator(r, render);
   render.pixel_order = *parse_pixel_order(r.pixel_order);
   render.tile_size = r.tile_size;
   render.rays_in_flight = r.rays_in_flight;

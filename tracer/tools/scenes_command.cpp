@@ -9,6 +9,8 @@
 
 #include "commands.hpp"
 #include "nodetrace/cli/command_line.hpp"
+#include "nodetrace/cli/csv_text.hpp"
+#include "nodetrace/cli/format_option.hpp"
 #include "nodetrace/cli/exit_status.hpp"
 #include "nodetrace/tracer/scene/scene_loader.hpp"
 
@@ -18,14 +20,15 @@ namespace {
 
 // The options of `tracer scenes` and what it does with them.
 struct ScenesCommand {
-  std::string format = "text";
+  std::string format = "table";
 
   void add_options(CLI::App& app);
   int run() const;
 };
 
 void ScenesCommand::add_options(CLI::App& app) {
-  app.add_option("--format", format, "output format")->check(CLI::IsMember({"text", "json"}));
+  cli::add_format_option(app, format,
+                         "csv: one table, a row per scene; json: {\"scenes\": [...], \"default\": NAME}");
 }
 
 int ScenesCommand::run() const {
@@ -46,6 +49,19 @@ int ScenesCommand::run() const {
                         {"default", scene.name == default_name}});
       }
       fmt::print("{}\n", nlohmann::json{{"scenes", list}, {"default", default_name}}.dump(2));
+      return 0;
+    }
+    if (format == "csv") {
+      std::string csv = cli::csv_line({"name", "triangles", "default_size", "min_size", "max_size", "min_triangles", "max_triangles",
+                                       "default", "description"});
+      for (const auto& scene : scenes) {
+        csv += cli::csv_line({scene.name, std::to_string(scene.triangles), std::to_string(scene.default_size),
+                              std::to_string(scene.min_size),
+                              std::to_string(scene.max_size), std::to_string(scene.min_triangles),
+                              std::to_string(scene.max_triangles), scene.name == default_name ? "true" : "false",
+                              scene.description});
+      }
+      std::fputs(csv.c_str(), stdout);
       return 0;
     }
     fmt::print("{:<12} {:>10}  {:<7} {:<21} {}\n", "NAME", "TRIANGLES", "SIZES", "TRIANGLES BY SIZE", "DESCRIPTION");

@@ -323,12 +323,17 @@ Options (N = cache level 1..5, T = u unified, i instruction, d data):
  -on-trigger A    Trigger address (hex) to start simulation
  -off-trigger A   Trigger address (hex) to stop simulation
  -stat-idcombine  Combine I&D cache stats
- -help, --help    This message
+ -help, --help, -h
+                  This message
+ -copyright       Who wrote Dinero IV, and that this contains none of its code
+ -contact         The same
+ -dineroIII       Dinero III options and their Dinero IV replacements
 
 Exit status: 0 success, 1 bad trace data (the record is named), 2 bad usage
 (the option is named; -custom and input formats other than d, D and b are
-not supported). A din label above 5 is an error (exit 1) where Dinero IV
-would accept it silently; the message says what Dinero IV would do with it.
+not supported; dineroIV itself exits 1 for bad usage, nodetrace's commands 2).
+A din label above 5 is an error (exit 1) where Dinero IV would accept it
+silently; the message says what Dinero IV would do with it.
 )";
 }
 

@@ -1,16 +1,24 @@
 // The cache models a configuration's simulator is composed of (see
-// config_simulator.cpp): a direct-mapped table, a set-associative cache, the
-// retain set of the split scheme's high cache, and no cache (the high side
-// of `single`). Each takes block numbers; the table and the retain set
-// expose their slots so the fast loops can pick one without a branch.
+// config_simulator.cpp): a direct-mapped table, a set-associative cache, a
+// cache of a policy object (policy_cache.hpp), MIN (opt_cache.hpp), any of
+// those behind one interface (AnyCache), the retain set of the split
+// scheme's high cache, and no cache (the high side of `single`). Each takes
+// block numbers; the table and the retain set expose their slots so the fast
+// loops can pick one without a branch. MIN counts its misses at the end:
+// deferred_misses() (0 for the others) is added to what access() returned.
 #pragma once
 
 #include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <memory>
+#include <type_traits>
 #include <vector>
 
 #include "nodetrace/cachesim/models/set_associative_cache.hpp"
+#include "models/opt_cache.hpp"
+#include "models/policy_cache.hpp"
+#include "models/replacement_policies.hpp"
 #include "models/retained_blocks.hpp"
 
 namespace nodetrace::cachesim {
@@ -68,10 +76,90 @@ class RetainSet {
   RetainedBlocks blocks_;
 };
 
+// A cache model of any type behind a virtual call: for the caches a fast
+// loop does not need (the high cache under `cache`).
+class AnyCache {
+ public:
+  template <typename Model>
+  explicit AnyCache(Model model) : model_(std::make_unique<Holder<Model>>(std::move(model))) {}
+  bool access(std::uint64_t block) { return model_->access(block); }
+  void invalidate(std::uint64_t block) { model_->invalidate(block); }
+  std::uint64_t deferred_misses() const { return model_->deferred_misses(); }
+
+ private:
+  struct Interface {
+    virtual ~Interface() = default;
+    virtual bool access(std::uint64_t block) = 0;
+    virtual void invalidate(std::uint64_t block) = 0;
+    virtual std::uint64_t deferred_misses() const = 0;
+  };
+  template <typename Model>
+  struct Holder final : Interface {
+    explicit Holder(Model held) : model(std::move(held)) {}
+    bool access(std::uint64_t block) override { return model.access(block); }
+    void invalidate(std::uint64_t block) override { model.invalidate(block); }
+    std::uint64_t deferred_misses() const override {
+      if constexpr (std::is_same_v<Model, OptCache>) {
+        return model.misses();
+      } else {
+        return 0;
+      }
+    }
+    Model model;
+  };
+  std::unique_ptr<Interface> model_;
+};
+
+// Where an opt cache's stream comes from: shared with the opt caches of
+// the same fetches (the first of them records it), or its own when null.
+struct OptSource {
+  std::shared_ptr<SharedOptStream> shared;
+  bool records = true;
+};
+
+// Calls `use` with the model of a demand-fetch cache of `geometry`: a table
+// when direct mapped (every policy but opt misses as LRU then), a policy
+// cache for the policies Dinero IV does not have and for sets of many ways,
+// MIN for opt (its stream from `opt`), else the shifting-array cache.
+template <typename Use>
+auto with_cache_model(const CacheGeometry& geometry, const OptSource& opt, Use&& use) {
+  validate_geometry(geometry, "cache");
+  switch (geometry.replacement) {
+    case ReplacementPolicy::Opt: return use(OptCache(geometry, opt.shared, opt.records));
+    case ReplacementPolicy::Plru:
+    case ReplacementPolicy::Srrip:
+    case ReplacementPolicy::Brrip:
+    case ReplacementPolicy::Drrip:
+      if (geometry.assoc == 1) break;
+      if (geometry.replacement == ReplacementPolicy::Plru) return use(PolicyCache<TreePlru>(geometry));
+      return use(PolicyCache<Rrip>(geometry));
+    case ReplacementPolicy::Lru:
+    case ReplacementPolicy::Fifo:
+      if (geometry.assoc > kScanWays) return use(PolicyCache<RecencyOrder>(geometry));
+      break;
+    case ReplacementPolicy::Random:
+      if (geometry.assoc > kScanWays) return use(PolicyCache<DrawnOrder>(geometry));
+      break;
+  }
+  if (geometry.assoc == 1) return use(DirectMappedTable(geometry.size / geometry.block_size));
+  return use(SetAssociativeCache(geometry));
+}
+
 // The high side of `single`: never reached.
 struct NoCache {
   bool access(std::uint64_t) { return false; }
   void invalidate(std::uint64_t) {}
 };
+
+template <typename Model>
+std::uint64_t deferred_misses(const Model& model) {
+  if constexpr (std::is_same_v<Model, OptCache>) {
+    return model.misses();
+  } else if constexpr (std::is_same_v<Model, AnyCache>) {
+    return model.deferred_misses();
+  } else {
+    return 0;
+  }
+}
 
 }  // namespace nodetrace::cachesim

@@ -99,13 +99,31 @@ class SampledRun {
   // `rows`: the trace's header "sampling" (its windows are its markers).
   SampledRun(const std::vector<Configuration>& configs, const TraceContext& context,
              const SamplingOptions& options, const std::optional<formats::SamplingInfo>& rows)
-      : configs_(configs), options_(options), rows_(rows) {
+      : configs_(configs), options_(options), rows_(rows), trace_(context.trace) {
     if (options.window_records == 0) throw UsageError("--window-records: must be at least 1");
     if (rows_ && options.window_every != 0) {
       throw UsageError(fmt::format(
           "--sample-windows: {} is already sampled ({} 1/{} in its header \"sampling\"); its "
           "windows are the ones its markers begin",
           context.source_name, rows_->method, rows_->every));
+    }
+    for (const Configuration& config : configs) {
+      // MIN needs every fetch of the run; brrip's insertion counter and
+      // drrip's selector are shared by all sets, so sets sampled apart
+      // would not see the whole cache's.
+      if (config.policy == ReplacementPolicy::Opt) {
+        throw UsageError(fmt::format("--policy opt: not with sampling ({}): MIN needs every fetch of the "
+                                     "cache; simulate the whole trace",
+                                     rows_ ? context.source_name + " is row-sampled" : "--sample-windows, "
+                                     "--sample-sets"));
+      }
+      if (options.set_every != 0 &&
+          (config.policy == ReplacementPolicy::Brrip || config.policy == ReplacementPolicy::Drrip)) {
+        throw UsageError(fmt::format("--policy {} with --sample-sets: its insertion counter (and drrip's "
+                                     "selector) belong to the whole cache; allowed with --sample-sets: lru, "
+                                     "fifo, random, plru, srrip (or use --sample-windows)",
+                                     policy_name(config.policy)));
+      }
     }
     if (options.set_every != 0) {
       groups_ = set_groups(configs, options.set_every);
@@ -164,6 +182,7 @@ class SampledRun {
       out.windows = (total_records + options_.window_records - 1) / options_.window_records;
     }
     out.windows_simulated = windows_simulated_;
+    if (records_simulated_ == 0 && total_records > 0) throw_nothing_simulated(total_records, out.windows);
     // The units and how many there are in all.
     std::vector<SampleUnit> units;
     std::uint64_t population = 0;
@@ -234,6 +253,24 @@ class SampledRun {
   }
 
  private:
+  // A sample of no records has no miss ratio: rather than a report of empty
+  // rows and exit 0, an error (exit 1) that says why and what to change.
+  [[noreturn]] void throw_nothing_simulated(std::uint64_t total_records, std::uint64_t windows) const {
+    std::string why;
+    if (options_.window_every != 0 && windows_simulated_ == 0) {
+      why = fmt::format("--sample-windows 1/{} drew none of its {} window{} of {} records: give a smaller K or "
+                        "shorter windows (--window-records)",
+                        options_.window_every, windows, windows == 1 ? "" : "s", options_.window_records);
+    } else if (options_.set_every != 0) {
+      why = fmt::format("--sample-sets 1/{}: no record falls in the sampled sets: give a smaller K",
+                        options_.set_every);
+    } else {
+      why = "no window of the row-sampled trace holds a record";
+    }
+    throw base::FormatError(
+        fmt::format("{}: the sample simulated none of the trace's {} records: {}", trace_, total_records, why));
+  }
+
   // A row-sampled trace: a window marker begins a window, an animation-frame
   // marker ends it (records before any window marker are a window too).
   void feed_marked(const formats::RecordBatch& batch) {
@@ -322,6 +359,7 @@ class SampledRun {
   std::vector<std::unique_ptr<Sweep>> sweeps_;
   std::vector<formats::RecordBatch> group_batches_;
   std::optional<formats::SamplingInfo> rows_;
+  std::string trace_;  // the report's trace column
   bool window_open_ = false;
   bool open_chosen_ = false;
   std::uint64_t open_window_ = 0;

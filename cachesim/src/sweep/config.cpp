@@ -68,6 +68,19 @@ std::vector<Configuration> expand_configurations(const SweepOptions& options) {
                                    fetch_policy_name(options.fetch), options.prefetch_distance));
     }
   }
+  for (const ReplacementPolicy policy : options.policies) {
+    if (!dinero_has_policy(policy) && options.fetch != FetchPolicy::Demand) {
+      throw UsageError(fmt::format("--policy {} with --fetch {}: prefetching is simulated with Dinero IV's "
+                                   "policies only (lru, fifo, random); give --fetch demand",
+                                   policy_name(policy), fetch_policy_name(options.fetch)));
+    }
+    if (policy == ReplacementPolicy::Opt && (options.per_level || options.per_animation_frame)) {
+      throw UsageError(fmt::format("--policy opt: not with {} (MIN counts its misses only at the end of the "
+                                   "trace); run per-level or per-frame tables with lru, fifo, random, plru, "
+                                   "srrip, brrip or drrip",
+                                   options.per_level ? "--per-level" : "--per-frame"));
+    }
+  }
   std::vector<Configuration> configs;
   for (const std::uint64_t size : options.sizes) {
     for (const std::uint32_t block : options.blocks) {
@@ -156,7 +169,27 @@ bool has_split(const std::vector<Configuration>& configs) {
                      [](const auto& config) { return config.scheme == Scheme::Split; });
 }
 
+std::optional<std::string> merge_repeated_configurations(std::vector<Configuration>& configs) {
+  std::vector<Configuration> distinct;
+  for (const Configuration& config : configs) {
+    if (std::find(distinct.begin(), distinct.end(), config) == distinct.end()) distinct.push_back(config);
+  }
+  const std::size_t repeated = configs.size() - distinct.size();
+  configs = std::move(distinct);
+  if (repeated == 0) return std::nullopt;
+  return fmt::format("{} configuration{} repeated an earlier one (a value listed twice, or `full` and the "
+                     "number of ways of a one-set cache): each cache is simulated and reported once",
+                     repeated, repeated == 1 ? "" : "s");
+}
+
 void throw_untagged_trace(const TraceContext& context, std::string_view what) {
+  if (context.form == formats::RecordForm::Binary) {
+    // --tags-are-levels cannot help: the form has no field for a tag.
+    throw UsageError(fmt::format(
+        "{}: {} needs the node level of every record, but Dinero binary records carry no tag; "
+        "use a din or extended din trace of the same records (a trace converted to binary lost its levels)",
+        context.source_name, what));
+  }
   throw UsageError(fmt::format(
       "{}: {} needs the node level of every record, but this trace's records are untagged "
       "(no container header says \"tag\": \"node-level\"); if the field after the address "

@@ -147,16 +147,18 @@ class Simulator final : public ConfigSimulator {
     row.trace = context_.trace;
     row.config = config_;
     const Counters& c = counters_;
+    const std::uint64_t high_misses = c.high_misses + deferred_misses(high_);
+    const std::uint64_t low_misses = c.low_misses + deferred_misses(low_);
     row.refs = c.refs;
     row.fetches = c.fetches;
-    row.misses = c.high_misses + c.low_misses;
+    row.misses = high_misses + low_misses;
     if constexpr (Router::kSplit) {
       row.split_level = router_.split_level;
       row.high_refs = c.high_refs;
-      row.high_misses = c.high_misses;
+      row.high_misses = high_misses;
       if constexpr (kRetain) row.high_loads = c.high_loads;
       row.low_refs = c.low_refs;
-      row.low_misses = c.low_misses;
+      row.low_misses = low_misses;
     }
     return row;
   }
@@ -412,7 +414,8 @@ std::unique_ptr<ConfigSimulator> compose(const Configuration& config, std::uint3
 // The low side chosen, the high side next.
 template <typename Low>
 std::unique_ptr<ConfigSimulator> with_high(const Configuration& config, std::uint32_t split_level,
-                                           const TraceContext& context, bool per_level, Low low) {
+                                           const TraceContext& context, bool per_level, Low low,
+                                           const OptSource& high_opt) {
   if (config.scheme == Scheme::Single) {
     return compose<SingleRouter>(config, split_level, context, per_level, std::move(low),
                                  NoCache{});
@@ -421,14 +424,15 @@ std::unique_ptr<ConfigSimulator> with_high(const Configuration& config, std::uin
     return compose<SplitRouter>(config, split_level, context, per_level, std::move(low),
                                 RetainSet(config.high_size / config.block));
   }
-  if (config.high_assoc == 1) {
-    return compose<SplitRouter>(config, split_level, context, per_level, std::move(low),
-                                DirectMappedTable(config.high_size / config.block));
-  }
-  return compose<SplitRouter>(
-      config, split_level, context, per_level, std::move(low),
-      SetAssociativeCache({config.high_size, config.block, config.high_assoc, config.policy},
-                          0x5eed + 1));
+  return with_cache_model({config.high_size, config.block, config.high_assoc, config.policy}, high_opt, [&](auto high) {
+    using High = decltype(high);
+    if constexpr (std::is_same_v<High, DirectMappedTable> || std::is_same_v<High, SetAssociativeCache>) {
+      return compose<SplitRouter>(config, split_level, context, per_level, std::move(low), std::move(high));
+    } else {
+      return compose<SplitRouter>(config, split_level, context, per_level, std::move(low),
+                                  AnyCache(std::move(high)));
+    }
+  });
 }
 
 template <typename High>
@@ -460,7 +464,7 @@ std::vector<std::unique_ptr<ConfigSimulator>> together(const std::vector<Configu
 
 std::string together_key(const Configuration& config, bool per_level) {
   if (per_level || config.scheme != Scheme::Split || config.assoc != 1 ||
-      config.fetch != FetchPolicy::Demand) {
+      config.policy == ReplacementPolicy::Opt || config.fetch != FetchPolicy::Demand) {
     return {};
   }
   if (config.high_policy == HighPolicy::Cache && config.high_assoc != 1) return {};
@@ -477,20 +481,41 @@ std::vector<std::unique_ptr<ConfigSimulator>> make_together(
   return together<DirectMappedTable>(configs, split_levels, context);
 }
 
+namespace {
+
+// The stream of the opt caches that see the fetches `key` names: the first
+// to ask records it.
+OptSource opt_source(OptStreams* streams, const std::string& key) {
+  if (streams == nullptr) return {};
+  std::shared_ptr<SharedOptStream>& shared = (*streams)[key];
+  if (shared) return {shared, false};
+  shared = std::make_shared<SharedOptStream>();
+  return {shared, true};
+}
+
+}  // namespace
+
 std::unique_ptr<ConfigSimulator> make_simulator(const Configuration& config,
                                                 std::uint32_t split_level,
-                                                const TraceContext& context, bool per_level) {
+                                                const TraceContext& context, bool per_level,
+                                                OptStreams* opt_streams) {
   const CacheGeometry low{config.scheme == Scheme::Split ? config.low_size : config.size,
                           config.block, config.assoc, config.policy};
+  // Caches of one block size behind the same router see the same fetches:
+  // single, or split with the same K in every animation frame.
+  const std::string k_rule = config.split_level ? std::to_string(*config.split_level)
+                                                : fmt::format("auto{}", config.high_size);
+  const OptSource high_opt = opt_source(opt_streams, fmt::format("high/{}/{}", config.block, k_rule));
   if (config.fetch != FetchPolicy::Demand) {
     return with_high(config, split_level, context, per_level,
-                     PrefetchingCache(low, config.fetch, config.prefetch_distance));
+                     PrefetchingCache(low, config.fetch, config.prefetch_distance), high_opt);
   }
-  if (low.assoc == 1) {
-    return with_high(config, split_level, context, per_level,
-                     DirectMappedTable(low.size / low.block_size));
-  }
-  return with_high(config, split_level, context, per_level, SetAssociativeCache(low, 0x5eed));
+  const OptSource low_opt = opt_source(
+      opt_streams, config.scheme == Scheme::Single ? fmt::format("single/{}", config.block)
+                                                   : fmt::format("low/{}/{}", config.block, k_rule));
+  return with_cache_model(low, low_opt, [&](auto model) {
+    return with_high(config, split_level, context, per_level, std::move(model), high_opt);
+  });
 }
 
 }  // namespace nodetrace::cachesim

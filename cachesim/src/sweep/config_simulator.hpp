@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -37,10 +38,20 @@ std::vector<std::unique_ptr<ConfigSimulator>> make_together(
     const std::vector<Configuration>& configs, const std::vector<std::uint32_t>& split_levels,
     const TraceContext& context);
 
+// The streams of opt caches by the fetches they see, so that the opt
+// configurations of one block size and router keep them once (8 bytes a
+// fetch) whatever their sizes and ways.
+class SharedOptStream;
+using OptStreams = std::map<std::string, std::shared_ptr<SharedOptStream>>;
+
 // The simulator of one configuration with K `split_level` for the first
 // animation frame (begin_animation_frame gives each later frame's).
+// `opt_streams`: the streams its opt caches share with the configurations
+// made with the same map (null: their own); all of them must be fed the
+// same records, and counted only after the last.
 std::unique_ptr<ConfigSimulator> make_simulator(const Configuration& config,
                                                 std::uint32_t split_level,
-                                                const TraceContext& context, bool per_level);
+                                                const TraceContext& context, bool per_level,
+                                                OptStreams* opt_streams = nullptr);
 
 }  // namespace nodetrace::cachesim

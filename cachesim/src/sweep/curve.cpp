@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <bit>
 #include <memory>
 
@@ -9,6 +10,8 @@
 #include "nodetrace/cachesim/report/report.hpp"
 #include "nodetrace/cachesim/sweep/sweep.hpp"
 #include "nodetrace/base/error.hpp"
+#include "models/opt_cache.hpp"
+#include "models/opt_curve.hpp"
 #include "models/record_blocks.hpp"
 
 namespace nodetrace::cachesim {
@@ -30,27 +33,68 @@ struct Stream {
   bool started = false;
   std::vector<std::size_t> points;  // indices of its set-associative points
   std::unique_ptr<Sweep> sweep;     // those points as single caches
-  std::unique_ptr<LruStack> stack;  // assoc full
+  std::unique_ptr<LruStack> stack;  // lru, assoc full
   LruSizeCurve full;
   std::uint64_t full_fetches = 0;
+  std::unique_ptr<OptStream> opt;  // every opt point's fetches
+  std::uint64_t opt_fetches = 0;
   formats::RecordBatch low_batch;
 };
 
 void feed_stack(Stream& stream, const Record& record, formats::RecordForm form,
                 const TraceContext& context, std::uint64_t record_number) {
-  if (record.type == AccessType::Invalidate) {
+  if (record.type == AccessType::Invalidate && stream.stack) {
     throw UsageError(fmt::format(
-        "{}: record {}: --curve with --assoc full answers every size with one LRU stack, which "
+        "{}: record {}: --curve with --assoc full answers every LRU size with one LRU stack, which "
         "has no invalidate; give numeric associativities for this trace",
         context.source_name, record_number));
   }
-  if (record.type > AccessType::Misc) return;  // copy-back: not a demand fetch
+  const bool invalidate = record.type == AccessType::Invalidate;
+  if (record.type > AccessType::Misc && !invalidate) return;  // copy-back: not a demand fetch
   const BlockRange blocks =
       blocks_of(record, form, static_cast<unsigned>(std::countr_zero(stream.block)), false);
   for (std::uint64_t block = blocks.first;; ++block) {
-    ++stream.full_fetches;
-    stream.full.count(stream.stack->access(block));
+    if (stream.opt) {
+      if (invalidate) {
+        stream.opt->invalidate(block);
+      } else {
+        ++stream.opt_fetches;
+        stream.opt->fetch(block);
+      }
+    }
+    if (stream.stack) {
+      ++stream.full_fetches;
+      stream.full.count(stream.stack->access(block));
+    }
     if (block == blocks.last) break;
+  }
+}
+
+// The opt points of `stream` from its kept fetches.
+void settle_opt(const Stream& stream, std::vector<CurvePoint>& points) {
+  const ChunkedArray next_uses = stream.opt->next_uses();
+  unsigned layers = 0;
+  for (const CurvePoint& point : points) {
+    if (point.policy != ReplacementPolicy::Opt || point.scheme != stream.scheme || point.block != stream.block) {
+      continue;
+    }
+    if (point.assoc == 0) {
+      layers = std::max(layers, static_cast<unsigned>(std::countr_zero(point.size / point.block)) + 1);
+    }
+  }
+  std::vector<std::uint64_t> full;
+  if (layers > 0) full = opt_size_curve(*stream.opt, next_uses, layers);
+  for (CurvePoint& point : points) {
+    if (point.policy != ReplacementPolicy::Opt || point.scheme != stream.scheme || point.block != stream.block) {
+      continue;
+    }
+    point.fetches = stream.opt_fetches;
+    const std::uint64_t blocks = point.size / point.block;
+    if (point.assoc == 0) {
+      point.misses = full[static_cast<unsigned>(std::countr_zero(blocks))];
+      continue;
+    }
+    point.misses = opt_misses(*stream.opt, next_uses, blocks / point.assoc, point.assoc);
   }
 }
 
@@ -79,32 +123,40 @@ std::vector<CurvePoint> run_curve(formats::TraceReader& reader, const CurveOptio
       stream.k_rule.split_level = options.split_level;
       stream.k_rule.high_size = options.high_size.value_or(block);
       std::vector<Configuration> configs;
-      for (const std::uint32_t assoc : options.assocs) {
-        if (assoc == 0 && options.policy != ReplacementPolicy::Lru) {
-          throw UsageError("--curve: --assoc full is answered by an LRU stack; use --policy lru");
-        }
-        const std::uint64_t smallest = std::uint64_t{block} * (assoc == 0 ? 1 : assoc);
-        for (std::uint64_t size = smallest; size <= options.max_size; size *= 2) {
-          CurvePoint point;
-          point.trace = trace_column;
-          point.scheme = scheme;
-          point.block = block;
-          point.assoc = assoc;
-          point.size = size;
-          if (assoc != 0) {
-            Configuration config;
-            config.size = size;
-            config.block = block;
-            config.assoc = assoc;
-            config.policy = options.policy;
-            validate_geometry({size, block, assoc, options.policy},
-                              fmt::format("{}-byte cache", size));
-            configs.push_back(config);
-            stream.points.push_back(points.size());
-          } else if (!stream.stack) {
-            stream.stack = std::make_unique<LruStack>();
+      for (const ReplacementPolicy policy : options.policies) {
+        for (const std::uint32_t assoc : options.assocs) {
+          if (assoc == 0 && policy != ReplacementPolicy::Lru && policy != ReplacementPolicy::Opt) {
+            throw UsageError(fmt::format("--curve: --assoc full is answered for lru (one LRU stack) and opt "
+                                         "(MIN's layered stack), not {}; give numeric associativities",
+                                         policy_name(policy)));
           }
-          points.push_back(point);
+          const std::uint64_t smallest = std::uint64_t{block} * (assoc == 0 ? 1 : assoc);
+          for (std::uint64_t size = smallest; size <= options.max_size; size *= 2) {
+            CurvePoint point;
+            point.trace = trace_column;
+            point.scheme = scheme;
+            point.block = block;
+            point.assoc = assoc;
+            point.policy = policy;
+            point.size = size;
+            if (assoc != 0) {
+              validate_geometry({size, block, assoc, policy}, fmt::format("{}-byte cache", size));
+            }
+            if (policy == ReplacementPolicy::Opt) {
+              if (!stream.opt) stream.opt = std::make_unique<OptStream>();
+            } else if (assoc != 0) {
+              Configuration config;
+              config.size = size;
+              config.block = block;
+              config.assoc = assoc;
+              config.policy = policy;
+              configs.push_back(config);
+              stream.points.push_back(points.size());
+            } else if (!stream.stack) {
+              stream.stack = std::make_unique<LruStack>();
+            }
+            points.push_back(point);
+          }
         }
       }
       if (!configs.empty()) {
@@ -139,7 +191,7 @@ std::vector<CurvePoint> run_curve(formats::TraceReader& reader, const CurveOptio
         fed = &stream.low_batch;
       }
       if (stream.sweep) stream.sweep->feed(*fed);
-      if (stream.stack) {
+      if (stream.stack || stream.opt) {
         for (std::size_t i = 0; i < fed->records.size(); ++i) {
           const Record& record = fed->records[i];
           if (is_other_stream(record.tag)) continue;
@@ -158,11 +210,14 @@ std::vector<CurvePoint> run_curve(formats::TraceReader& reader, const CurveOptio
       }
     }
   }
+  for (const Stream& stream : streams) {
+    if (stream.opt) settle_opt(stream, points);
+  }
   for (CurvePoint& point : points) {
     for (const Stream& stream : streams) {
       if (stream.scheme != point.scheme || stream.block != point.block) continue;
       if (stream.scheme == Scheme::Split) point.split_level = stream.first_split_level;
-      if (point.assoc == 0) {
+      if (point.assoc == 0 && point.policy == ReplacementPolicy::Lru) {
         point.fetches = stream.full_fetches;
         point.misses = stream.full.misses(
             static_cast<unsigned>(std::countr_zero(point.size / point.block)));
@@ -172,18 +227,44 @@ std::vector<CurvePoint> run_curve(formats::TraceReader& reader, const CurveOptio
   return points;
 }
 
-std::string format_curve(const std::vector<CurvePoint>& points, ReplacementPolicy policy,
-                         ReportFormat format) {
+namespace {
+
+// `full` as in the report: no ways given, or as many as the cache has blocks.
+std::string assoc_label(const CurvePoint& point) {
+  const bool full = point.assoc == 0 || (point.size / point.block > 1 && point.assoc == point.size / point.block);
+  return full ? std::string("full") : std::to_string(point.assoc);
+}
+
+}  // namespace
+
+std::optional<std::string> merge_repeated_points(std::vector<CurvePoint>& points) {
+  const auto same = [](const CurvePoint& a, const CurvePoint& b) {
+    return a.trace == b.trace && a.scheme == b.scheme && a.policy == b.policy && a.block == b.block &&
+           a.size == b.size && assoc_label(a) == assoc_label(b);
+  };
+  std::vector<CurvePoint> distinct;
+  for (const CurvePoint& point : points) {
+    if (std::none_of(distinct.begin(), distinct.end(), [&](const CurvePoint& kept) { return same(kept, point); })) {
+      distinct.push_back(point);
+    }
+  }
+  const std::size_t repeated = points.size() - distinct.size();
+  points = std::move(distinct);
+  if (repeated == 0) return std::nullopt;
+  return fmt::format("--curve: {} point{} repeated an earlier one (a one-set cache of N ways is the fully "
+                     "associative one, or a value was listed twice): each cache is printed once",
+                     repeated, repeated == 1 ? "" : "s");
+}
+
+std::string format_curve(const std::vector<CurvePoint>& points, ReportFormat format) {
   static const std::vector<std::string> columns{"trace", "scheme", "block",   "assoc",  "policy",
                                                 "split_level", "size", "fetches", "misses", "miss_ratio"};
   std::vector<std::vector<std::string>> rows;
   rows.reserve(points.size());
   for (const CurvePoint& point : points) {
     const bool split = point.scheme == Scheme::Split;
-    // `full` as in the report: no ways given, or as many as the cache has blocks.
-    const bool full = point.assoc == 0 || (point.size / point.block > 1 && point.assoc == point.size / point.block);
     rows.push_back({point.trace, split ? "split-low" : "single", std::to_string(point.block),
-                    full ? std::string("full") : std::to_string(point.assoc), std::string(policy_name(policy)),
+                    assoc_label(point), std::string(policy_name(point.policy)),
                     split ? std::to_string(point.split_level) : "", std::to_string(point.size),
                     std::to_string(point.fetches), std::to_string(point.misses),
                     miss_ratio_text(point.misses, point.fetches)});

@@ -30,6 +30,11 @@ struct SecondLevelSimulator::PerConfig {
 namespace {
 
 void check_policy(ReplacementPolicy policy, const char* what) {
+  if (!dinero_has_policy(policy)) {
+    throw base::UsageError(fmt::format("--l2-size: the {} is simulated record by record with lru or fifo, "
+                                       "not {}",
+                                       what, policy_name(policy)));
+  }
   if (policy == ReplacementPolicy::Random) {
     throw base::UsageError(fmt::format("--l2-size: the {} cannot be random: its draws would not be the ones the "
                                        "report's first-level counts come from (lru or fifo)",

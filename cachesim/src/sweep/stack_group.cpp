@@ -26,8 +26,8 @@ namespace {
 constexpr std::uint32_t kMaxStackWays = 32;
 
 bool stackable(std::uint32_t assoc, ReplacementPolicy policy) {
-  // A direct-mapped cache has no choice to make: every policy is LRU.
-  return assoc <= kMaxStackWays && (assoc == 1 || policy == ReplacementPolicy::Lru);
+  // A direct-mapped cache has no choice to make: every policy but opt is LRU.
+  return assoc <= kMaxStackWays && misses_as_lru(policy, assoc);
 }
 
 unsigned log2_sets(std::uint64_t size, std::uint32_t block, std::uint32_t assoc) {
@@ -282,14 +282,14 @@ class StackGroup {
     for (Member& member : members_) {
       const Configuration& config = member.config;
       const std::uint64_t low_size = split_ ? config.low_size : config.size;
-      member.low_cache.emplace(CacheGeometry{low_size, config.block, config.assoc, config.policy});
+      // Stacked caches miss as LRU does (stackable()): LRU takes over from the stacks.
+      member.low_cache.emplace(CacheGeometry{low_size, config.block, config.assoc, ReplacementPolicy::Lru});
       for (std::uint64_t set = 0; set < member.low_cache->sets(); ++set) {
         member.low_cache->assign_set(set, low_.ways_of(member.low_log2_sets, set, config.assoc));
       }
       if (split_ && !retain_) {
         member.high_cache.emplace(
-            CacheGeometry{config.high_size, config.block, config.high_assoc, config.policy},
-            0x5eed + 1);
+            CacheGeometry{config.high_size, config.block, config.high_assoc, ReplacementPolicy::Lru});
         for (std::uint64_t set = 0; set < member.high_cache->sets(); ++set) {
           member.high_cache->assign_set(
               set, high_->ways_of(member.high_log2_sets, set, config.high_assoc));

@@ -142,8 +142,9 @@ void Sweep::start(const formats::RecordBatch& first_batch) {
       units.push_back(std::move(members));
     }
   }
+  OptStreams opt_streams;  // held by the simulators that share them
   for (const std::size_t i : by_itself) {
-    simulators_[i] = make_simulator(configs_[i], plan_->current(i), context_, per_level_);
+    simulators_[i] = make_simulator(configs_[i], plan_->current(i), context_, per_level_, &opt_streams);
     unit_cost.push_back(cost_alone(configs_[i]));
     units.push_back({i});
   }

@@ -275,14 +275,6 @@ TraceResult wrap_run(const std::string& path, const std::vector<Configuration>& 
     result.rows.push_back(row);
   }
   result.notes = plan.notes();
-  if (std::any_of(configs.begin(), configs.end(), [](const auto& config) {
-        return config.policy == ReplacementPolicy::Random;
-      })) {
-    result.notes.push_back(fmt::format(
-        "{}: random replacement: Dinero IV draws its own random ways, so its misses differ "
-        "from cachesim run's (seeded) ones",
-        trace_column));
-  }
   result.other_stream_records = other_stream_records;
   if (other_stream_records > 0) {
     result.notes.push_back(other_streams_note(trace_column, other_stream_records));

@@ -14,7 +14,11 @@ namespace nodetrace::formats {
 
 TraceReader::~TraceReader() = default;
 
-std::unique_ptr<TraceReader> TraceReader::open(const std::string& path, const ReaderOptions& options) {
+std::unique_ptr<TraceReader> TraceReader::open(const std::string& path, const ReaderOptions& given_options) {
+  // Binary records cannot be told from text by their bytes for sure, but a
+  // name says so as the writers choose it (tracer -o t.bin).
+  ReaderOptions options = given_options;
+  if (!options.form && form_of_file_name(path) == RecordForm::Binary) options.form = RecordForm::Binary;
   detail::OpenedInput opened;
   opened.name = path == "-" ? "<stdin>" : path;
   opened.input = std::make_unique<detail::Input>(path, opened.name);

@@ -22,6 +22,14 @@ std::optional<RecordForm> parse_form_name(std::string_view name) {
   return std::nullopt;
 }
 
+std::optional<RecordForm> form_of_file_name(std::string_view path) {
+  const std::string_view name = path.ends_with(".zst") ? path.substr(0, path.size() - 4) : path;
+  if (name.ends_with(".xdin")) return RecordForm::ExtendedDin;  // before .din, which it ends with
+  if (name.ends_with(".din")) return RecordForm::Din;
+  if (name.ends_with(".bin")) return RecordForm::Binary;
+  return std::nullopt;
+}
+
 char dinero_informat(RecordForm form) {
   switch (form) {
     case RecordForm::Din: return 'd';

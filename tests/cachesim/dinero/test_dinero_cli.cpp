@@ -304,5 +304,17 @@ TEST(DineroProgram, HelpExitsZero) {
   EXPECT_NE(help.out.find("-lN-Tsize"), std::string::npos);
 }
 
+// Issue 34 item 13 asked for dineroIV's exit 1 on bad usage; DESIGN.md gives
+// every command 2, and that is kept: the help and the manual page say so.
+TEST(DineroCommand, BadUsageIsExit2AndTheHelpSaysDineroIVGives1) {
+  const std::string cachesim = testing::shell_quoted(testing::program("cachesim"));
+  const auto bad = testing::run_command(cachesim + " dinero -l1-dsize 3k < /dev/null");
+  EXPECT_EQ(bad.exit_code, 2) << bad.err;
+  EXPECT_NE(bad.err.find("-l1-dsize"), std::string::npos) << bad.err;
+  const auto help = testing::run_command(cachesim + " dinero --help");
+  EXPECT_NE(help.out.find("dineroIV itself exits 1 for bad usage, nodetrace's commands 2"), std::string::npos)
+      << help.out;
+}
+
 }  // namespace
 }  // namespace nodetrace::cachesim

@@ -100,7 +100,7 @@ TEST_F(SamplingCommand, FullCoverageEqualsTheFullRunWithZeroError) {
 
 TEST_F(SamplingCommand, SeededRunsRepeatWhateverTheThreadCount) {
   for (const std::string sampling :
-       {" --sample-windows 1/4 --sample-seed 7", " --sample-sets 1/4 --sample-seed 7",
+       {" --sample-windows 1/4 --window-records 1000 --sample-seed 7", " --sample-sets 1/4 --sample-seed 7",
         " --sample-windows 1/2 --window-records 1500 --sample-sets 1/2 --sample-seed 3"}) {
     const std::string one = run(kConfigs + sampling + " --threads 1");
     EXPECT_EQ(run(kConfigs + sampling + " --threads 1"), one) << sampling;
@@ -220,7 +220,7 @@ TEST_F(SamplingCommand, SamplingColumnsInTableAndJsonOnlyWhenSampling) {
   EXPECT_TRUE(json[4]["misses"].is_null());
   EXPECT_TRUE(json[0]["miss_ratio_se"].is_number());
   EXPECT_TRUE(json[4]["miss_ratio_low95"].is_number());
-  const std::string table = run(" --sample-windows 1/2");
+  const std::string table = run(" --sample-windows 1/2 --window-records 1024");
   EXPECT_NE(table.find("miss_ratio_high95"), std::string::npos);
 }
 
@@ -231,6 +231,23 @@ TEST_F(SamplingCommand, SamplingRefusesPerLevelPerFrameAndCurve) {
     EXPECT_EQ(result.exit_code, 2) << option;
     EXPECT_NE(result.err.find("not with --per-level"), std::string::npos) << result.err;
   }
+}
+
+// The README's command on a trace of fewer windows than K: a sample that
+// draws none of them simulates nothing, and says so with exit 1 rather than
+// an empty miss ratio and exit 0.
+TEST_F(SamplingCommand, SampleOfNoRecordsIsExit1SayingWhy) {
+  const auto result = run_command(cachesim() + " run " + shell_quoted(trace_) +
+                                  " --size 4k --scheme single,split --sample-windows 1/16 --sample-seed 1"
+                                  " --window-records 100000000");
+  EXPECT_EQ(result.exit_code, 1) << result.out;
+  EXPECT_EQ(result.out, "");
+  EXPECT_NE(result.err.find("the sample simulated none of the trace's"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("--sample-windows 1/16 drew none of its 1 window of 100000000 records"),
+            std::string::npos)
+      << result.err;
+  // The same trace with a window drawn: a report, exit 0.
+  EXPECT_FALSE(run(" --size 4k --sample-windows 1/1 --window-records 100000000 --format csv").empty());
 }
 
 }  // namespace

@@ -129,4 +129,31 @@ TEST(ObjLoader, BadInputIsReported) {
   EXPECT_NE(bad.find("'1x'"), std::string::npos) << bad;
 }
 
+// A material file or a material that is not there gave the default
+// material silently (issue 34 item 7): each is a warning naming the file and
+// what is missing, as AFF problems are.
+TEST(ObjMaterials, MissingMaterialFileAndUnknownMaterialAreWarnedOf) {
+  TempDir dir;
+  const auto missing = dir.path() / "missing.obj";
+  write_file(missing, "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const auto without_file = open_scene(missing.string());
+  ASSERT_EQ(without_file->warnings().size(), 1u);
+  EXPECT_EQ(without_file->warnings()[0],
+            missing.string() + ": mtllib missing.mtl: no such file beside the OBJ file; its materials are missing "
+                               "and their faces get the default material");
+
+  write_file(dir.path() / "have.mtl", "newmtl red\nKd 1 0 0\n");
+  const auto unknown = dir.path() / "unknown.obj";
+  write_file(unknown, "mtllib have.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl nosuch\nf 1 2 3\n");
+  const auto without_material = open_scene(unknown.string());
+  ASSERT_EQ(without_material->warnings().size(), 1u);
+  EXPECT_NE(without_material->warnings()[0].find(unknown.string() + ": material [ 'nosuch' ] not found"),
+            std::string::npos)
+      << without_material->warnings()[0];
+
+  const auto known = dir.path() / "known.obj";
+  write_file(known, "mtllib have.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n");
+  EXPECT_TRUE(open_scene(known.string())->warnings().empty());
+}
+
 }  // namespace

@@ -10,10 +10,14 @@
 #include <memory>
 #include <stdexcept>
 
+#include "nodetrace/base/portable_math.hpp"
 #include "accel/box_test.hpp"
 #include "nodetrace/tracer/accel/bvh.hpp"
 
 namespace nodetrace::tracer {
+
+// The same results on every machine (portable_math.hpp).
+namespace math = base::portable_math;
 
 namespace {
 
@@ -242,7 +246,7 @@ void quantize_node(const BvhNode& node, std::vector<BvhChild>& children, std::ve
   q.origin = box.lo;
   for (int axis = 0; axis < 3; ++axis) {
     const double extent = double(box.hi[axis]) - box.lo[axis];
-    int e = extent > 0 ? static_cast<int>(std::ceil(std::log2(extent / 255.0))) : 0;
+    int e = extent > 0 ? static_cast<int>(std::ceil(math::log2(extent / 255.0))) : 0;
     for (int attempt = 0;; ++attempt, ++e) {
       if (attempt > 64) throw std::logic_error("BVH: no quantization step contains the child boxes");
       const float step = std::ldexp(1.0f, e);

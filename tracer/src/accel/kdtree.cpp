@@ -4,6 +4,7 @@
 #include "accel/kdtree_builder.hpp"
 #include "accel/kdtree_events.hpp"
 #include "accel/task_pool.hpp"
+#include "nodetrace/base/portable_math.hpp"
 
 #include <algorithm>
 #include <array>
@@ -15,9 +16,12 @@
 
 namespace nodetrace::tracer {
 
+// The same results on every machine (portable_math.hpp).
+namespace math = base::portable_math;
+
 int default_max_depth(std::size_t triangle_count) {
   if (triangle_count < 2) return 8;
-  return 8 + static_cast<int>(std::lround(1.3 * std::log2(static_cast<double>(triangle_count))));
+  return 8 + static_cast<int>(std::lround(1.3 * math::log2(static_cast<double>(triangle_count))));
 }
 
 Bounds clip_triangle_to_box(const Triangle& triangle, const Bounds& box) {

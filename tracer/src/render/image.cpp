@@ -5,19 +5,28 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <string>
 #include <memory>
 
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/base/output_file.hpp"
+#include "nodetrace/base/portable_math.hpp"
 
 namespace nodetrace::tracer {
 
 namespace {
 
-// Colours are written as computed, clamped, with no gamma curve: scene files of
-// the Whitted era (NFF, AFF) choose their colours for direct display.
-std::uint8_t to_byte(float value) {
-  return static_cast<std::uint8_t>(std::lround(std::clamp(value, 0.0f, 1.0f) * 255.0f));
+// Whitted colours are written as computed, clamped, with no gamma curve:
+// scene files of the Whitted era (NFF, AFF) choose their colours for direct
+// display. Linear radiance goes through the sRGB curve (portable pow: the
+// same PNG on every machine).
+std::uint8_t to_byte(float value, bool linear_radiance) {
+  float v = std::clamp(value, 0.0f, 1.0f);  // NaN never reaches here: the path tracer drops it
+  if (linear_radiance) {
+    v = v <= 0.0031308f ? 12.92f * v : 1.055f * base::portable_math::pow(v, 1.0f / 2.4f) - 0.055f;
+  }
+  return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
 }
 
 }  // namespace
@@ -56,9 +65,9 @@ void write_png(const Image& image, const std::string& path) {
     for (int y = 0; y < image.height; ++y) {
       for (int x = 0; x < image.width; ++x) {
         const Vec3& c = image.pixels[static_cast<std::size_t>(y) * image.width + x];
-        row[3 * x] = to_byte(c.x);
-        row[3 * x + 1] = to_byte(c.y);
-        row[3 * x + 2] = to_byte(c.z);
+        row[3 * x] = to_byte(c.x, image.linear_radiance);
+        row[3 * x + 1] = to_byte(c.y, image.linear_radiance);
+        row[3 * x + 2] = to_byte(c.z, image.linear_radiance);
       }
       png_write_row(png, row.data());
     }
@@ -66,6 +75,29 @@ void write_png(const Image& image, const std::string& path) {
   }
   png_destroy_write_struct(png ? &png : nullptr, info ? &info : nullptr);
   if (!ok) throw base::IoError(sink.error.empty() ? path + ": cannot write PNG" : sink.error);
+  out.commit();
+}
+
+void write_pfm(const Image& image, const std::vector<Vec3>& plane, const std::string& path) {
+  if (plane.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height)) {
+    throw base::UsageError(path + ": the image has no such plane");
+  }
+  base::OutputFile out(path);
+  // A negative scale says little-endian.
+  out.write("PF\n" + std::to_string(image.width) + " " + std::to_string(image.height) + "\n-1.0\n");
+  std::string row(static_cast<std::size_t>(image.width) * 12, '\0');
+  for (int y = image.height - 1; y >= 0; --y) {
+    for (int x = 0; x < image.width; ++x) {
+      const Vec3& c = plane[static_cast<std::size_t>(y) * image.width + x];
+      for (int k = 0; k < 3; ++k) {
+        std::uint32_t bits;
+        const float value = c[k];
+        std::memcpy(&bits, &value, 4);
+        for (int b = 0; b < 4; ++b) row[std::size_t(x) * 12 + std::size_t(k) * 4 + b] = char((bits >> (8 * b)) & 0xFF);
+      }
+    }
+    out.write(row);
+  }
   out.commit();
 }
 

@@ -2,6 +2,8 @@
 
 #include <vector>
 
+#include "render/path_lobes.hpp"
+
 namespace nodetrace::tracer {
 
 std::string_view ray_kind_name(RayKind kind) {
@@ -10,6 +12,8 @@ std::string_view ray_kind_name(RayKind kind) {
     case RayKind::Shadow: return "shadow";
     case RayKind::Reflection: return "reflection";
     case RayKind::Refraction: return "refraction";
+    case RayKind::Diffuse: return "diffuse";
+    case RayKind::Glossy: return "glossy";
   }
   return "primary";
 }
@@ -23,18 +27,30 @@ std::string_view ray_scope_name(RayScope scope) {
   return "whitted";
 }
 
-RayKindPlan plan_ray_kinds(const Scene& scene, int max_depth, RayScope scope) {
-  RayKindPlan plan;
-  plan.cast[0] = true;
-  bool reflects = false, transmits = false;
-  // Only the materials some triangle uses count.
+namespace {
+
+// The materials some triangle uses: only they count.
+std::vector<const Material*> used_materials(const Scene& scene) {
   std::vector<bool> used(scene.materials.size(), false);
   for (const auto& t : scene.triangles) {
     if (t.material < used.size()) used[t.material] = true;
   }
+  std::vector<const Material*> materials;
   for (std::size_t i = 0; i < scene.materials.size(); ++i) {
-    if (!used[i]) continue;
-    const Material& m = scene.materials[i];
+    if (used[i]) materials.push_back(&scene.materials[i]);
+  }
+  return materials;
+}
+
+}  // namespace
+
+RayKindPlan plan_ray_kinds(const Scene& scene, int max_depth, RayScope scope) {
+  RayKindPlan plan;
+  plan.kinds = {RayKind::Primary, RayKind::Shadow, RayKind::Reflection, RayKind::Refraction};
+  plan.cast[0] = true;
+  bool reflects = false, transmits = false;
+  for (const Material* material : used_materials(scene)) {
+    const Material& m = *material;
     reflects = reflects || m.reflectance > 0 || m.transmittance > 0;  // Fresnel and TIR reflect too
     transmits = transmits || m.transmittance > 0;
   }
@@ -56,6 +72,34 @@ RayKindPlan plan_ray_kinds(const Scene& scene, int max_depth, RayScope scope) {
       }
     }
   }
+  return plan;
+}
+
+RayKindPlan plan_path_ray_kinds(const Scene& scene, int max_bounces) {
+  RayKindPlan plan;
+  plan.kinds = {RayKind::Primary, RayKind::Shadow,     RayKind::Diffuse,
+                RayKind::Glossy,  RayKind::Reflection, RayKind::Refraction};
+  bool lit = false, diffuse = false, glossy = false, reflects = false, transmits = false;
+  for (const Material* material : used_materials(scene)) {
+    const detail::LobeWeights w = detail::lobe_weights(*material);
+    lit = lit || w.diffuse > 0 || w.glossy > 0;
+    diffuse = diffuse || w.diffuse > 0;
+    glossy = glossy || w.glossy > 0;
+    reflects = reflects || w.mirror > 0 || w.dielectric > 0;  // Fresnel and TIR reflect too
+    transmits = transmits || w.dielectric > 0;
+  }
+  const auto decide = [&](RayKind kind, bool needed, const char* why_not, bool bounce) {
+    const int k = static_cast<int>(kind);
+    plan.cast[k] = needed && (!bounce || max_bounces > 0);
+    if (!plan.cast[k]) plan.why_not[k] = !needed ? why_not : "max_bounces is 0";
+  };
+  decide(RayKind::Primary, true, "", false);
+  decide(RayKind::Shadow, lit && !scene.lights.empty(),
+         scene.lights.empty() ? "scene has no light" : "no material has a diffuse or glossy lobe", false);
+  decide(RayKind::Diffuse, diffuse, "no material has a diffuse lobe", true);
+  decide(RayKind::Glossy, glossy, "no material has a glossy lobe", true);
+  decide(RayKind::Reflection, reflects, "no material reflects or transmits", true);
+  decide(RayKind::Refraction, transmits, "no material transmits", true);
   return plan;
 }
 

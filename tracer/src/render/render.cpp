@@ -45,14 +45,15 @@ Renderer::Renderer(const Scene& scene, const Bounds& bounds, std::unique_ptr<Ray
                    const RenderOptions& options)
     : scene_(scene),
       options_(options),
-      plan_(plan_ray_kinds(scene, options.max_depth, options.rays)),
+      plan_(options.integrator == Integrator::Path ? plan_path_ray_kinds(scene, options.path.max_bounces)
+                                                   : plan_ray_kinds(scene, options.max_depth, options.rays)),
       camera_(camera_to_use(scene, bounds, options)),
       pinhole_(camera_, options.width, options.height),
       traversal_(std::move(traversal)) {
   // NFF / SPD convention (which AFF inherits): each of N lights has
   // intensity 1 / sqrt(N). Pixels only; the rays cast do not depend on it.
-  const std::size_t lights = options.first_light_only ? std::min<std::size_t>(1, scene.lights.size()) : scene.lights.size();
-  light_scale_ = lights > 1 ? 1.0f / std::sqrt(float(lights)) : 1.0f;
+  lights_shadowed_ = options.first_light_only ? std::min<std::size_t>(1, scene.lights.size()) : scene.lights.size();
+  light_scale_ = lights_shadowed_ > 1 ? 1.0f / std::sqrt(float(lights_shadowed_)) : 1.0f;
   face_normals_.reserve(scene.triangles.size());
   for (const auto& t : scene.triangles) face_normals_.push_back(triangle_unit_normal(t, {0, 0, 1}));
 }
@@ -69,6 +70,17 @@ bool Renderer::occluded(const Ray& ray, float t_max, std::vector<Record>* record
   return traversal_->any_hit(ray, t_max, records, stats);
 }
 
+std::vector<Renderer::CastRay> Renderer::cast_rays(std::uint64_t begin, std::uint64_t end) const {
+  const auto sequence = pixel_sequence(options_.width, options_.height, options_.pixel_order, options_.tile_size);
+  std::vector<CastRay> rays;
+  Context context;
+  context.cast = &rays;
+  for (std::uint64_t i = begin; i < std::min<std::uint64_t>(end, sequence.size()); ++i) {
+    render_pixel(sequence[i], context, nullptr);
+  }
+  return rays;
+}
+
 RenderStats Renderer::render(const RecordCallback& sink, Image* image, const Progress& progress) const {
   if (options_.rays_in_flight > 1 || options_.units > 1) return render_in_flight(sink, image, progress);
   const PixelRun all{0, static_cast<std::uint64_t>(options_.width) * static_cast<std::uint64_t>(options_.height)};
@@ -78,11 +90,7 @@ RenderStats Renderer::render(const RecordCallback& sink, Image* image, const Pro
 RenderStats Renderer::render_runs(std::span<const PixelRun> runs, const RunStart& run_start, const RecordCallback& sink,
                                   Image* image, const Progress& progress) const {
   const auto start = std::chrono::steady_clock::now();
-  if (image) {
-    image->width = options_.width;
-    image->height = options_.height;
-    image->pixels.assign(static_cast<std::size_t>(options_.width) * options_.height, Vec3{});
-  }
+  if (image) prepare_image(*image);
   const auto sequence =
       pixel_sequence(options_.width, options_.height, options_.pixel_order, options_.tile_size);
   const std::size_t chunk_pixels = static_cast<std::size_t>(std::max(1, options_.pixels_per_chunk));

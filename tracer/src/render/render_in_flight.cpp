@@ -1,6 +1,7 @@
 // The render loop with rays in flight (Renderer::render_in_flight): the
 // pixel sequence cut into chunks traced on the workers of an ordered
-// pipeline, each pixel's rays kept apart (PixelRays), and one RayScheduler on
+// pipeline, each pixel's rays kept apart (PixelRays; path tracing: each
+// sample's, so a pixel's samples are independent trees), and one RayScheduler on
 // this thread interleaving them in chunk order, so the records do not depend
 // on the thread count. Memory: the chunks traced ahead (a few per thread),
 // plus the pixels the scheduler holds (those with a ray in a slot or in a
@@ -19,43 +20,44 @@ using formats::Record;
 
 RenderStats Renderer::render_in_flight(const RecordCallback& sink, Image* image, const Progress& progress) const {
   const auto start = std::chrono::steady_clock::now();
-  if (image) {
-    image->width = options_.width;
-    image->height = options_.height;
-    image->pixels.assign(static_cast<std::size_t>(options_.width) * options_.height, Vec3{});
-  }
+  if (image) prepare_image(*image);
   const auto sequence = pixel_sequence(options_.width, options_.height, options_.pixel_order, options_.tile_size);
   const std::size_t chunk_pixels = static_cast<std::size_t>(std::max(1, options_.pixels_per_chunk));
   const std::size_t chunks = (sequence.size() + chunk_pixels - 1) / chunk_pixels;
   const std::uint64_t unit_pixels = std::max(1u, options_.unit_pixels);
   RayScheduler scheduler(options_.units, options_.rays_in_flight, options_.ready_order);
 
+  // A chunk's ray trees in pixel-sequence order: one per sample of each
+  // pixel (Whitted: one per pixel), each with its pixel's position.
   struct Chunk {
-    std::vector<PixelRays> pixels;
+    std::vector<PixelRays> trees;
+    std::vector<std::uint64_t> positions;
     RenderStats stats;
   };
+  const std::size_t samples =
+      options_.integrator == Integrator::Path ? options_.path.samples_per_pixel : std::size_t{1};
   auto trace_chunk = [&](std::size_t c) {
     Chunk chunk;
     Context context;
     const std::size_t begin = c * chunk_pixels, end = std::min(sequence.size(), begin + chunk_pixels);
-    chunk.pixels.resize(options_.record ? end - begin : 0);
-    std::size_t last_records = 0, last_rays = 0;
-    for (std::size_t i = begin; i < end; ++i) {
-      if (options_.record) {
-        // Neighbours cast similar ray trees: room for the last pixel's and a
+    std::size_t position = begin;
+    if (options_.record) {
+      chunk.trees.reserve((end - begin) * samples);
+      chunk.positions.reserve((end - begin) * samples);
+      context.begin_sample = [&] {
+        // Neighbours cast similar ray trees: room for the last tree's and a
         // quarter more saves most of the regrowth.
-        PixelRays& pixel = chunk.pixels[i - begin];
-        pixel.records.reserve(last_records + last_records / 4);
-        pixel.rays.reserve(last_rays + last_rays / 4);
-        context.records = &pixel.records;
-        context.rays = &pixel.rays;
-      }
-      render_pixel(sequence[i], context, image);
-      if (options_.record) {
-        last_records = chunk.pixels[i - begin].records.size();
-        last_rays = chunk.pixels[i - begin].rays.size();
-      }
+        const std::size_t last_records = chunk.trees.empty() ? 0 : chunk.trees.back().records.size();
+        const std::size_t last_rays = chunk.trees.empty() ? 0 : chunk.trees.back().rays.size();
+        PixelRays& tree = chunk.trees.emplace_back();
+        tree.records.reserve(last_records + last_records / 4);
+        tree.rays.reserve(last_rays + last_rays / 4);
+        chunk.positions.push_back(position);
+        context.records = &tree.records;
+        context.rays = &tree.rays;
+      };
     }
+    for (; position < end; ++position) render_pixel(sequence[position], context, image);
     chunk.stats = context.stats;
     return chunk;
   };
@@ -71,10 +73,9 @@ RenderStats Renderer::render_in_flight(const RecordCallback& sink, Image* image,
   };
   auto schedule = [&](std::size_t c, Chunk& chunk) {
     total += chunk.stats;
-    const std::size_t begin = c * chunk_pixels;
-    for (std::size_t i = 0; i < chunk.pixels.size(); ++i) {
-      const auto unit = static_cast<unsigned>(((begin + i) / unit_pixels) % options_.units);
-      scheduler.add_pixel(unit, std::move(chunk.pixels[i]));
+    for (std::size_t i = 0; i < chunk.trees.size(); ++i) {
+      const auto unit = static_cast<unsigned>((chunk.positions[i] / unit_pixels) % options_.units);
+      scheduler.add_pixel(unit, std::move(chunk.trees[i]));
       // Run as far as the pixels so far allow, so the scheduler holds few.
       scheduler.run(out, false);
       hand_on(false);

@@ -1,11 +1,14 @@
 // Whitted shading of one pixel: its primary ray, and at each hit the shadow
 // rays to the lights in front of the surface, a Phong highlight, then
-// reflection and refraction depth-first (docs/ARCHITECTURE.md "What a traversal
+// reflection and refraction depth-first; what both integrators know of a hit;
+// a pixel's samples (docs/ARCHITECTURE.md "What a traversal
 // fetches": the order of the records is the order of these rays).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
+#include "nodetrace/base/portable_math.hpp"
 #include "render/fresnel.hpp"
 #include "nodetrace/tracer/render/interaction.hpp"
 #include "nodetrace/tracer/render/render.hpp"
@@ -13,8 +16,47 @@
 
 namespace nodetrace::tracer {
 
+// The same results on every machine (portable_math.hpp).
+namespace math = base::portable_math;
+
+Renderer::ShadingPoint Renderer::shading_point(const Ray& ray, const Hit& hit) const {
+  ShadingPoint at;
+  const Triangle& triangle = scene_.triangles[hit.triangle];
+  static const Material kDefaultMaterial;
+  at.material = triangle.material < scene_.materials.size() ? &scene_.materials[triangle.material] : &kDefaultMaterial;
+  const float w = hit.b0;
+  // The point from barycentrics lies on the surface more exactly than o + t d,
+  // and its error is bounded by the vertices' magnitudes.
+  at.surface = interpolate_surface_point(triangle, w, hit.u, hit.v);
+  const Vec3 face = face_normals_[hit.triangle];
+  at.entering = dot(ray.direction, face) < 0;
+  at.facing = at.entering ? face : -face;
+  at.normal = at.facing;
+  if (scene_.vertex_normals.size() == scene_.triangles.size() * 3) {
+    const Vec3* n = &scene_.vertex_normals[std::size_t{hit.triangle} * 3];
+    const Vec3 smooth = n[0] * w + n[1] * hit.u + n[2] * hit.v;
+    const float len = length(smooth);
+    if (len > 0) at.normal = dot(smooth, at.facing) < 0 ? -smooth / len : smooth / len;
+  }
+  at.view = -normalize(ray.direction);
+  return at;
+}
+
+bool Renderer::light_visible(const Vec3& origin, const PointLight& light, std::uint32_t caster,
+                             Context& context) const {
+  ++context.stats.rays[static_cast<int>(RayKind::Shadow)];
+  const Ray shadow{origin, light.position - origin};
+  context.note(RayKind::Shadow, shadow);
+  const std::uint32_t shadow_ray = context.begin_ray(caster);
+  const bool blocked = occluded(shadow, 1.0f - 1e-4f, context.records, &context.stats);
+  context.end_ray(shadow_ray);
+  context.maybe_flush();
+  return !blocked;
+}
+
 Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) const {
   ++context.stats.rays[static_cast<int>(kind)];
+  context.note(kind, ray);
   const std::uint32_t self = context.begin_ray(context.parent);
   const auto hit = closest_hit(ray, std::numeric_limits<float>::infinity(), context.records,
                                &context.stats);
@@ -22,51 +64,30 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
   context.maybe_flush();
   if (!hit) return scene_.background;
 
-  const Triangle& triangle = scene_.triangles[hit->triangle];
-  static const Material kDefaultMaterial;
-  const Material& material = triangle.material < scene_.materials.size()
-                                 ? scene_.materials[triangle.material]
-                                 : kDefaultMaterial;
-  const float w = hit->b0;
-  // The point from barycentrics lies on the surface more exactly than o + t d,
-  // and its error is bounded by the vertices' magnitudes.
-  const SurfacePoint surface = interpolate_surface_point(triangle, w, hit->u, hit->v);
-  const Vec3& point = surface.point;
-  const Vec3 face = face_normals_[hit->triangle];
-  const bool entering = dot(ray.direction, face) < 0;
-  const Vec3 facing = entering ? face : -face;  // geometric normal towards the incoming ray
-  Vec3 normal = facing;
-  if (scene_.vertex_normals.size() == scene_.triangles.size() * 3) {
-    const Vec3* n = &scene_.vertex_normals[std::size_t{hit->triangle} * 3];
-    const Vec3 smooth = n[0] * w + n[1] * hit->u + n[2] * hit->v;
-    const float len = length(smooth);
-    if (len > 0) normal = dot(smooth, facing) < 0 ? -smooth / len : smooth / len;
-  }
-  const Vec3 view = -normalize(ray.direction);
+  const ShadingPoint at = shading_point(ray, *hit);
+  const Material& material = *at.material;
+  const Vec3& point = at.surface.point;
+  const SurfacePoint& surface = at.surface;
+  const bool entering = at.entering;
+  const Vec3& facing = at.facing;
+  const Vec3& normal = at.normal;
+  const Vec3& view = at.view;
 
   Vec3 color = scene_.ambient * (material.ambient ? *material.ambient : material.diffuse);
   if (plan_.casts(RayKind::Shadow)) {
     const Vec3 shadow_origin = offset_ray_origin(surface, facing);
-    const std::size_t lights = options_.first_light_only ? std::min<std::size_t>(1, scene_.lights.size())
-                                                         : scene_.lights.size();
-    for (std::size_t i = 0; i < lights; ++i) {
+    for (std::size_t i = 0; i < lights_shadowed_; ++i) {
       const PointLight& light = scene_.lights[i];
       const Vec3 to_light = light.position - point;
       // A light behind the surface lights nothing here: no ray is needed.
       if (dot(to_light, facing) <= 0) continue;
-      ++context.stats.rays[static_cast<int>(RayKind::Shadow)];
-      const Ray shadow{shadow_origin, light.position - shadow_origin};
-      const std::uint32_t shadow_ray = context.begin_ray(self);
-      const bool blocked = occluded(shadow, 1.0f - 1e-4f, context.records, &context.stats);
-      context.end_ray(shadow_ray);
-      context.maybe_flush();
-      if (blocked) continue;
+      if (!light_visible(shadow_origin, light, self, context)) continue;
       const Vec3 l = unit_vector(to_light);
       const float diffuse = std::max(0.0f, dot(normal, l));
       float specular = 0;
       if (material.shininess > 0 && (material.specular.x > 0 || material.specular.y > 0 ||
                                      material.specular.z > 0)) {
-        specular = std::pow(std::max(0.0f, dot(detail::reflect(-l, normal), view)), material.shininess);
+        specular = math::pow(std::max(0.0f, dot(detail::reflect(-l, normal), view)), material.shininess);
       }
       color += light.color * light_scale_ * (material.diffuse * diffuse + material.specular * specular);
     }
@@ -104,11 +125,45 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
 }
 
 void Renderer::render_pixel(std::uint32_t pixel, Context& context, Image* image) const {
+  if (options_.integrator == Integrator::Path) {
+    // Welford's running mean and variance, in double, in sample order.
+    std::array<double, 3> mean{}, m2{};
+    const std::uint32_t samples = options_.path.samples_per_pixel;
+    for (std::uint32_t s = 0; s < samples; ++s) {
+      if (context.begin_sample) context.begin_sample();
+      context.parent = PixelRays::kNoParent;
+      const Vec3 radiance = trace_path(pixel, s, context);
+      for (int c = 0; c < 3; ++c) {
+        const double delta = double(radiance[c]) - mean[c];
+        mean[c] += delta / double(s + 1);
+        m2[c] += delta * (double(radiance[c]) - mean[c]);
+      }
+    }
+    if (image) {
+      image->pixels[pixel] = {float(mean[0]), float(mean[1]), float(mean[2])};
+      if (samples > 1) {
+        const double n = double(samples - 1);
+        image->variance[pixel] = {float(m2[0] / n), float(m2[1] / n), float(m2[2] / n)};
+      }
+    }
+    return;
+  }
   const int x = static_cast<int>(pixel % static_cast<std::uint32_t>(options_.width));
   const int y = static_cast<int>(pixel / static_cast<std::uint32_t>(options_.width));
+  if (context.begin_sample) context.begin_sample();
   context.parent = PixelRays::kNoParent;
   const Vec3 color = shade(pinhole_.primary_ray(x, y), RayKind::Primary, 1, context);
   if (image) image->pixels[pixel] = color;
+}
+
+void Renderer::prepare_image(Image& image) const {
+  image.width = options_.width;
+  image.height = options_.height;
+  const std::size_t pixels = static_cast<std::size_t>(options_.width) * static_cast<std::size_t>(options_.height);
+  image.pixels.assign(pixels, Vec3{});
+  const bool path = options_.integrator == Integrator::Path;
+  image.variance.assign(path ? pixels : 0, Vec3{});
+  image.linear_radiance = path;
 }
 
 }  // namespace nodetrace::tracer

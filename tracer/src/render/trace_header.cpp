@@ -7,6 +7,7 @@
 #include <string>
 
 #include "nodetrace/formats/container/metadata.hpp"
+#include "render/path_random.hpp"
 
 namespace nodetrace::tracer {
 
@@ -21,6 +22,29 @@ double shortest(float value) {
   return std::strtod(std::string(text, end).c_str(), nullptr);
 }
 
+// Everything that decides a path tracer's rays, in words where a reader needs them.
+nlohmann::json path_tracing_description(const PathOptions& path) {
+  return {{"integrator", "path"},
+          {"spp", path.samples_per_pixel},
+          {"max_bounces", path.max_bounces},
+          {"roulette", fmt::format("before every bounce ray from bounce {} on: survives with probability min({}, "
+                                   "largest throughput component), divided by it",
+                                   kRouletteFromBounce, shortest(kMaxSurvival))},
+          {"lobes", "one per bounce, chosen with probability proportional to mean Kd (diffuse, cosine-weighted), "
+                    "mean Ks when shininess > 0 (glossy, modified Phong), reflectance (mirror), transmittance "
+                    "(dielectric: Fresnel chooses reflection or refraction); the chosen lobe's weight is divided "
+                    "by that probability"},
+          {"light", "one shadow ray per point light in front of the surface (next-event estimation); the "
+                    "background is light from every direction a path escapes in; the ambient term is added at "
+                    "every hit, as the Whitted tracer adds it"},
+          {"camera", "one ray per sample through a uniformly random point of the pixel"},
+          {"random", fmt::format("Philox4x32-10, counter (pixel, sample, bounce << 16 | dimension / 4, frame & "
+                                 "0xffffffff), key ({:#x}, frame >> 32)",
+                                 detail::kPathSeed)},
+          {"nonfinite", "a sample whose throughput or radiance becomes NaN or infinite ends, counts as black, and "
+                        "is counted in the trailer's totals (nonfinite_samples)"}};
+}
+
 }  // namespace
 
 nlohmann::json make_trace_header(const SceneSource& source, const Scene& first_scene,
@@ -32,9 +56,11 @@ nlohmann::json make_trace_header(const SceneSource& source, const Scene& first_s
   header["scene"] = {{"name", source.name()},
                      {"hash", source.content_hash()},
                      {"triangles", first_scene.triangles.size()}};
+  // A path's rays form a chain of max_bounces + 1 (primary rays are depth 1).
+  const int max_depth = r.integrator == Integrator::Path ? r.path.max_bounces + 1 : r.max_depth;
   nlohmann::json render = {{"width", r.width},
                            {"height", r.height},
-                           {"max_depth", r.max_depth},
+                           {"max_depth", max_depth},
                            {"pixel_order", pixel_order_name(r.pixel_order)},
                            {"frames", frame_count},
                            {"first_frame", options.frames.first}};
@@ -60,6 +86,8 @@ nlohmann::json make_trace_header(const SceneSource& source, const Scene& first_s
     render["unit_pixels"] = r.unit_pixels;
     render["ready_order"] = ready_order_name(r.ready_order);
   }
+  // Written only for path tracing, so a Whitted render's header is as before.
+  if (r.integrator == Integrator::Path) render["path"] = path_tracing_description(r.path);
   header["render"] = render;
   nlohmann::json layout = {{"name", layout_name(target.layout)},
                            {"node_size", r.addresses.node_size},
@@ -103,19 +131,21 @@ nlohmann::json make_trace_header(const SceneSource& source, const Scene& first_s
   }
   nlohmann::json cast = nlohmann::json::array();
   nlohmann::json left_out = nlohmann::json::object();
-  for (int k = 0; k < kRayKindCount; ++k) {
-    const std::string name(ray_kind_name(static_cast<RayKind>(k)));
-    if (plan.cast[k]) {
+  for (const RayKind kind : plan.kinds) {
+    const std::string name(ray_kind_name(kind));
+    if (plan.casts(kind)) {
       cast.push_back(name);
     } else {
-      left_out[name] = plan.why_not[k];
+      left_out[name] = plan.why_not[static_cast<int>(kind)];
     }
   }
   header["rays"] = {{"cast", cast}, {"left_out", left_out}};
   // A light behind the surface lights nothing there, so it gets no ray.
   if (plan.casts(RayKind::Shadow)) {
-    header["rays"]["shadow"] = r.first_light_only ? "one to the first light when in front of the surface hit"
-                                                  : "one per light in front of the surface hit";
+    std::string shadow = r.first_light_only ? "one to the first light when in front of the surface hit"
+                                            : "one per light in front of the surface hit";
+    if (r.integrator == Integrator::Path) shadow += ", at hits on a material with a diffuse or glossy lobe";
+    header["rays"]["shadow"] = shadow;
   }
   nlohmann::json streams = nlohmann::json::array();
   if (r.streams.nodes) streams.push_back("nodes");

@@ -68,6 +68,29 @@ void check_layout_traces(const std::vector<LayoutTrace>& targets, bool discard_r
   }
 }
 
+// The path tracer's settings within their limits (integrator.hpp), and the
+// images only it makes asked of it alone.
+void check_path_options(const TraceJobOptions& options) {
+  const RenderOptions& r = options.render;
+  if (r.integrator != Integrator::Path) {
+    if (!options.variance_pfm.empty()) throw base::UsageError("--variance-pfm needs --integrator path");
+    return;
+  }
+  if (r.path.samples_per_pixel < 1 || r.path.samples_per_pixel > kMaxSamplesPerPixel) {
+    throw base::UsageError(fmt::format("--spp {}: expected 1 to {} samples per pixel", r.path.samples_per_pixel,
+                                       kMaxSamplesPerPixel));
+  }
+  if (r.path.max_bounces < 0 || r.path.max_bounces > kMaxBounces) {
+    throw base::UsageError(fmt::format("--max-bounces {}: expected 0 to {} bounce rays after the camera ray",
+                                       r.path.max_bounces, kMaxBounces));
+  }
+  if (r.rays != RayScope::Whitted) {
+    throw base::UsageError("--rays narrows the Whitted ray tree: --integrator path takes --max-bounces instead");
+  }
+}
+
+bool is_black(const Vec3& colour) { return !(colour.x > 0) && !(colour.y > 0) && !(colour.z > 0); }
+
 }  // namespace
 
 TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& options,
@@ -75,6 +98,7 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
   const RenderOptions& r = options.render;
   if (r.width <= 0 || r.height <= 0) throw base::UsageError("width and height must be positive");
   if (r.max_depth < 1) throw base::UsageError("--max-depth must be at least 1");
+  check_path_options(options);
   if (options.sampling && (options.sampling->every == 0 || options.sampling->band_height == 0)) {
     throw base::UsageError("--sample-rows and --band-height must be at least 1");
   }
@@ -145,10 +169,17 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
     RenderOptions options_for_frame = r;
     // Records are made for the sinks, or for --discard-records to drop.
     options_for_frame.record = wants_records || options.discard_records;
+    options_for_frame.animation_frame = frame;
     const Renderer renderer(scene, tree, layout, options_for_frame);
 
     if (i == 0) {
       result.plan = renderer.ray_plan();
+      // The path tracer's light is the lights', the ambient term's and the background's.
+      if (r.integrator == Integrator::Path && scene.lights.empty() && is_black(scene.background) &&
+          is_black(scene.ambient)) {
+        result.notes.push_back("the scene has no light, no ambient light and a black background: the path-traced "
+                               "image is black (the trace is whole)");
+      }
       // Wider addresses only when some stream can reach past 32 bits.
       const std::uint64_t node_end =
           r.addresses.node_base + 4 * tree.stats().nodes * std::uint64_t{r.addresses.node_size};
@@ -163,8 +194,9 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
       writer.address_digits = wide ? 16 : 8;
       writer.units = r.units;
       for (std::size_t t = 0; t < targets.size(); ++t) {
-        const nlohmann::json header = make_trace_header(source, scene, options, targets[t], split_levels[t],
-                                                        result.plan, frames.size(), tree.stats().depth_limit);
+        nlohmann::json header = make_trace_header(source, scene, options, targets[t], split_levels[t],
+                                                  result.plan, frames.size(), tree.stats().depth_limit);
+        if (!result.notes.empty()) header["render"]["notes"] = result.notes;
         if (t == 0) result.header = header;
         const TraceStart start{t, targets[t], header, writer};
         if (auto trace_writer = make_trace_writer_sink(start)) sinks[t].push_back(std::move(trace_writer));
@@ -196,7 +228,7 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
       for (const auto& sink : sinks[t]) sink->begin_animation_frame(marker);
     }
     Image image;
-    const bool want_image = i == 0 && !options.image.empty();
+    const bool want_image = i == 0 && (!options.image.empty() || !options.pfm.empty() || !options.variance_pfm.empty());
     const double done = double(i), count = double(frames.size());
     Renderer::Progress frame_progress;
     if (progress) frame_progress = [&](double f) { progress((done + f) / count); };
@@ -236,19 +268,25 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
     } else {
       report.render = renderer.render(on_records, want_image ? &image : nullptr, frame_progress);
     }
-    if (want_image) write_png(image, options.image);
+    if (want_image) {
+      if (!options.image.empty()) write_png(image, options.image);
+      if (!options.pfm.empty()) write_pfm(image, image.pixels, options.pfm);
+      if (!options.variance_pfm.empty()) write_pfm(image, image.variance, options.variance_pfm);
+    }
     result.total += report.render;
     result.total.seconds += report.render.seconds;
     result.frames.push_back(std::move(report));
   }
   nlohmann::json rays = nlohmann::json::object();
-  for (int k = 0; k < kRayKindCount; ++k) {
-    rays[std::string(ray_kind_name(static_cast<RayKind>(k)))] = result.total.rays[k];
+  for (const RayKind kind : result.plan.kinds) {
+    rays[std::string(ray_kind_name(kind))] = result.total.rays[static_cast<int>(kind)];
   }
-  const nlohmann::json totals = {{"rays", rays},
-                                 {"node_fetches", result.total.node_fetches},
-                                 {"leaf_visits", result.total.leaf_visits},
-                                 {"triangle_tests", result.total.triangle_tests}};
+  nlohmann::json totals = {{"rays", rays},
+                           {"node_fetches", result.total.node_fetches},
+                           {"leaf_visits", result.total.leaf_visits},
+                           {"triangle_tests", result.total.triangle_tests}};
+  // Known only after rendering, so in the trailer (the header is written first).
+  if (r.integrator == Integrator::Path) totals["nonfinite_samples"] = result.total.nonfinite_samples;
   for (const auto& layout_sinks : sinks) {
     for (const auto& sink : layout_sinks) sink->finish(totals);
   }

@@ -197,10 +197,15 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path) {
   check_lines(text, path);
   std::uint64_t hash = fnv1a64(text);
   const std::filesystem::path directory = path.parent_path();
+  std::vector<std::string> notes;
   for (const auto& library : material_libraries(text)) {
     std::error_code error;
     if (std::filesystem::is_regular_file(directory / library, error)) {
       hash = fnv1a64(read_scene_file(directory / library), hash);
+    } else {
+      notes.push_back(path.string() + ": mtllib " + library +
+                      ": no such file beside the OBJ file; its materials are missing and their faces get the "
+                      "default material");
     }
   }
 
@@ -217,6 +222,16 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path) {
   if (!loaded || !errors.empty()) {
     while (!errors.empty() && errors.back() == '\n') errors.pop_back();
     throw SceneError(path.string() + ": " + (errors.empty() ? "cannot parse OBJ file" : errors));
+  }
+  // tinyobjloader's warnings (a `usemtl` naming no material, say), each a
+  // note; the missing material files are said above, in our words.
+  std::istringstream warning_lines(warnings);
+  for (std::string line; std::getline(warning_lines, line);) {
+    if (line.empty() || line.starts_with("Material file [") || line.starts_with("Failed to load material file")) {
+      continue;
+    }
+    const bool material = line.find("not found in .mtl") != std::string::npos;
+    notes.push_back(path.string() + ": " + line + (material ? " (its faces get the default material)" : ""));
   }
   for (std::size_t i = 0; i < attrib.vertices.size(); ++i) {
     if (!std::isfinite(attrib.vertices[i])) {
@@ -315,7 +330,6 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path) {
     scene.lights.push_back({Vec3{box.hi.x + reach, box.hi.y + reach, box.hi.z + reach}, {0.8f, 0.8f, 0.8f}});
     scene.lights.push_back({Vec3{box.lo.x - reach, box.hi.y + reach, centre.z + reach}, {0.4f, 0.4f, 0.4f}});
   }
-  std::vector<std::string> notes;
   if (auto warning = checks.warning()) notes.push_back(std::move(*warning));
   return std::make_unique<StaticSceneSource>(std::move(scene), format_hash(hash), std::move(notes));
 }

@@ -13,10 +13,14 @@
 #include <string>
 #include <vector>
 
+#include "nodetrace/base/portable_math.hpp"
 #include "nodetrace/tracer/scene/scene_geometry.hpp"
 #include "scene/scene_internal.hpp"
 
 namespace nodetrace::tracer {
+
+// The same results on every machine (portable_math.hpp).
+namespace math = base::portable_math;
 
 namespace detail {
 
@@ -91,9 +95,9 @@ void add_sphereflake(Scene& scene, const Vec3& center, float radius, const Vec3&
     const bool equator = i < 6;
     const double azimuth = equator ? i * std::numbers::pi / 3 : (2 * (i - 6) + 0.5) * std::numbers::pi / 3;
     const double elevation = equator ? 0.0 : std::numbers::pi / 3;
-    const Vec3 direction = normalize(u * static_cast<float>(std::cos(azimuth) * std::cos(elevation)) +
-                                     v * static_cast<float>(std::sin(azimuth) * std::cos(elevation)) +
-                                     axis * static_cast<float>(std::sin(elevation)));
+    const Vec3 direction = normalize(u * static_cast<float>(math::cos(azimuth) * math::cos(elevation)) +
+                                     v * static_cast<float>(math::sin(azimuth) * math::cos(elevation)) +
+                                     axis * static_cast<float>(math::sin(elevation)));
     add_sphereflake(scene, center + direction * (radius + child_radius), child_radius, direction, level + 1,
                     depth, material);
   }
@@ -155,7 +159,7 @@ Scene mountain(int exponent) {
   const float extent = 10;
   auto point = [&](int x, int z) {
     const double fx = static_cast<double>(x) / cells * 2 - 1, fz = static_cast<double>(z) / cells * 2 - 1;
-    const double basin = 2.0 * std::exp(-3.0 * (fx * fx + (fz - 0.1) * (fz - 0.1)));
+    const double basin = 2.0 * math::exp(-3.0 * (fx * fx + (fz - 0.1) * (fz - 0.1)));
     const double ridge = 2.0 * std::max(0.0, -fz);
     return Vec3{static_cast<float>(fx * extent), static_cast<float>(h(x, z) * 0.6 - basin + ridge),
                 static_cast<float>(fz * extent)};
@@ -207,8 +211,8 @@ void add_branch(Scene& scene, SplitMix64& random, const Vec3& base, const Vec3& 
   for (int i = 0; i < 3; ++i) {
     const double azimuth = spin + i * 2 * std::numbers::pi / 3 + random.uniform(-0.3, 0.3);
     const double tilt = random.uniform(0.45, 0.8);
-    const Vec3 sideways = u * static_cast<float>(std::cos(azimuth)) + v * static_cast<float>(std::sin(azimuth));
-    Vec3 child = direction * static_cast<float>(std::cos(tilt)) + sideways * static_cast<float>(std::sin(tilt));
+    const Vec3 sideways = u * static_cast<float>(math::cos(azimuth)) + v * static_cast<float>(math::sin(azimuth));
+    Vec3 child = direction * static_cast<float>(math::cos(tilt)) + sideways * static_cast<float>(math::sin(tilt));
     child = normalize(child + Vec3{0, 0.15f, 0});  // branches reach for the light
     add_branch(scene, random, tip, child, length * static_cast<float>(random.uniform(0.62, 0.78)), radius * 0.7f,
                level + 1, depth, materials);

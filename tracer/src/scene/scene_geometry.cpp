@@ -7,7 +7,12 @@
 #include <numbers>
 #include <utility>
 
+#include "nodetrace/base/portable_math.hpp"
+
 namespace nodetrace::tracer {
+
+// The same results on every machine (portable_math.hpp).
+namespace math = base::portable_math;
 
 namespace {
 
@@ -87,7 +92,7 @@ std::vector<Triangle> make_cone_mesh(const Vec3& base, float base_radius, const 
   std::vector<Vec3> bottom(sides), top(sides);
   for (int i = 0; i < sides; ++i) {
     const double angle = 2.0 * std::numbers::pi * i / sides;
-    const Vec3 direction = u * static_cast<float>(std::cos(angle)) + v * static_cast<float>(std::sin(angle));
+    const Vec3 direction = u * static_cast<float>(math::cos(angle)) + v * static_cast<float>(math::sin(angle));
     bottom[i] = base + direction * base_radius;
     top[i] = apex + direction * apex_radius;
   }

@@ -42,6 +42,13 @@ std::string temporary_prefix(const std::string& target);
 // (a run killed by SIGKILL cannot remove its own); returns how many.
 unsigned remove_stale_temporaries(const std::string& target);
 
+// Throws the IoError that opening an OutputFile for `path` would throw (a
+// missing folder, no permission, a directory), by creating and removing its
+// temporary now: programs check every output before long work, so that a
+// bad name fails at once instead of after the work. Devices, FIFOs, sockets
+// and standard output are only examined (opening a FIFO would wait).
+void check_output_writable(const std::string& path);
+
 // One output, opened by plan_output's rule. Every failure throws IoError
 // "NAME: cannot write: REASON" (NAME is the path as given, or "<stdout>").
 // Until commit() succeeds, a replaced target is untouched; destroying the

@@ -14,6 +14,11 @@ namespace nodetrace::base {
 // when that or any earlier write to them failed, else nullopt.
 std::optional<std::string> flush_standard_output();
 
+// Throws UsageError when `path` is "-" and standard output is a terminal:
+// compressed or binary bytes there are noise that can upset the terminal.
+// `what` names the output ("a trace", "binary records").
+void refuse_binary_on_terminal(const std::string& path, const std::string& what);
+
 // For a front end's main(): `return finish_standard_output("tracer", status);`.
 // Prints the error as "PROGRAM: <stdout>: cannot write: REASON" and makes a
 // successful status 1; a run that failed already said why and keeps its status.

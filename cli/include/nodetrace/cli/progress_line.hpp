@@ -11,9 +11,15 @@
 
 namespace nodetrace::cli {
 
+// The time left is estimated once this much time has passed and this
+// fraction of the total is done, not before.
+inline constexpr double kMinEstimateSeconds = 1.0;
+inline constexpr double kMinEstimateFraction = 0.05;
+
 // "WHAT: DONE of TOTAL UNIT (P%), RATE UNIT/s, T left" when the total is
 // known, else "WHAT: DONE UNIT, RATE UNIT/s"; counts of a million and more in
-// M with one decimal; no rate or time left before any time has passed.
+// M with one decimal; no rate before any time has passed, and no time left
+// before kMinEstimateSeconds and kMinEstimateFraction.
 std::string progress_text(std::string_view what, std::uint64_t done, std::optional<std::uint64_t> total,
                           std::string_view unit, double elapsed_seconds);
 

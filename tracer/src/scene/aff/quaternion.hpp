@@ -9,7 +9,12 @@
 #include <cmath>
 #include <numbers>
 
+#include "nodetrace/base/portable_math.hpp"
+
 namespace nodetrace::tracer::detail::aff {
+
+// The same results on every machine (portable_math.hpp).
+namespace math = base::portable_math;
 
 struct Quat {
   double w = 1, x = 0, y = 0, z = 0;
@@ -26,32 +31,32 @@ inline Quat from_axis_angle(double ax, double ay, double az, double degrees) {
   const double len = std::sqrt(ax * ax + ay * ay + az * az);
   if (!(len > 0)) return {};
   const double half = degrees * std::numbers::pi / 360.0;
-  const double s = std::sin(half) / len;
-  return {std::cos(half), ax * s, ay * s, az * s};
+  const double s = math::sin(half) / len;
+  return {math::cos(half), ax * s, ay * s, az * s};
 }
 
 // Logarithm of a unit quaternion: the rotation axis times half the angle.
 inline std::array<double, 3> quat_log(const Quat& q) {
   const double v = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z);
   if (v < 1e-12) return {0, 0, 0};
-  const double angle = std::atan2(v, q.w);
+  const double angle = math::atan2(v, q.w);
   return {q.x / v * angle, q.y / v * angle, q.z / v * angle};
 }
 
 inline Quat quat_exp(const std::array<double, 3>& a) {
   const double angle = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
   if (angle < 1e-12) return {};
-  const double s = std::sin(angle) / angle;
-  return {std::cos(angle), a[0] * s, a[1] * s, a[2] * s};
+  const double s = math::sin(angle) / angle;
+  return {math::cos(angle), a[0] * s, a[1] * s, a[2] * s};
 }
 
 inline Quat slerp(const Quat& a, const Quat& b, double u) {
   const double cosine = std::clamp(dot(a, b), -1.0, 1.0);
   double wa = 1 - u, wb = u;
-  const double theta = std::acos(cosine);
-  if (std::sin(theta) > 1e-9) {
-    wa = std::sin((1 - u) * theta) / std::sin(theta);
-    wb = std::sin(u * theta) / std::sin(theta);
+  const double theta = math::acos(cosine);
+  if (math::sin(theta) > 1e-9) {
+    wa = math::sin((1 - u) * theta) / math::sin(theta);
+    wb = math::sin(u * theta) / math::sin(theta);
   }
   Quat r{wa * a.w + wb * b.w, wa * a.x + wb * b.x, wa * a.y + wb * b.y, wa * a.z + wb * b.z};
   const double n = std::sqrt(dot(r, r));

@@ -1,11 +1,14 @@
 // A specialised node cache: one cache level, flat tag arrays, demand fetch,
 // write-allocate (so reads and writes miss alike, as in Dinero IV's default
-// write-allocate / write-back caches). Miss counts equal Dinero IV's for LRU
-// and FIFO; random replacement is deterministic (seeded) but its choices are
-// not Dinero IV's.
+// write-allocate / write-back caches). Miss counts equal Dinero IV's for LRU,
+// FIFO and random: random draws Dinero IV's sequence (glibc's random() after
+// srandom(1), one generator per cache, as one Dinero IV process per cache
+// draws) and evicts as Dinero IV does. The other policies are
+// PolicyCache's and OptCache's (cachesim/src/models).
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -13,11 +16,20 @@
 
 namespace nodetrace::cachesim {
 
+namespace detail {
+class LibcRandom;
+}
+
 class SetAssociativeCache {
  public:
   static constexpr std::uint64_t kInvalid = ~std::uint64_t{0};
 
-  explicit SetAssociativeCache(const CacheGeometry& geometry, std::uint64_t seed = 0x5eed);
+  // Throws base::UsageError for a bad geometry or a policy other than lru,
+  // fifo and random.
+  explicit SetAssociativeCache(const CacheGeometry& geometry);
+  SetAssociativeCache(SetAssociativeCache&&) noexcept;
+  SetAssociativeCache& operator=(SetAssociativeCache&&) noexcept;
+  ~SetAssociativeCache();
 
   // References block number `block` (address >> log2(block size)); returns true
   // on a miss, after which the block is resident.
@@ -45,11 +57,10 @@ class SetAssociativeCache {
   CacheGeometry geometry_;
   std::uint32_t assoc_ = 1;
   std::uint64_t set_mask_ = 0;
-  // sets * assoc block numbers. For LRU and FIFO each set is ordered most
-  // recent (LRU: used, FIFO: filled) first, invalid entries last; for random
-  // the order is the fill order of the ways.
+  // sets * assoc block numbers. Each set is ordered most recent (LRU: used,
+  // FIFO and random: filled) first, invalid entries last.
   std::vector<std::uint64_t> tags_;
-  std::uint64_t random_state_;
+  std::unique_ptr<detail::LibcRandom> random_;  // random only
 };
 
 }  // namespace nodetrace::cachesim

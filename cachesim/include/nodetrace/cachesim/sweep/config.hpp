@@ -48,6 +48,8 @@ struct Configuration {
   // and its prefetch distance in blocks.
   FetchPolicy fetch = FetchPolicy::Demand;
   std::uint32_t prefetch_distance = 1;
+
+  friend bool operator==(const Configuration&, const Configuration&) = default;
 };
 
 // The command-line lists of `cachesim run` / `dinero-wrap run`.
@@ -73,6 +75,12 @@ struct SweepOptions {
 // split level, high policy; innermost last). Validates each geometry; throws
 // base::UsageError.
 std::vector<Configuration> expand_configurations(const SweepOptions& options);
+
+// Removes every configuration equal to an earlier one (a value listed twice,
+// `--size 8k,8192`, or `--assoc full,1024` on a cache of 1024 blocks), so
+// that each row of a report is one cache; the note says how many were merged
+// (nullopt: none).
+std::optional<std::string> merge_repeated_configurations(std::vector<Configuration>& configs);
 
 // What a run needs to know about its trace.
 struct TraceContext {

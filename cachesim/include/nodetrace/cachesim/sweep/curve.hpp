@@ -2,9 +2,11 @@
 // size from one set to max_size, for the given block sizes and
 // associativities, of single caches and of the low cache of the split
 // scheme, in one pass over the trace. Fully associative LRU sizes come from
-// one Mattson stack (lru_stack.hpp); set-associative sizes from the sweep
-// (set stacks for LRU and direct-mapped caches, one simulation each for FIFO
-// and random).
+// one Mattson stack (lru_stack.hpp), fully associative MIN (opt) sizes from
+// MIN's layered stack over the fetches kept in memory (opt_curve.hpp);
+// set-associative sizes from the sweep (set stacks for LRU and direct-mapped
+// caches, one simulation each for the other policies), opt's from one MIN
+// simulation per size over the same kept fetches.
 #pragma once
 
 #include <cstdint>
@@ -20,9 +22,9 @@ namespace nodetrace::cachesim {
 
 struct CurveOptions {
   std::vector<std::uint32_t> blocks{8};
-  std::vector<std::uint32_t> assocs{1};  // 0 = full (LRU only)
+  std::vector<std::uint32_t> assocs{1};  // 0 = full (lru and opt only)
   std::vector<Scheme> schemes{Scheme::Single};
-  ReplacementPolicy policy = ReplacementPolicy::Lru;
+  std::vector<ReplacementPolicy> policies{ReplacementPolicy::Lru};
   std::optional<std::uint32_t> split_level;  // nullopt: auto for high_size
   std::optional<std::uint64_t> high_size;    // needed by auto
   std::uint64_t max_size = std::uint64_t{64} << 20;
@@ -34,6 +36,7 @@ struct CurvePoint {
   Scheme scheme = Scheme::Single;
   std::uint32_t block = 8;
   std::uint32_t assoc = 1;  // 0 = full
+  ReplacementPolicy policy = ReplacementPolicy::Lru;
   std::uint32_t split_level = 0;  // split: the first animation frame's K
   std::uint64_t size = 0;
   std::uint64_t fetches = 0;
@@ -44,9 +47,15 @@ struct CurvePoint {
 std::vector<CurvePoint> run_curve(formats::TraceReader& reader, const CurveOptions& options,
                                   const std::string& trace_column);
 
+// Removes every point that is the same cache as an earlier one: the same
+// trace, scheme, policy, block and size and the same `assoc` label (a one-set cache
+// of N ways is the fully associative one, so `--assoc 4,full` meet at the
+// 4-block size; a value listed twice repeats a whole curve). The note says
+// how many were merged (nullopt: none).
+std::optional<std::string> merge_repeated_points(std::vector<CurvePoint>& points);
+
 // Columns trace,scheme,block,assoc,policy,split_level,size,fetches,misses,miss_ratio
 // as a table, CSV or JSON (report.hpp's shapes).
-std::string format_curve(const std::vector<CurvePoint>& points, ReplacementPolicy policy,
-                         ReportFormat format);
+std::string format_curve(const std::vector<CurvePoint>& points, ReportFormat format);
 
 }  // namespace nodetrace::cachesim

@@ -21,7 +21,8 @@ struct ReaderOptions {
   bool tags_are_levels = false;
   // Record form of plain (headerless) input; nullopt detects it from the
   // first record (a letter type -> extended din, a digit label -> din).
-  // Binary input is never guessed: it must be named.
+  // Binary input is never guessed from its bytes: it is named, by this
+  // option or by a file name ending in .bin or .bin.zst.
   std::optional<RecordForm> form;
   // Decoding threads; 0 means one per core.
   unsigned threads = 0;

@@ -100,6 +100,11 @@ enum class RecordForm : std::uint8_t {
 std::string_view form_name(RecordForm form);
 std::optional<RecordForm> parse_form_name(std::string_view name);
 
+// The form a file name gives, the one rule of every program that writes or
+// reads by name: .din / .din.zst din, .xdin / .xdin.zst extended din,
+// .bin / .bin.zst binary; nullopt for any other name (and "-").
+std::optional<RecordForm> form_of_file_name(std::string_view path);
+
 // The Dinero IV -informat letter: d, D, b.
 char dinero_informat(RecordForm form);
 

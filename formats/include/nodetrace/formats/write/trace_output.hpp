@@ -23,10 +23,15 @@ struct TraceOutput {
 };
 
 // `kind` Auto: a container for "-" or a name ending in .zst, else plain
-// records. The form is `form` when given, else what the name says:
-// .xdin / .xdin.zst extended din, .bin / .bin.zst binary, anything else
-// (and "-") din.
+// records. The form is `form` when given, else what the name says
+// (form_of_file_name), else (any other name, and "-") din.
 TraceOutput decide_trace_output(std::string_view path, OutputKind kind = OutputKind::Auto,
                        std::optional<RecordForm> form = std::nullopt);
+
+// The record form of an output, the same rule in every program: `named`
+// (the --records option) when given, else what the file name says
+// (form_of_file_name), else `unnamed` (tracer: din; tracetool: the input's).
+// Throws base::UsageError when `named` and the name say different forms.
+RecordForm choose_output_form(std::string_view path, std::optional<RecordForm> named, RecordForm unnamed);
 
 }  // namespace nodetrace::formats

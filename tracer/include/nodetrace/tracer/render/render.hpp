@@ -1,7 +1,8 @@
-// The Whitted renderer: pinhole primary rays, shadow rays to the lights,
-// mirror reflection and refraction (Snell, Fresnel, total internal
-// reflection), over an acceleration structure (kd-tree or BVH) stored in a
-// given layout. Every traversal
+// The renderer: the Whitted ray tracer (pinhole primary rays, shadow rays to
+// the lights, mirror reflection and refraction: Snell, Fresnel, total
+// internal reflection) or a path tracer (--integrator path: path_tracer.cpp),
+// over an acceleration structure (kd-tree or BVH) stored in a given layout.
+// Every traversal
 // records the node fetches it makes (docs/ARCHITECTURE.md "What a traversal fetches").
 #pragma once
 
@@ -19,6 +20,7 @@
 #include "nodetrace/tracer/accel/acceleration_structure.hpp"
 #include "nodetrace/tracer/render/camera.hpp"
 #include "nodetrace/tracer/render/image.hpp"
+#include "nodetrace/tracer/render/integrator.hpp"
 #include "nodetrace/tracer/accel/kdtree.hpp"
 #include "nodetrace/tracer/accel/layout.hpp"
 #include "nodetrace/tracer/render/pixel_order.hpp"
@@ -33,7 +35,11 @@ namespace nodetrace::tracer {
 
 struct RenderOptions {
   int width = 800, height = 600;
-  int max_depth = 10;  // primary rays are depth 1; no secondary ray beyond it
+  Integrator integrator = Integrator::Whitted;
+  PathOptions path;  // the path tracer's (Integrator::Path only)
+  // The animation frame rendered: the path tracer's random numbers depend on it.
+  std::uint64_t animation_frame = 0;
+  int max_depth = 10;  // Whitted: primary rays are depth 1; no secondary ray beyond it
   RayScope rays = RayScope::Whitted;  // which kinds of rays are traced at most
   bool first_light_only = false;      // shadow rays to the scene's first light only
   PixelOrder pixel_order = PixelOrder::Scanline;
@@ -88,11 +94,25 @@ class Renderer {
   // not depend on the thread count. With one unit of one slot, the records
   // of render().
   RenderStats render_in_flight(const RecordCallback& sink, Image* image, const Progress& progress = {}) const;
+  // An empty image of the options' size; with path tracing it has a
+  // variance plane and is linear radiance.
+  void prepare_image(Image& image) const;
   // Renders the pixels of `runs` only (in increasing, disjoint order), the
   // others' rays never traced; their records are those the full render
   // makes for these pixels, in the same order.
   RenderStats render_runs(std::span<const PixelRun> runs, const RunStart& run_start, const RecordCallback& sink,
                           Image* image, const Progress& progress = {}) const;
+
+  // A ray the render cast, and its kind.
+  struct CastRay {
+    RayKind kind = RayKind::Primary;
+    Ray ray;
+  };
+  // Every ray the render casts for positions [begin, end) of the pixel
+  // sequence, in the order cast, traced on this thread with nothing
+  // recorded: the same rays render() casts there (benchmarks of traversal
+  // by ray kind).
+  std::vector<CastRay> cast_rays(std::uint64_t begin, std::uint64_t end) const;
 
   // One traversal each, appending its records to `records` when not null;
   // the acceleration structure's traversal does the work.
@@ -108,7 +128,16 @@ class Renderer {
   struct Context;
   Renderer(const Scene& scene, const Bounds& bounds, std::unique_ptr<RayTraversal> traversal,
            const RenderOptions& options);
+  struct ShadingPoint;
+  ShadingPoint shading_point(const Ray& ray, const Hit& hit) const;
+  // Casts the shadow ray from `origin` to the light (a child of ray
+  // `caster`): whether nothing blocks it.
+  bool light_visible(const Vec3& origin, const PointLight& light, std::uint32_t caster, Context& context) const;
   Vec3 shade(const Ray& ray, RayKind kind, int depth, Context& context) const;
+  // One path: the radiance of one sample of the pixel (path_tracer.cpp).
+  Vec3 trace_path(std::uint32_t pixel, std::uint32_t sample, Context& context) const;
+  // Both integrators: the pixel's samples (Whitted: one), their mean and
+  // (path tracing) sample variance into the image.
   void render_pixel(std::uint32_t pixel, Context& context, Image* image) const;
 
   const Scene& scene_;
@@ -118,6 +147,7 @@ class Renderer {
   PinholeCamera pinhole_;
   std::unique_ptr<RayTraversal> traversal_;
   std::vector<Vec3> face_normals_;  // unit geometric normals
+  std::size_t lights_shadowed_ = 0;  // the first this many lights get shadow rays
   float light_scale_ = 1;
 };
 

@@ -50,6 +50,9 @@ struct TraceJobOptions {
   int zstd_level = 3;  // compression level of the container's data frames
   bool archive = false;  // formats::use_archive_setting instead of zstd_level
   std::string image;  // PNG of the first frame; empty: none
+  // PFM float images of the first frame: the pixels (path tracing: the mean
+  // radiance) and, path tracing only, the per-pixel sample variance.
+  std::string pfm, variance_pfm;
 };
 
 struct AnimationFrameReport {
@@ -68,6 +71,9 @@ struct TraceJobResult {
   RenderStats total;  // seconds: sum of the frames' render times
   nlohmann::json header;
   RayKindPlan plan;
+  // What the render noticed and the front end should show (e.g. a path-traced
+  // scene with no light and a black background is black).
+  std::vector<std::string> notes;
 };
 
 // The split level of a layout for a tree: the fixed one, or the one derived

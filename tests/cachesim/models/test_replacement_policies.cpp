@@ -1,0 +1,421 @@
+// The replacement policies Dinero IV does not have (plru, srrip, brrip,
+// drrip, opt) against a reference model written apart from the engine and
+// as plainly as possible: per-set arrays, and for opt a scan of the future
+// at every choice. On 1,200 seeded random traces and configurations (sizes,
+// ways 1 to full, blocks, both schemes, invalidations) the sweep's counts
+// must equal the reference's exactly. Then the properties every policy
+// must have, and OPT's curve against single runs.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <vector>
+
+#include "nodetrace/cachesim/sweep/curve.hpp"
+#include "nodetrace/cachesim/sweep/sweep.hpp"
+#include "nodetrace/base/error.hpp"
+#include "test_support.hpp"
+
+namespace nodetrace::cachesim {
+namespace {
+
+using formats::AccessType;
+using formats::Record;
+
+constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+
+// One cache of the reference: blocks in per-set arrays, each policy's state
+// beside them, every rule written out as the README states it.
+class ReferenceCache {
+ public:
+  ReferenceCache(std::uint64_t sets, std::uint32_t ways, ReplacementPolicy policy)
+      : sets_(sets), ways_(ways), policy_(policy),
+        block_(sets, std::vector<std::uint64_t>(ways, kEmpty)),
+        stamp_(sets, std::vector<std::uint64_t>(ways, 0)),
+        tree_(sets, std::vector<int>(ways, 0)),
+        value_(sets, std::vector<int>(ways, 3)) {}
+
+  // `future`: the blocks fetched after this one, in order (opt only).
+  bool access(std::uint64_t block, const std::vector<std::uint64_t>& future, std::size_t now) {
+    const std::uint64_t set = block % sets_;
+    std::vector<std::uint64_t>& blocks = block_[set];
+    ++clock_;
+    for (std::uint32_t way = 0; way < ways_; ++way) {
+      if (blocks[way] != block) continue;
+      if (policy_ == ReplacementPolicy::Lru) stamp_[set][way] = clock_;
+      if (policy_ == ReplacementPolicy::Plru) touch_tree(set, way);
+      if (is_rrip()) value_[set][way] = 0;
+      return false;
+    }
+    std::uint32_t way = ways_;
+    for (std::uint32_t w = 0; w < ways_; ++w) {
+      if (blocks[w] == kEmpty) {
+        way = w;
+        break;
+      }
+    }
+    if (way == ways_) {
+      if (policy_ == ReplacementPolicy::Opt) {
+        // Scan the future for each resident block and the incoming one.
+        auto distance = [&](std::uint64_t candidate) {
+          for (std::size_t later = now + 1; later < future.size(); ++later) {
+            if (future[later] == candidate) return later;
+          }
+          return future.size() + 1;  // never again: farthest
+        };
+        std::size_t farthest = distance(block);
+        for (std::uint32_t w = 0; w < ways_; ++w) {
+          const std::size_t d = distance(blocks[w]);
+          if (d > farthest) {
+            farthest = d;
+            way = w;
+          }
+        }
+        if (way == ways_) return true;  // the incoming block is farthest: not placed
+      } else if (policy_ == ReplacementPolicy::Lru || policy_ == ReplacementPolicy::Fifo) {
+        way = 0;
+        for (std::uint32_t w = 1; w < ways_; ++w) {
+          if (stamp_[set][w] < stamp_[set][way]) way = w;
+        }
+      } else if (policy_ == ReplacementPolicy::Plru) {
+        std::uint32_t node = 1;
+        while (node < ways_) node = 2 * node + static_cast<std::uint32_t>(tree_[set][node]);
+        way = node - ways_;
+      } else {
+        for (;;) {
+          for (std::uint32_t w = 0; w < ways_ && way == ways_; ++w) {
+            if (value_[set][w] == 3) way = w;
+          }
+          if (way != ways_) break;
+          for (std::uint32_t w = 0; w < ways_; ++w) ++value_[set][w];
+        }
+      }
+    }
+    blocks[way] = block;
+    stamp_[set][way] = clock_;
+    if (policy_ == ReplacementPolicy::Plru) touch_tree(set, way);
+    if (is_rrip()) value_[set][way] = insertion(set);
+    return true;
+  }
+
+  void invalidate(std::uint64_t block) {
+    const std::uint64_t set = block % sets_;
+    for (std::uint32_t way = 0; way < ways_; ++way) {
+      if (block_[set][way] == block) block_[set][way] = kEmpty;
+    }
+  }
+
+ private:
+  bool is_rrip() const {
+    return policy_ == ReplacementPolicy::Srrip || policy_ == ReplacementPolicy::Brrip ||
+           policy_ == ReplacementPolicy::Drrip;
+  }
+
+  // Every bit on the way's path points at the other half.
+  void touch_tree(std::uint64_t set, std::uint32_t way) {
+    std::uint32_t node = way + ways_;
+    while (node > 1) {
+      const std::uint32_t parent = node / 2;
+      tree_[set][parent] = node % 2 == 0 ? 1 : 0;
+      node = parent;
+    }
+  }
+
+  int bimodal() {
+    ++bimodal_count_;
+    return bimodal_count_ % 32 == 0 ? 2 : 3;
+  }
+
+  int insertion(std::uint64_t set) {
+    if (policy_ == ReplacementPolicy::Srrip) return 2;
+    if (policy_ == ReplacementPolicy::Brrip) return bimodal();
+    const std::uint64_t leaders = std::min<std::uint64_t>(32, sets_ / 2);
+    if (leaders > 0) {
+      const std::uint64_t run = sets_ / leaders;
+      if (set % run == 0) {
+        selector_ = std::min(selector_ + 1, 1023);
+        return 2;
+      }
+      if (set % run == run - 1) {
+        selector_ = std::max(selector_ - 1, 0);
+        return bimodal();
+      }
+    }
+    return selector_ >= 512 ? bimodal() : 2;
+  }
+
+  std::uint64_t sets_;
+  std::uint32_t ways_;
+  ReplacementPolicy policy_;
+  std::vector<std::vector<std::uint64_t>> block_;
+  std::vector<std::vector<std::uint64_t>> stamp_;  // LRU: last use; FIFO: fill
+  std::vector<std::vector<int>> tree_;             // PLRU bits, node 1 the root
+  std::vector<std::vector<int>> value_;            // RRIP values
+  std::uint64_t clock_ = 0;
+  std::uint64_t bimodal_count_ = 0;
+  int selector_ = 511;
+};
+
+struct Counts {
+  std::uint64_t high_misses = 0;
+  std::uint64_t low_misses = 0;
+  std::uint64_t high_loads = 0;
+};
+
+std::uint64_t block_of(const Record& record, std::uint32_t block) { return (record.address & ~std::uint64_t{3}) / block; }
+
+// The reference's counts of `config` on din records: high levels below K
+// to the high cache (retained: loaded once, never a miss), the rest low.
+// Each cache's future is its own stream.
+Counts reference_counts(const Configuration& config, const std::vector<Record>& records) {
+  const bool split = config.scheme == Scheme::Split;
+  const std::uint32_t k = split ? *config.split_level : 0;
+  auto goes_high = [&](const Record& record) { return split && record.tag < k; };
+  std::vector<std::uint64_t> high_future;
+  std::vector<std::uint64_t> low_future;
+  for (const Record& record : records) {
+    if (record.type == AccessType::Invalidate) continue;
+    (goes_high(record) ? high_future : low_future).push_back(block_of(record, config.block));
+  }
+  const std::uint64_t low_blocks = (split ? config.low_size : config.size) / config.block;
+  ReferenceCache low(low_blocks / config.assoc, config.assoc, config.policy);
+  const std::uint64_t high_blocks = split ? config.high_size / config.block : 1;
+  ReferenceCache high(high_blocks / config.high_assoc, config.high_assoc, config.policy);
+  std::vector<std::uint64_t> retained;
+  Counts counts;
+  std::size_t high_at = 0;
+  std::size_t low_at = 0;
+  for (const Record& record : records) {
+    const std::uint64_t block = block_of(record, config.block);
+    const bool to_high = goes_high(record);
+    if (record.type == AccessType::Invalidate) {
+      if (!to_high) low.invalidate(block);
+      if (to_high && config.high_policy == HighPolicy::Cache) high.invalidate(block);
+      continue;
+    }
+    if (!to_high) {
+      counts.low_misses += low.access(block, low_future, low_at++);
+    } else if (config.high_policy == HighPolicy::Cache) {
+      counts.high_misses += high.access(block, high_future, high_at++);
+    } else if (std::find(retained.begin(), retained.end(), block) == retained.end()) {
+      retained.push_back(block);
+      ++counts.high_loads;
+    }
+  }
+  return counts;
+}
+
+ResultRow sweep_row(const Configuration& config, const std::vector<Record>& records) {
+  TraceContext context;
+  context.trace = "t";
+  context.form = formats::RecordForm::Din;
+  context.tags_are_levels = true;
+  Sweep sweep({config}, context, false);
+  formats::RecordBatch batch;
+  batch.records = records;
+  sweep.feed(batch);
+  return sweep.finish().rows.at(0);
+}
+
+// Node fetches with locality over a universe about `spread` blocks wide,
+// some invalidations when `invalidations`.
+std::vector<Record> random_records(std::mt19937_64& random, std::size_t count, std::uint64_t spread,
+                                   std::uint32_t block, bool invalidations) {
+  std::vector<Record> records(count);
+  std::uint64_t at = 0;
+  for (Record& record : records) {
+    at = random() % 6 == 0 ? random() % spread : (at + random() % 5) % spread;
+    record.address = at * block + (random() % block & ~std::uint64_t{3});
+    record.size = 4;
+    record.tag = static_cast<formats::Tag>(random() % 12);
+    record.type = invalidations && random() % 50 == 0 ? AccessType::Invalidate : AccessType::Read;
+  }
+  return records;
+}
+
+constexpr ReplacementPolicy kPolicies[] = {ReplacementPolicy::Lru,   ReplacementPolicy::Fifo,
+                                           ReplacementPolicy::Plru,  ReplacementPolicy::Srrip,
+                                           ReplacementPolicy::Brrip, ReplacementPolicy::Drrip,
+                                           ReplacementPolicy::Opt};
+
+TEST(ReplacementPolicies, EqualTheReferenceModelOnRandomTracesAndConfigurations) {
+  std::size_t checked = 0;
+  for (std::uint64_t seed = 1; seed <= 1200; ++seed) {
+    std::mt19937_64 random(seed);
+    Configuration config;
+    config.policy = kPolicies[random() % std::size(kPolicies)];
+    config.block = 4u << (random() % 4);                      // 4 .. 32
+    const std::uint64_t blocks = std::uint64_t{2} << (random() % 9);  // 2 .. 512
+    const std::uint32_t ways_choices[] = {1, 2, 4, 8, 16, 32, 64, 0};
+    const std::uint32_t ways = ways_choices[random() % std::size(ways_choices)];
+    config.scheme = random() % 3 == 0 ? Scheme::Split : Scheme::Single;
+    const std::uint64_t cache_blocks = config.scheme == Scheme::Split ? blocks / 2 : blocks;
+    config.assoc = ways == 0 || ways > cache_blocks ? static_cast<std::uint32_t>(cache_blocks) : ways;
+    config.size = blocks * config.block;
+    if (config.scheme == Scheme::Split) {
+      config.high_size = config.low_size = config.size / 2;
+      config.high_policy = random() % 2 == 0 ? HighPolicy::Cache : HighPolicy::Retain;
+      config.high_assoc = random() % 2 == 0 ? config.assoc : 1;
+      config.split_level = static_cast<std::uint32_t>(random() % 6);
+    }
+    const std::size_t length = config.policy == ReplacementPolicy::Opt ? 1500 : 4000;
+    const std::vector<Record> records =
+        random_records(random, length, blocks * (2 + random() % 4), config.block, random() % 2 == 0);
+    if (config.scheme == Scheme::Split && config.high_policy == HighPolicy::Retain) {
+      std::vector<std::uint64_t> distinct;
+      for (const Record& record : records) {
+        if (record.tag < *config.split_level) distinct.push_back(block_of(record, config.block));
+      }
+      std::sort(distinct.begin(), distinct.end());
+      distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+      if (distinct.size() > config.high_size / config.block) config.high_policy = HighPolicy::Cache;
+    }
+    SCOPED_TRACE(::testing::Message() << "seed " << seed << " policy " << policy_name(config.policy)
+                                      << " scheme " << scheme_name(config.scheme) << " size " << config.size
+                                      << " block " << config.block << " ways " << config.assoc << " high "
+                                      << high_policy_name(config.high_policy) << " " << config.high_assoc);
+    const Counts expected = reference_counts(config, records);
+    const ResultRow row = sweep_row(config, records);
+    EXPECT_EQ(row.misses, expected.low_misses + expected.high_misses);
+    if (config.scheme == Scheme::Split) {
+      EXPECT_EQ(row.low_misses, expected.low_misses);
+      EXPECT_EQ(row.high_misses, expected.high_misses);
+      if (config.high_policy == HighPolicy::Retain) EXPECT_EQ(row.high_loads.value_or(0), expected.high_loads);
+    }
+    ++checked;
+  }
+  EXPECT_EQ(checked, 1200u);
+}
+
+// Misses of a single cache of `size` bytes, `ways` ways, 8-byte blocks.
+std::uint64_t single_misses(ReplacementPolicy policy, std::uint64_t size, std::uint32_t ways,
+                            const std::vector<Record>& records) {
+  Configuration config;
+  config.size = size;
+  config.block = 8;
+  config.assoc = ways;
+  config.policy = policy;
+  return sweep_row(config, records).misses;
+}
+
+TEST(ReplacementPolicies, OptMissesNoMoreThanAnyPolicyWithTheSameSets) {
+  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+    std::mt19937_64 random(seed);
+    const std::vector<Record> records = random_records(random, 20000, 700, 8, false);
+    for (const std::uint32_t ways : {1u, 2u, 4u, 16u, 128u}) {
+      const std::uint64_t opt = single_misses(ReplacementPolicy::Opt, 1024, ways, records);
+      for (const ReplacementPolicy policy : kPolicies) {
+        SCOPED_TRACE(::testing::Message() << "seed " << seed << " ways " << ways << " " << policy_name(policy));
+        EXPECT_LE(opt, single_misses(policy, 1024, ways, records));
+      }
+      EXPECT_LE(opt, single_misses(ReplacementPolicy::Random, 1024, ways, records));
+    }
+  }
+}
+
+TEST(ReplacementPolicies, OptWithMoreCapacityNeverMissesMore) {
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    std::mt19937_64 random(seed);
+    const std::vector<Record> records = random_records(random, 20000, 900, 8, seed % 2 == 0);
+    for (const std::uint32_t ways : {1u, 4u, 0u}) {
+      std::uint64_t previous = ~std::uint64_t{0};
+      for (std::uint64_t size = 64; size <= 16384; size *= 2) {
+        const std::uint32_t resolved = ways == 0 ? static_cast<std::uint32_t>(size / 8) : ways;
+        const std::uint64_t misses = single_misses(ReplacementPolicy::Opt, size, resolved, records);
+        EXPECT_LE(misses, previous) << "seed " << seed << " ways " << ways << " size " << size;
+        previous = misses;
+      }
+    }
+  }
+}
+
+TEST(ReplacementPolicies, PlruEqualsLruAtOneAndTwoWaysAndSrripAtOneWay) {
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    std::mt19937_64 random(seed);
+    const std::vector<Record> records = random_records(random, 20000, 600, 8, seed % 2 == 0);
+    for (const std::uint64_t size : {256u, 2048u}) {
+      EXPECT_EQ(single_misses(ReplacementPolicy::Plru, size, 1, records),
+                single_misses(ReplacementPolicy::Lru, size, 1, records));
+      EXPECT_EQ(single_misses(ReplacementPolicy::Plru, size, 2, records),
+                single_misses(ReplacementPolicy::Lru, size, 2, records));
+      EXPECT_EQ(single_misses(ReplacementPolicy::Srrip, size, 1, records),
+                single_misses(ReplacementPolicy::Lru, size, 1, records));
+    }
+  }
+}
+
+// At 4 ways the policies differ from LRU (and from each other) on these
+// traces: the equalities above are not empty.
+TEST(ReplacementPolicies, PoliciesDifferWhereTheyShould) {
+  std::mt19937_64 random(5);
+  const std::vector<Record> records = random_records(random, 50000, 2000, 8, false);
+  std::vector<std::uint64_t> misses;
+  for (const ReplacementPolicy policy : kPolicies) misses.push_back(single_misses(policy, 4096, 8, records));
+  std::vector<std::uint64_t> distinct = misses;
+  std::sort(distinct.begin(), distinct.end());
+  distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+  EXPECT_EQ(distinct.size(), misses.size());
+}
+
+// The opt configurations of one sweep share their kept fetches by block
+// size and router; each still counts as when run alone.
+TEST(ReplacementPolicies, OptConfigurationsOfOneSweepEqualEachRunAlone) {
+  std::mt19937_64 random(17);
+  const std::vector<Record> records = random_records(random, 30000, 900, 8, true);
+  SweepOptions options;
+  options.sizes = {512, 2048};
+  options.blocks = {8, 16};
+  options.assocs = {1, 4, 0};
+  options.policies = {ReplacementPolicy::Opt, ReplacementPolicy::Lru};
+  options.schemes = {Scheme::Single, Scheme::Split};
+  options.split_levels = {3, 5};
+  options.high_policies = {HighPolicy::Cache};
+  const std::vector<Configuration> configs = expand_configurations(options);
+  TraceContext context;
+  context.trace = "t";
+  context.form = formats::RecordForm::Din;
+  context.tags_are_levels = true;
+  Sweep sweep(configs, context, false);
+  sweep.set_parts(2);  // the recorder and the others may be fed by other threads' parts
+  formats::RecordBatch batch;
+  batch.records = records;
+  sweep.feed(batch);
+  const TraceResult together = sweep.finish();
+  ASSERT_EQ(together.rows.size(), configs.size());
+  for (std::size_t c = 0; c < configs.size(); ++c) {
+    const ResultRow alone = sweep_row(configs[c], records);
+    EXPECT_EQ(together.rows[c].misses, alone.misses) << c;
+    EXPECT_EQ(together.rows[c].high_misses, alone.high_misses) << c;
+  }
+}
+
+TEST(ReplacementPolicies, PlruRefusesWaysThatAreNotAPowerOfTwo) {
+  SweepOptions options;
+  options.sizes = {8192};
+  options.assocs = {3};
+  options.policies = {ReplacementPolicy::Plru};
+  try {
+    expand_configurations(options);
+    FAIL() << "no error";
+  } catch (const base::UsageError& error) {
+    EXPECT_NE(std::string(error.what()).find("power-of-two number of ways"), std::string::npos) << error.what();
+  }
+}
+
+TEST(ReplacementPolicies, OptRefusesPerLevelAndPerFrameTablesAndPrefetching) {
+  SweepOptions options;
+  options.policies = {ReplacementPolicy::Opt};
+  options.per_level = true;
+  EXPECT_THROW(expand_configurations(options), base::UsageError);
+  options.per_level = false;
+  options.per_animation_frame = true;
+  EXPECT_THROW(expand_configurations(options), base::UsageError);
+  options.per_animation_frame = false;
+  options.fetch = FetchPolicy::Always;
+  EXPECT_THROW(expand_configurations(options), base::UsageError);
+  options.policies = {ReplacementPolicy::Srrip};
+  EXPECT_THROW(expand_configurations(options), base::UsageError);
+}
+
+}  // namespace
+}  // namespace nodetrace::cachesim

@@ -1,0 +1,65 @@
+// `tracer render`'s outputs are checked before the render: two outputs on
+// one file or on standard output are a usage error, and an output folder
+// that cannot be written fails before any work (the finished trace is not
+// thrown away because the image cannot be written).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "test_support.hpp"
+
+namespace nodetrace::tracer {
+namespace {
+
+using nodetrace::testing::program;
+using nodetrace::testing::run_command;
+using nodetrace::testing::shell_quoted;
+using nodetrace::testing::TempDir;
+
+std::string render(const std::string& options) {
+  return shell_quoted(program("tracer")) + " render mountain --width 64 --height 48 -q " + options;
+}
+
+TEST(RenderOutputs, TraceAndImageBothOnStandardOutputIsAUsageError) {
+  const auto result = run_command(render("-o - --image - > /dev/null"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("--image and --output both name '-' (standard output)"), std::string::npos)
+      << result.err;
+}
+
+TEST(RenderOutputs, TraceAndImageIntoOneFileIsAUsageError) {
+  TempDir dir;
+  const auto result = run_command(render("-o " + shell_quoted(dir / "x") + " --image " + shell_quoted(dir / "x")));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("both name"), std::string::npos) << result.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x"));
+}
+
+// A folder this process cannot create files in, even as root: sysfs's top
+// refuses new files to everyone. Empty when this system lets us create one.
+std::filesystem::path unwritable_folder() {
+  const std::filesystem::path folder = "/sys";
+  const auto probe = run_command("touch /sys/nodetrace-probe 2>/dev/null");
+  if (probe.exit_code == 0) {
+    run_command("rm -f /sys/nodetrace-probe");
+    return {};
+  }
+  return folder;
+}
+
+TEST(RenderOutputs, ImageInAFolderThatCannotBeWrittenFailsBeforeRendering) {
+  const std::filesystem::path folder = unwritable_folder();
+  if (folder.empty()) GTEST_SKIP() << "no folder here refuses new files";
+  TempDir dir;
+  const auto result = run_command(render("-o " + shell_quoted(dir / "t.din.zst") + " --image " +
+                                         shell_quoted(folder / "x.png")));
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("/sys/x.png: cannot write:"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("(checked before rendering)"), std::string::npos) << result.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "t.din.zst"));
+  EXPECT_EQ(nodetrace::testing::temporaries(dir.path()), std::vector<std::string>{});
+}
+
+}  // namespace
+}  // namespace nodetrace::tracer

@@ -1,0 +1,15 @@
+#include "nodetrace/tracer/render/integrator.hpp"
+
+namespace nodetrace::tracer {
+
+std::string_view integrator_name(Integrator integrator) {
+  return integrator == Integrator::Path ? "path" : "whitted";
+}
+
+std::optional<Integrator> parse_integrator(std::string_view name) {
+  if (name == "whitted") return Integrator::Whitted;
+  if (name == "path") return Integrator::Path;
+  return std::nullopt;
+}
+
+}  // namespace nodetrace::tracer

@@ -1,0 +1,50 @@
+// The path tracer's random numbers: counter-based, so each number depends on
+// where it is used and on nothing else (not on threads, pixel order, rays in
+// flight or sampled rows). Philox4x32-10 (Salmon et al., "Parallel random
+// numbers: as easy as 1, 2, 3", SC 2011; Random123's header) maps a counter
+// (pixel, sample, bounce << 16 | dimension / 4, animation frame's low 32
+// bits) under the key (kPathSeed, animation frame's high 32 bits) to four
+// 32-bit words; dimension d takes word d % 4. Internal header.
+#pragma once
+
+#include <Random123/philox.h>
+
+#include <cstdint>
+
+namespace nodetrace::tracer::detail {
+
+inline constexpr std::uint32_t kPathSeed = 0x6e747261;  // "ntra": fixed, written in the trace header
+
+// Which number of a bounce: the bounce is the number of the ray the number
+// decides (the camera ray is bounce 0, the ray leaving the first hit bounce 1).
+enum PathDimension : std::uint32_t {
+  kPixelX = 0,  // bounce 0: where in the pixel the camera ray passes
+  kPixelY = 1,
+  kLobe = 0,  // bounce >= 1: which lobe
+  kDirection1 = 1,
+  kDirection2 = 2,
+  kFresnel = 3,   // reflection or refraction at a dielectric
+  kRoulette = 4,  // Russian roulette before the ray
+};
+
+class PathRandom {
+ public:
+  PathRandom(std::uint64_t animation_frame, std::uint32_t pixel, std::uint32_t sample)
+      : frame_(animation_frame), pixel_(pixel), sample_(sample) {}
+
+  // A uniform float in [0, 1): the top 24 bits of the word, exactly.
+  float uniform(std::uint32_t bounce, std::uint32_t dimension) const {
+    const r123::Philox4x32 philox;
+    const r123::Philox4x32::ctr_type counter = {
+        {pixel_, sample_, (bounce << 16) | (dimension / 4), static_cast<std::uint32_t>(frame_)}};
+    const r123::Philox4x32::key_type key = {{kPathSeed, static_cast<std::uint32_t>(frame_ >> 32)}};
+    const std::uint32_t word = philox(counter, key)[dimension % 4];
+    return static_cast<float>(word >> 8) * 0x1p-24f;
+  }
+
+ private:
+  std::uint64_t frame_;
+  std::uint32_t pixel_, sample_;
+};
+
+}  // namespace nodetrace::tracer::detail
