@@ -280,7 +280,9 @@ TEST(ReplacementPolicies, EqualTheReferenceModelOnRandomTracesAndConfigurations)
     if (config.scheme == Scheme::Split) {
       EXPECT_EQ(row.low_misses, expected.low_misses);
       EXPECT_EQ(row.high_misses, expected.high_misses);
-      if (config.high_policy == HighPolicy::Retain) EXPECT_EQ(row.high_loads.value_or(0), expected.high_loads);
+      if (config.high_policy == HighPolicy::Retain) {
+        EXPECT_EQ(row.high_loads.value_or(0), expected.high_loads);
+      }
     }
     ++checked;
   }
