@@ -22,31 +22,25 @@ namespace nodetrace::tracer {
 
 namespace {
 
-// The whole file at `path`; nullopt when there is none. Throws
-// DamagedTreeFile when it is there but cannot be read.
-std::optional<std::string> read_whole_file(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) {
+// Closes a descriptor when it goes out of scope.
+struct OpenFile {
+  int fd;
+  ~OpenFile() { ::close(fd); }
+};
+
+// The structure in the file at `path`; nullopt when there is none. Throws
+// DamagedTreeFile when it is there but cannot be read or trusted.
+std::optional<AccelerationStructure> load(const std::string& path, std::string_view key, AccelKind kind,
+                                          std::uint64_t triangle_count) {
+  const OpenFile file{::open(path.c_str(), O_RDONLY | O_CLOEXEC)};
+  if (file.fd < 0) {
     if (errno == ENOENT) return std::nullopt;
     throw DamagedTreeFile(fmt::format("cannot be read: {}", std::strerror(errno)));
   }
-  std::string bytes;
   struct stat status{};
-  if (::fstat(fd, &status) == 0 && S_ISREG(status.st_mode)) bytes.reserve(std::size_t(status.st_size));
-  char buffer[1 << 16];
-  for (;;) {
-    const ssize_t got = ::read(fd, buffer, sizeof buffer);
-    if (got < 0 && errno == EINTR) continue;
-    if (got < 0) {
-      const int error = errno;
-      ::close(fd);
-      throw DamagedTreeFile(fmt::format("cannot be read: {}", std::strerror(error)));
-    }
-    if (got == 0) break;
-    bytes.append(buffer, std::size_t(got));
-  }
-  ::close(fd);
-  return bytes;
+  if (::fstat(file.fd, &status) != 0) throw DamagedTreeFile(fmt::format("cannot be read: {}", std::strerror(errno)));
+  if (!S_ISREG(status.st_mode)) throw DamagedTreeFile("not a regular file");
+  return read_tree_cache_file(file.fd, std::uint64_t(status.st_size), key, kind, triangle_count);
 }
 
 }  // namespace
@@ -92,8 +86,8 @@ AccelerationStructure TreeCache::obtain(std::span<const Triangle> triangles, Acc
   const std::string key = tree_cache_key(triangles, kind, options);
   const std::string path = (std::filesystem::path(directory_) / tree_cache_file_name(key)).string();
   try {
-    if (const std::optional<std::string> file = read_whole_file(path)) {
-      AccelerationStructure structure = decode_tree_cache_file(*file, key, kind, triangles.size());
+    if (std::optional<AccelerationStructure> loaded = load(path, key, kind, triangles.size())) {
+      AccelerationStructure structure = std::move(*loaded);
       set_build_times(structure, std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count(),
                       double(std::clock() - cpu_start) / CLOCKS_PER_SEC);
       return structure;

@@ -3,7 +3,15 @@
 #include <fmt/format.h>
 #include <xxhash.h>
 
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <bit>
+#include <cerrno>
+#include <memory>
+#include <new>
+#include <optional>
 #include <cstring>
 #include <type_traits>
 #include <vector>
@@ -40,15 +48,28 @@ class ByteAppender {
   std::string bytes_;
 };
 
-// Reads what ByteAppender wrote, refusing to read past the end.
+// Large arrays on huge pages where the system has them (transparent huge
+// pages in `madvise` mode): a first touch of each 4 KiB page is what loading
+// a tree costs most, far more than reading it.
+void ask_for_huge_pages(void* start, std::size_t size) {
+  constexpr std::uintptr_t kHugePage = 2u << 20;
+  const auto begin = (reinterpret_cast<std::uintptr_t>(start) + kHugePage - 1) & ~(kHugePage - 1);
+  const auto end = (reinterpret_cast<std::uintptr_t>(start) + size) & ~(kHugePage - 1);
+  if (end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+}
+
+// Reads what ByteAppender wrote from a file, straight into the values and
+// arrays (one pread per array: no copy of the whole file), refusing to read
+// past `end` and hashing what it reads when given a hash state.
 class ByteReader {
  public:
-  explicit ByteReader(std::string_view bytes) : bytes_(bytes) {}
+  ByteReader(int fd, std::uint64_t begin, std::uint64_t end, XXH3_state_t* hash = nullptr)
+      : fd_(fd), offset_(begin), end_(end), hash_(hash) {}
   template <class T>
   T get(const char* what) {
     static_assert(std::is_trivially_copyable_v<T>);
     T value;
-    std::memcpy(&value, take(sizeof value, what), sizeof value);
+    read_into(&value, sizeof value, what);
     return value;
   }
   template <class T>
@@ -57,26 +78,42 @@ class ByteReader {
     if (count > remaining() / sizeof(T)) {
       throw DamagedTreeFile(fmt::format("{} of {} elements runs past the end of the file", what, count));
     }
-    std::vector<T> values(count);
-    std::memcpy(values.data(), take(count * sizeof(T), what), count * sizeof(T));
+    std::vector<T> values;
+    values.reserve(count);
+    ask_for_huge_pages(values.data(), count * sizeof(T));
+    values.resize(count);
+    read_into(values.data(), count * sizeof(T), what);
     return values;
   }
-  std::string_view get_bytes(std::size_t size, const char* what) { return {take(size, what), size}; }
-  std::size_t remaining() const { return bytes_.size() - offset_; }
-  std::size_t offset() const { return offset_; }
+  std::string get_bytes(std::size_t size, const char* what) {
+    std::string bytes(std::min<std::uint64_t>(size, remaining()), '\0');
+    read_into(bytes.data(), size, what);
+    return bytes;
+  }
+  std::uint64_t remaining() const { return end_ - offset_; }
+  std::uint64_t offset() const { return offset_; }
 
  private:
-  const char* take(std::size_t size, const char* what) {
+  void read_into(void* destination, std::size_t size, const char* what) {
     if (size > remaining()) {
-      throw DamagedTreeFile(fmt::format("truncated: {} bytes, the {} needs {} more", bytes_.size(), what,
-                                        size - remaining()));
+      throw DamagedTreeFile(fmt::format("truncated: {} bytes, the {} needs {} more", end_, what, size - remaining()));
     }
-    const char* start = bytes_.data() + offset_;
+    auto* bytes = static_cast<char*>(destination);
+    for (std::size_t done = 0; done < size;) {
+      const ssize_t got = ::pread(fd_, bytes + done, size - done, off_t(offset_ + done));
+      if (got < 0 && errno == EINTR) continue;
+      if (got <= 0) {
+        throw DamagedTreeFile(got == 0 ? std::string("shorter than it was a moment ago")
+                                       : fmt::format("cannot be read: {}", std::strerror(errno)));
+      }
+      done += std::size_t(got);
+    }
+    if (hash_) XXH3_128bits_update(hash_, bytes, size);
     offset_ += size;
-    return start;
   }
-  std::string_view bytes_;
-  std::size_t offset_ = 0;
+  int fd_;
+  std::uint64_t offset_, end_;
+  XXH3_state_t* hash_;
 };
 
 void put_stats(ByteAppender& out, const KdTreeStats& s) {
@@ -245,9 +282,9 @@ std::string encode_tree_cache_file(const AccelerationStructure& structure, std::
   return std::move(file.bytes());
 }
 
-AccelerationStructure decode_tree_cache_file(std::string_view file, std::string_view key, AccelKind kind,
-                                             std::uint64_t triangle_count) {
-  ByteReader in(file);
+AccelerationStructure read_tree_cache_file(int fd, std::uint64_t file_size, std::string_view key, AccelKind kind,
+                                           std::uint64_t triangle_count) {
+  ByteReader in(fd, 0, file_size);
   if (in.get_bytes(sizeof kMagic, "magic") != std::string_view(kMagic, sizeof kMagic)) {
     throw DamagedTreeFile("not a tree cache file (bad magic)");
   }
@@ -265,19 +302,28 @@ AccelerationStructure decode_tree_cache_file(std::string_view file, std::string_
   if (payload_size != in.remaining()) {
     throw DamagedTreeFile(fmt::format("{} bytes of payload, the header says {}", in.remaining(), payload_size));
   }
-  const std::string_view payload_bytes = in.get_bytes(payload_size, "payload");
-  if (!XXH128_isEqual(XXH3_128bits(payload_bytes.data(), payload_bytes.size()), checksum)) {
-    throw DamagedTreeFile("the payload's checksum differs (the file is damaged)");
-  }
-  ByteReader payload(payload_bytes);
+  // The payload is hashed as it is read; nothing read is returned unless
+  // the hash is the checksum (array lengths are checked against the file's
+  // size before anything is allocated).
+  const std::unique_ptr<XXH3_state_t, decltype(&XXH3_freeState)> hash(XXH3_createState(), &XXH3_freeState);
+  if (!hash || XXH3_128bits_reset(hash.get()) != XXH_OK) throw std::bad_alloc();
+  ByteReader payload(fd, in.offset(), file_size, hash.get());
   const auto bounds = payload.get<Bounds>("bounds");
   KdTreeStats stats = get_stats(payload);
-  AccelerationStructure structure =
-      kind == AccelKind::KdTree
-          ? TreeCacheCodec::make(kind, TreeCacheCodec::get_kdtree(payload, bounds, std::move(stats), triangle_count))
-          : TreeCacheCodec::make(kind, TreeCacheCodec::get_bvh(payload, accel_arity(kind), kind == AccelKind::CwBvh8, bounds, std::move(stats), triangle_count));
+  std::optional<AccelerationStructure> structure;
+  if (kind == AccelKind::KdTree) {
+    structure = TreeCacheCodec::make(kind, TreeCacheCodec::get_kdtree(payload, bounds, std::move(stats),
+                                                                     triangle_count));
+  } else {
+    structure = TreeCacheCodec::make(kind, TreeCacheCodec::get_bvh(payload, accel_arity(kind),
+                                                                  kind == AccelKind::CwBvh8, bounds,
+                                                                  std::move(stats), triangle_count));
+  }
   if (payload.remaining() != 0) throw DamagedTreeFile(fmt::format("{} bytes after the structure", payload.remaining()));
-  return structure;
+  if (!XXH128_isEqual(XXH3_128bits_digest(hash.get()), checksum)) {
+    throw DamagedTreeFile("the payload's checksum differs (the file is damaged)");
+  }
+  return std::move(*structure);
 }
 
 void set_build_times(AccelerationStructure& structure, double wall_seconds, double cpu_seconds) {

@@ -40,11 +40,13 @@ std::string tree_cache_file_name(std::string_view key);
 // The whole file of `structure` built for `key`.
 std::string encode_tree_cache_file(const AccelerationStructure& structure, std::string_view key);
 
-// The structure a file holds, when it is whole and was made for `key` over
-// `triangle_count` triangles, a `kind` structure; throws DamagedTreeFile otherwise. The figures'
-// build times are 0 (set_build_times gives them what loading took).
-AccelerationStructure decode_tree_cache_file(std::string_view file, std::string_view key, AccelKind kind,
-                                             std::uint64_t triangle_count);
+// The structure the open file `fd` of `file_size` bytes holds, when it is
+// whole and was made for `key` (a `kind` structure over `triangle_count`
+// triangles); throws DamagedTreeFile otherwise. Each array is read straight
+// into its vector (one pread each, the payload hashed as it comes). The
+// figures' build times are 0 (set_build_times gives them what loading took).
+AccelerationStructure read_tree_cache_file(int fd, std::uint64_t file_size, std::string_view key, AccelKind kind,
+                                           std::uint64_t triangle_count);
 
 // Sets a structure's build times (a loaded structure's: the time loading took).
 void set_build_times(AccelerationStructure& structure, double wall_seconds, double cpu_seconds);
