@@ -9,10 +9,10 @@
 #include <algorithm>
 #include <bit>
 #include <cerrno>
+#include <cstring>
 #include <memory>
 #include <new>
 #include <optional>
-#include <cstring>
 #include <type_traits>
 #include <vector>
 
@@ -164,7 +164,7 @@ struct TreeCacheCodec {
     tree.stats_ = std::move(stats);
     // Cheap checks that no traversal can index outside the arrays.
     const auto node_count = tree.nodes_.size();
-    check(node_count > 0 && tree.stats_.nodes == node_count, "node count");
+    check(tree.stats_.nodes == node_count, "node count");
     for (const KdNode& node : tree.nodes_) {
       if (node.is_leaf()) {
         check(node.first <= tree.primitives_.size() && node.count <= tree.primitives_.size() - node.first,
@@ -258,7 +258,7 @@ std::string tree_cache_key(std::span<const Triangle> triangles, AccelKind kind, 
 }
 
 std::string tree_cache_file_name(std::string_view key) {
-  return fmt::format("{}-{}.tree", "nodetrace", hex_of(XXH3_128bits(key.data(), key.size())));
+  return fmt::format("nodetrace-{}.tree", hex_of(XXH3_128bits(key.data(), key.size())));
 }
 
 std::string encode_tree_cache_file(const AccelerationStructure& structure, std::string_view key) {
