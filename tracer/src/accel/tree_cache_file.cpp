@@ -300,7 +300,9 @@ AccelerationStructure read_tree_cache_file(int fd, std::uint64_t file_size, std:
   checksum.high64 = in.get<std::uint64_t>("checksum");
   checksum.low64 = in.get<std::uint64_t>("checksum");
   if (payload_size != in.remaining()) {
-    throw DamagedTreeFile(fmt::format("{} bytes of payload, the header says {}", in.remaining(), payload_size));
+    throw DamagedTreeFile(fmt::format("{}: {} bytes of payload, the header says {}",
+                                      payload_size > in.remaining() ? "truncated" : "too long", in.remaining(),
+                                      payload_size));
   }
   // The payload is hashed as it is read; nothing read is returned unless
   // the hash is the checksum (array lengths are checked against the file's
