@@ -42,6 +42,12 @@ CACHESIM := $(BUILD)/bin/cachesim
 TRACETOOL := $(BUILD)/bin/tracetool
 TRACES := $(OUT)/traces
 REPORTS := $(MK_DIR)/reports
+# Built kd-trees and BVHs kept between renders (tracer --tree-cache): the
+# renders of one scene and tree build load the tree the first one built.
+# Never part of a hash: a cold or warm cache gives the same files (the
+# tracer's traces do not depend on it). TREE_CACHE= renders without one.
+TREE_CACHE ?= $(OUT)/tree-cache
+tree_cache_option = $(if $(TREE_CACHE),--tree-cache $(TREE_CACHE))
 
 # --- The paper's setting (Table 1) and the parameters it leaves open --------
 WIDTH ?= 800
@@ -323,7 +329,7 @@ $1: | $(TRACES)/.dir $(dir $1).dir $5
 	@$(if $5,test -f $$@ || )echo "render [$$(words $$(wildcard $$(to_render)) x) of $$(words $$(to_render))] \
 	  $2 $(call render_words,$3), layouts: $$(sort $$(foreach m,$$(group_members_$4),$$(word 2,$$(subst =, ,$$m))))" >&2
 	@$(if $5,test -f $$@ || )$(RUN) $(MK_DIR)/render-layouts.sh $(TRACES)/.group-$4.lock $(TRACER) $(call \
-	  scene_arg,$2) -q $(call render_words,$3) -- $$(group_members_$4)
+	  scene_arg,$2) -q $(tree_cache_option) $(call render_words,$3) -- $$(group_members_$4)
 endef
 
 # $(call sim,TARGET,TRACE,CACHESIM-OPTIONS): cachesim's CSV for that trace,
@@ -601,12 +607,14 @@ samp_method_sim = $(if $(filter windows,$1),--sample-windows 1/$2 --window-recor
   $(filter sets,$1),--sample-sets 1/$2 --sample-seed $3)
 # $(call samp_full,SCENE,SIZE): the full run's CSV (its trace beside it, .din.zst).
 samp_full = $(call define_samp,$(samp_runs)/full-$(call hash_text,$(tracer_hash) $(cachesim_hash) $(call \
-  scene_hash,$1) $(call samp_render,$1,$2) $(call samp_sim,$2)).csv,--render '$(call samp_render,$1,$2)' \
+  scene_hash,$1) $(call samp_render,$1,$2) $(call samp_sim,$2)).csv,--render '$(call samp_render,$1,$2) \
+  $(tree_cache_option)' \
   --keep-trace --simulate '$(call samp_sim,$2)',,full $1 $2)
 # $(call samp_run,SCENE,SIZE,METHOD,RATE,SEED): one sampled run's CSV.
 samp_run = $(if $(filter rows,$3),$(call define_samp,$(samp_runs)/rows-$(call hash_text,$(tracer_hash) \
   $(cachesim_hash) $(call scene_hash,$1) $(call samp_render,$1,$2) $(call samp_method_render,$3,$4,$5) \
-  $(call samp_sim,$2)).csv,--render '$(call samp_render,$1,$2) $(call samp_method_render,$3,$4,$5)' \
+  $(call samp_sim,$2)).csv,--render '$(call samp_render,$1,$2) $(call samp_method_render,$3,$4,$5) \
+  $(tree_cache_option)' \
   --simulate '$(call samp_sim,$2)',,rows 1/$4 seed $5 $1 $2),$(call define_samp,$(samp_runs)/$3-$(call \
   hash_text,$(call samp_full,$1,$2) $(cachesim_hash) $(call samp_method_sim,$3,$4,$5)).csv,--simulate \
   '$(call samp_sim,$2) $(call samp_method_sim,$3,$4,$5)',$(call samp_full,$1,$2),$3 1/$4 seed $5 $1 $2))

@@ -59,7 +59,7 @@ define_conv = $(if $(defined_$1),,$(eval $(call conv_rule,$1,$2,$3))$(eval defin
 define conv_rule
 $1: | $(conv_runs)/.dir
 	@echo "convergence: render $3" >&2
-	@$(RUN) /usr/bin/time -f 'wall,user,sys\n%e,%U,%S' -o $$@.tmp$$$$$$$$ $(TRACER) render $2 --pfm $(1:.csv=.pfm) \
+	@$(RUN) /usr/bin/time -f 'wall,user,sys\n%e,%U,%S' -o $$@.tmp$$$$$$$$ $(TRACER) render $2 $(tree_cache_option) --pfm $(1:.csv=.pfm) \
 	  && mv $$@.tmp$$$$$$$$ $$@ || { rm -f $$@.tmp$$$$$$$$; exit 1; }
 endef
 convergence_lines := $(common_params) param;conv_width=$(CONV_WIDTH) param;conv_height=$(CONV_HEIGHT) \

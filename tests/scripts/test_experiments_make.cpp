@@ -160,6 +160,39 @@ TEST_F(ExperimentsMakeTest, OutputsAreTheSameBytesFromARerunWithAnyJobCount) {
   }
 }
 
+// Every render gets --tree-cache $(OUT)/tree-cache, which enters no hash: a
+// run with a warm cache makes the same files, under the same names, as the
+// cold run before it.
+TEST_F(ExperimentsMakeTest, TreeCacheIsUsedAndChangesNoFile) {
+  const auto out = dir_ / "out";
+  const std::string targets = "table1 sampling WIDTH=32 HEIGHT=24 SAMPLING_SCENES=robot SAMPLING_SIZES=4k "
+                              "SAMPLING_METHODS=rows SAMPLING_RATES=2 SAMPLING_SEEDS=1";
+  const auto cold = make(targets, out);
+  EXPECT_EQ(count_lines_with(cold, "--tree-cache " + (out / "tree-cache").string()), count_lines_with(cold, "render"))
+      << cold;
+  ASSERT_TRUE(std::filesystem::is_directory(out / "tree-cache"));
+  EXPECT_FALSE(std::filesystem::is_empty(out / "tree-cache"));
+  // What the cold run made (the sampling study's timings aside), then the same from a warm cache.
+  auto made = [&] {
+    std::vector<std::pair<std::string, std::string>> files;
+    for (const std::string study : {"table1"}) {
+      for (const auto& entry : std::filesystem::recursive_directory_iterator(out / study)) {
+        if (entry.is_regular_file()) files.emplace_back(entry.path().string(), read_file(entry.path()));
+      }
+    }
+    for (const auto& entry : std::filesystem::directory_iterator(out / "sampling" / "runs")) {
+      files.emplace_back(entry.path().filename().string(), "");
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+  };
+  const auto cold_files = made();
+  for (const std::string study : {"table1", "sampling"}) std::filesystem::remove_all(out / study);
+  const auto warm = make(targets, out);
+  EXPECT_GT(count_lines_with(warm, "--tree-cache"), 0) << warm;
+  EXPECT_TRUE(made() == cold_files);
+}
+
 // KEEP_TRACES=1: every trace written, cachesim run on each, and the same
 // tables, byte for byte, as the simulations inside the renders give.
 TEST_F(ExperimentsMakeTest, KeptTracesGiveTheSameTablesAsSimulatingInTheRender) {

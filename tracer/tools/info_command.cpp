@@ -76,8 +76,9 @@ int InfoCommand::run() const {
     const double time = scene_options.time.value_or(animation.time_of_frame(frame));
     const Scene scene = source->at_time(time);
     const AccelKind kind = *parse_accel_name(scene_options.accel);
+    const std::unique_ptr<TreeCache> tree_cache = open_tree_cache(scene_options.tree_cache, "tracer info");
     const AccelerationStructure tree =
-        AccelerationStructure::build(scene.triangles, kind, {build_options, make_bvh_options(scene_options)});
+        build_or_load(tree_cache.get(), scene.triangles, kind, {build_options, make_bvh_options(scene_options)});
     const KdTreeStats& s = tree.stats();
     const std::uint32_t node_size = node_size_option.value_or(default_node_size(kind));
     const int bounces = max_bounces.value_or(kDefaultMaxBounces);

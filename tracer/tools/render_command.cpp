@@ -350,6 +350,8 @@ int RenderCommand::run() const {
                                    pixels, "pixels");
       };
     }
+    const std::unique_ptr<TreeCache> tree_cache = open_tree_cache(scene_options.tree_cache, "tracer render");
+    options.tree_cache = tree_cache.get();
     const TraceJobResult result = run_trace_job(*source, options, progress);
     progress_line.clear();
     for (const auto& note : result.notes) std::fprintf(stderr, "tracer render: note: %s\n", note.c_str());

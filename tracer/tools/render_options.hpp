@@ -18,6 +18,7 @@
 #include "nodetrace/base/sample_rate.hpp"
 #include "nodetrace/tracer/scene/camera_checks.hpp"
 #include "nodetrace/tracer/render/trace_job.hpp"
+#include "tree_cache_option.hpp"
 
 namespace nodetrace::tracer::tools {
 
@@ -83,6 +84,7 @@ struct SceneCommandOptions {
   float bvh_intersection_cost = BvhBuildOptions{}.intersection_cost;
   std::uint32_t bvh_max_leaf_size = BvhBuildOptions{}.max_leaf_size;
   std::uint32_t bvh_bins = BvhBuildOptions{}.bins;
+  std::optional<std::string> tree_cache;  // --tree-cache DIR (tree_cache_option.hpp)
 };
 
 // `frame_runs`: --frames (tracer render only: `tracer info` describes one frame).
@@ -124,6 +126,7 @@ inline void add_scene_options(CLI::App& app, SceneCommandOptions& o, bool frame_
   app.add_option("--bvh-bins", o.bvh_bins, "BVH: SAH bins per axis (bins - 1 candidate planes)")
       ->check(CLI::Range(2u, 256u))
       ->capture_default_str();
+  add_tree_cache_option(app, o.tree_cache);
 }
 
 // A tree build's two SAH costs: finite and positive.

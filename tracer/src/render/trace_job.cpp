@@ -142,8 +142,8 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const auto [frame, time] = frames[i];
     const Scene scene = source.at_time(time);
-    const AccelerationStructure tree = AccelerationStructure::build(scene.triangles, options.accel,
-                                                                   {options.build, options.bvh});
+    const AccelerationStructure tree =
+        build_or_load(options.tree_cache, scene.triangles, options.accel, {options.build, options.bvh});
     AnimationFrameReport report;
     report.frame = frame;
     report.time = time;

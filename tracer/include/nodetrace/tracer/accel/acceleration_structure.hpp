@@ -64,6 +64,7 @@ class AccelerationStructure {
   AccelerationStructure(AccelKind kind, std::variant<KdTree, Bvh> tree) : kind_(kind), tree_(std::move(tree)) {}
   AccelKind kind_;
   std::variant<KdTree, Bvh> tree_;
+  friend struct TreeCacheCodec;  // makes a loaded structure (tree_cache_file)
 };
 
 }  // namespace nodetrace::tracer

@@ -93,6 +93,7 @@ class Bvh {
   Bounds bounds_;
   KdTreeStats stats_;
   friend class BvhBuilder;
+  friend struct TreeCacheCodec;  // stores and restores every member (tree_cache_file)
 };
 
 }  // namespace nodetrace::tracer

@@ -85,6 +85,7 @@ class KdTree {
   // The statistics of the nodes of `parts` together (a tree's nodes, or the pieces it is made of).
   void compute_stats(std::span<const std::span<const KdNode>> parts);
   friend class KdTreeBuilder;
+  friend struct TreeCacheCodec;  // stores and restores every member (tree_cache_file)
 };
 
 // Bounds of the part of `triangle` inside `box` (Sutherland-Hodgman clipping);

@@ -19,6 +19,7 @@
 #include "nodetrace/tracer/accel/acceleration_structure.hpp"
 #include "nodetrace/tracer/accel/kdtree.hpp"
 #include "nodetrace/tracer/accel/layout.hpp"
+#include "nodetrace/tracer/accel/tree_cache.hpp"
 #include "nodetrace/tracer/render/render.hpp"
 #include "nodetrace/tracer/render/row_sampling.hpp"
 #include "nodetrace/tracer/scene/scene.hpp"
@@ -30,6 +31,9 @@ struct TraceJobOptions {
   KdBuildOptions build;
   AccelKind accel = AccelKind::KdTree;
   BvhBuildOptions bvh;  // the BVHs' build
+  // Built trees kept and loaded (--tree-cache); null: every tree is built.
+  // Not owned; the records do not depend on it.
+  const TreeCache* tree_cache = nullptr;
   LayoutKind layout = LayoutKind::Dfl;
   std::uint32_t treelet_bytes = kDefaultTreeletBytes;  // the treelet layout's budget
   // Hybrid K: a fixed level, or derived per frame from the high cache size.
