@@ -464,7 +464,9 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
   // OPT closes all of its own gap; no policy of the single cache more than all.
   std::istringstream policy_lines(policies);
   for (std::string line; std::getline(policy_lines, line);) {
-    if (line.find(",single,opt,") != std::string::npos) EXPECT_TRUE(line.ends_with(",100.0")) << line;
+    if (line.find(",single,opt,") != std::string::npos) {
+      EXPECT_TRUE(line.ends_with(",100.0")) << line;
+    }
     if (line.find(",single,") != std::string::npos && !line.ends_with(",")) {
       EXPECT_LE(std::stod(line.substr(line.rfind(',') + 1)), 100.0) << line;
     }
