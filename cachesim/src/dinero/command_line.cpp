@@ -17,7 +17,6 @@ namespace {
 
 using base::UsageError;
 
-constexpr const char* kKindLetters = "uid";
 
 [[noreturn]] void usage(const std::string& message) { throw UsageError(message); }
 
@@ -101,8 +100,6 @@ std::string bad_option(std::string_view opt, std::string_view arg) {
   return fmt::format("bad option: {} {}", opt, arg);
 }
 
-char kind_letter(int kind) { return kKindLetters[kind]; }
-
 // Dinero's verify_options(), in its order.
 void verify(DineroOptions& o) {
   for (int lev = 0; lev < o.max_level; ++lev) {
@@ -141,11 +138,11 @@ void verify(DineroOptions& o) {
       if (active && params != 6 + 2 * (idu != 1)) {
         if (o.block_size[idu][lev] == 0) {
           details += fmt::format("level {} {}cache block size must be specified, e.g., -l{}-{}bsize 16\n",
-                                 lev + 1, kind_letter(idu), lev + 1, kind_letter(idu));
+                                 lev + 1, cache_kind_letter(idu), lev + 1, cache_kind_letter(idu));
         }
         if (o.size[idu][lev] == 0) {
           details += fmt::format("level {} {}cache size must be specified, e.g., -l{}-{}size 16k\n",
-                                 lev + 1, kind_letter(idu), lev + 1, kind_letter(idu));
+                                 lev + 1, cache_kind_letter(idu), lev + 1, cache_kind_letter(idu));
         }
         ++errors;
       }
@@ -168,7 +165,7 @@ void verify(DineroOptions& o) {
     for (int idu = 0; idu < 3; ++idu) {
       const char r = o.replacement[idu][lev];
       if (r != 0 && r != 'l' && r != 'f' && r != 'r') {
-        usage(fmt::format("level {} {}cache replacement policy unrecognized", lev + 1, kind_letter(idu)));
+        usage(fmt::format("level {} {}cache replacement policy unrecognized", lev + 1, cache_kind_letter(idu)));
       }
     }
   }
@@ -176,20 +173,20 @@ void verify(DineroOptions& o) {
     for (int idu = 0; idu < 3; ++idu) {
       const char f = o.fetch[idu][lev];
       if (f != 0 && f != 'd' && f != 'a' && f != 'm' && f != 't' && f != 'l' && f != 's') {
-        usage(fmt::format("level {} {}cache fetch policy unrecognized", lev + 1, kind_letter(idu)));
+        usage(fmt::format("level {} {}cache fetch policy unrecognized", lev + 1, cache_kind_letter(idu)));
       }
       const std::uint32_t block = o.block_size[idu][lev];
       const std::uint32_t sub = o.sub_block_size[idu][lev] != 0 ? o.sub_block_size[idu][lev] : block;
       if ((f == 'l' || f == 's') && sub != 0 && o.prefetch_distance[idu][lev] > block / sub) {
-        usage(fmt::format("level {} {}cache prefetch distance > block size", lev + 1, kind_letter(idu)));
+        usage(fmt::format("level {} {}cache prefetch distance > block size", lev + 1, cache_kind_letter(idu)));
       }
       if (f == 'd' && o.prefetch_abort[idu][lev] != 0) {
         usage(fmt::format("level {} {}cache abort % not allowed with demand fetch policy", lev + 1,
-                          kind_letter(idu)));
+                          cache_kind_letter(idu)));
       }
       // Dinero IV holds the percentage in an int: above INT_MAX is negative.
       if (o.prefetch_abort[idu][lev] > 100) {
-        usage(fmt::format("level {} {}cache abort % out of range", lev + 1, kind_letter(idu)));
+        usage(fmt::format("level {} {}cache abort % out of range", lev + 1, cache_kind_letter(idu)));
       }
     }
   }
@@ -201,7 +198,7 @@ void verify(DineroOptions& o) {
       const char w = o.write_allocate[idu][lev];
       if (w != 0 && w != 'a' && w != 'n' && w != 'f') {
         usage(fmt::format("level {} {}cache write allocate policy unrecognized", lev + 1,
-                          kind_letter(idu)));
+                          cache_kind_letter(idu)));
       }
     }
   }
@@ -212,14 +209,14 @@ void verify(DineroOptions& o) {
     for (int idu = 0; idu < 3; ++idu) {
       const char w = o.write_back[idu][lev];
       if (w != 0 && w != 'a' && w != 'n' && w != 'f') {
-        usage(fmt::format("level {} {}cache write back policy unrecognized", lev + 1, kind_letter(idu)));
+        usage(fmt::format("level {} {}cache write back policy unrecognized", lev + 1, cache_kind_letter(idu)));
       }
     }
   }
   for (int lev = 0; lev < o.max_level; ++lev) {
     for (int idu = 0; idu < 3; ++idu) {
       if (o.sub_block_size[idu][lev] > 32768) {
-        usage(fmt::format("level {} {}cache sub-block size must be <= 32768", lev + 1, kind_letter(idu)));
+        usage(fmt::format("level {} {}cache sub-block size must be <= 32768", lev + 1, cache_kind_letter(idu)));
       }
     }
   }
@@ -228,11 +225,11 @@ void verify(DineroOptions& o) {
       const std::uint32_t block = o.block_size[idu][lev];
       const std::uint32_t sub = o.sub_block_size[idu][lev];
       if (block != 0 && sub > block) {
-        usage(fmt::format("level {} {}cache has sub-blocksize > blocksize", lev + 1, kind_letter(idu)));
+        usage(fmt::format("level {} {}cache has sub-blocksize > blocksize", lev + 1, cache_kind_letter(idu)));
       }
       if (sub != 0 && block / sub > 32) {
         usage(fmt::format("level {} {}cache must have no more than 32 sub-blocks per block", lev + 1,
-                          kind_letter(idu)));
+                          cache_kind_letter(idu)));
       }
     }
   }
@@ -260,7 +257,7 @@ void verify(DineroOptions& o) {
     for (int idu = 0; idu < 3; ++idu) {
       if (o.block_size[idu][lev] != 0 &&
           std::uint64_t{o.block_size[idu][lev]} * o.assoc[idu][lev] > o.size[idu][lev]) {
-        usage(fmt::format("level {} {}cache size < blocksize * associativity", lev + 1, kind_letter(idu)));
+        usage(fmt::format("level {} {}cache size < blocksize * associativity", lev + 1, cache_kind_letter(idu)));
       }
     }
   }

@@ -16,10 +16,9 @@ namespace nodetrace::cachesim {
 
 namespace {
 
-constexpr const char* kKindLetters = "uid";
 
 std::string cache_name(int level, int kind) {
-  return fmt::format("l{}-{}cache", level, kKindLetters[kind]);
+  return fmt::format("l{}-{}cache", level, cache_kind_letter(kind));
 }
 
 const std::optional<CacheConfig>& level_cache(const LevelConfig& level, int kind) {

@@ -15,7 +15,6 @@ namespace nodetrace::cachesim {
 
 namespace {
 
-constexpr const char* kKindLetters = "uid";
 
 void append(std::string& out, const char* format, ...) __attribute__((format(printf, 2, 3)));
 void append(std::string& out, const char* format, ...) {
@@ -163,7 +162,7 @@ void cache_table(std::string& out, const Printed& c) {
 Printed printed_cache(const Hierarchy& h, int level, CacheKind kind) {
   const CacheConfig& config = h.cache_config(level, kind);
   Printed p;
-  p.name = fmt::format("l{}-{}cache", level, kKindLetters[static_cast<int>(kind)]);
+  p.name = fmt::format("l{}-{}cache", level, cache_kind_letter(static_cast<int>(kind)));
   p.stats = h.stats(level, kind);
   p.ccc = config.classify_misses;
   p.sub_blocked = config.effective_sub_block_size() != config.block_size;
@@ -197,7 +196,7 @@ std::string dinero_preamble(const DineroOptions& o) {
     for (int idu = 0; idu < 3; ++idu) {
       for (int lev = 0; lev <= o.max_level; ++lev) {
         const std::uint32_t v = value(values, idu, lev, past_table);
-        if (v != 0) append(out, "-l%d-%c%s %u\n", lev + 1, kKindLetters[idu], name, v);
+        if (v != 0) append(out, "-l%d-%c%s %u\n", lev + 1, cache_kind_letter(idu), name, v);
       }
     }
   };
@@ -205,7 +204,7 @@ std::string dinero_preamble(const DineroOptions& o) {
     for (int idu = 0; idu < 3; ++idu) {
       for (int lev = 0; lev <= o.max_level; ++lev) {
         const auto v = static_cast<char>(value(values, idu, lev, 0));
-        if (v != 0) append(out, "-l%d-%c%s %c\n", lev + 1, kKindLetters[idu], name, v);
+        if (v != 0) append(out, "-l%d-%c%s %c\n", lev + 1, cache_kind_letter(idu), name, v);
       }
     }
   };
@@ -221,7 +220,7 @@ std::string dinero_preamble(const DineroOptions& o) {
   letters("wback", o.write_back);
   for (int idu = 0; idu < 3; ++idu) {
     for (int lev = 0; lev <= o.max_level; ++lev) {
-      if (value(o.ccc, idu, lev, 0) != 0) append(out, "-l%d-%cccc\n", lev + 1, kKindLetters[idu]);
+      if (value(o.ccc, idu, lev, 0) != 0) append(out, "-l%d-%cccc\n", lev + 1, cache_kind_letter(idu));
     }
   }
   append(out, "-skipcount %.0f\n", d(o.skip_count));

@@ -32,6 +32,8 @@ inline constexpr int kMaxLevels = 5;  // Dinero IV's MAX_LEV
 
 // Dinero's `T` in -lN-T...: unified, instruction or data cache.
 enum class CacheKind : std::uint8_t { Unified = 0, Instruction = 1, Data = 2 };
+// The letter T of a CacheKind (0, 1, 2) in Dinero IV's names: u, i, d.
+constexpr char cache_kind_letter(int kind) { return "uid"[kind]; }
 
 // -lN-Twalloc a|n|f: allocate on a write miss always, never, or only when the
 // write covers whole sub-blocks (no fetch needed).
