@@ -144,8 +144,8 @@ sampled_run() {
 # sys) of the whole command, medians of alternating runs; target: at most
 # 2.0x the CPU. Then the rays per CPU second (rays of every kind over the
 # --discard-records run's user + sys, scene loading and the tree build
-# included: a rate per core that a busy machine does not change), and the
-# rays of each kind.
+# included: a rate per core that a busy machine does not change), the
+# rays of each kind, and the render summary's own rays/s per core.
 path_tracing() {
   echo "path tracing, ${width}x${height} --spp 4, medians of $runs alternating run(s); load average $(cut -d' ' -f1 /proc/loadavg)"
   printf '%-12s %10s %9s %11s %10s %10s %9s %12s\n' scene discard_wall discard_cpu traced_wall traced_cpu wall_ratio cpu_ratio Mrays_cpu_s
@@ -171,6 +171,9 @@ path_tracing() {
         -v rays="$(column 4 < "$work/discard.all" | median)" 'BEGIN {
       printf "%-12s %10.2f %9.2f %11.2f %10.2f %10.2f %9.2f %12.3f\n", n, dw, dc, tw, tc, tw / dw, tc / dc, rays / dc / 1e6 }'
     sed -n 's/^  rays: /  rays of each kind: /p' "$work/discard.txt"
+    # The render's own rays/s per core (its summary: each kind's traversal, and
+    # all rays over the rendering threads' CPU), from the last --discard-records run.
+    sed -n 's/^  rays\/s per core, /  the render'"'"'s rays\/s per core, /p' "$work/discard.txt"
   done
   echo "discard: --discard-records; traced: -o T.din.zst; cpu = user + sys; ratios traced / discard (target: cpu_ratio"
   echo "<= 2.0); Mrays_cpu_s: millions of rays of every kind per CPU second of the --discard-records run"

@@ -35,6 +35,24 @@ namespace nodetrace::tracer::tools {
 
 namespace {
 
+// Rays per core-second: each kind's from the traversal time of the rays the
+// render timed (one in RayKindTimer::kTimeEvery, records made included), and
+// all rays' from the render workers' CPU time (shading and handing records
+// on included). Timings vary from run to run: the summary only.
+void print_rays_per_core(const RenderStats& t, const RayKindPlan& plan) {
+  std::string kinds;
+  for (const RayKind kind : plan.kinds) {
+    const double rate = t.traversal_rays_per_second(kind);
+    if (rate <= 0) continue;
+    kinds += fmt::format("{}{} {:.2f} M", kinds.empty() ? "" : ", ", ray_kind_name(kind), rate / 1e6);
+  }
+  if (!kinds.empty()) std::fprintf(stderr, "  rays/s per core, traversal: %s\n", kinds.c_str());
+  if (t.cpu_seconds > 0) {
+    std::fprintf(stderr, "  rays/s per core, whole render: %.2f M (render workers' CPU %.3f s)\n",
+                 double(t.total_rays()) / t.cpu_seconds / 1e6, t.cpu_seconds);
+  }
+}
+
 void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
                    const std::string& scene_name, double build_seconds) {
   const RenderStats& t = result.total;
@@ -93,6 +111,7 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
   std::fprintf(stderr, "  render: %.3f s, %.3f M rays/s; %llu records\n", t.seconds,
                t.seconds > 0 ? double(t.total_rays()) / t.seconds / 1e6 : 0.0,
                static_cast<unsigned long long>(t.records));
+  print_rays_per_core(t, result.plan);
 }
 
 // The options of `tracer render` and what it does with them.

@@ -241,6 +241,29 @@ TEST(RenderTest, SameRecordsWhateverTheThreadCount) {
   }
 }
 
+TEST(RenderTest, TimesOneRayInKTimeEveryOfEachKindAndTheWorkersCpu) {
+  // The summary's rays per core-second: every kind cast has timed rays (one
+  // in kTimeEvery, the first of each kind in each chunk included), never
+  // more than it cast. That the records do not depend on it, the pinned
+  // trace hashes check.
+  const Scene scene = test_scenes::cornell_box();
+  RenderOptions options;
+  options.width = 32;
+  options.height = 24;
+  options.threads = 2;
+  RenderStats stats;
+  render_records(scene, options, &stats);
+  EXPECT_GT(stats.cpu_seconds, 0.0);
+  for (int k = 0; k < 4; ++k) {
+    const auto kind = static_cast<RayKind>(k);
+    ASSERT_GT(stats.rays[k], 0u) << ray_kind_name(kind);
+    EXPECT_GT(stats.timed_rays[k], 0u) << ray_kind_name(kind);
+    EXPECT_LE(stats.timed_rays[k], stats.rays[k]) << ray_kind_name(kind);
+    EXPECT_GT(stats.traversal_rays_per_second(kind), 0.0) << ray_kind_name(kind);
+  }
+  EXPECT_EQ(stats.traversal_rays_per_second(RayKind::Diffuse), 0.0);  // Whitted casts none
+}
+
 TEST(RenderTest, CastsOnlyTheRayKindsTheSceneNeeds) {
   RenderOptions options;
   options.width = 40;

@@ -22,6 +22,7 @@
 #include "render/fresnel.hpp"
 #include "render/path_lobes.hpp"
 #include "render/path_random.hpp"
+#include "render/ray_timing.hpp"
 #include "render/render_context.hpp"
 
 namespace nodetrace::tracer {
@@ -64,7 +65,11 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
     ++context.stats.rays[static_cast<int>(kind)];
     context.note(kind, ray);
     const std::uint32_t self = context.begin_ray(context.parent);
-    const auto hit = closest_hit(ray, std::numeric_limits<float>::infinity(), context.records, &context.stats);
+    std::optional<Hit> hit;
+    {
+      const detail::RayKindTimer timer(context.untimed, context.stats, kind);
+      hit = closest_hit(ray, std::numeric_limits<float>::infinity(), context.records, &context.stats);
+    }
     context.end_ray(self);
     context.maybe_flush();
     if (!hit) {

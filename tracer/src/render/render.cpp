@@ -14,6 +14,7 @@
 
 #include "nodetrace/base/ordered_pipeline.hpp"
 #include "nodetrace/tracer/render/interaction.hpp"
+#include "render/ray_timing.hpp"
 #include "render/render_context.hpp"
 
 namespace nodetrace::tracer {
@@ -137,7 +138,9 @@ RenderStats Renderer::render_runs(std::span<const PixelRun> runs, const RunStart
         chunk.records.clear();
       };
     }
+    const double cpu_start = detail::thread_cpu_seconds();
     for (std::size_t i = spans[c].begin; i < spans[c].end; ++i) render_pixel(sequence[i], context, image);
+    context.stats.cpu_seconds = detail::thread_cpu_seconds() - cpu_start;
     chunk.stats = context.stats;
     chunk.flushed = context.flushed;
   };

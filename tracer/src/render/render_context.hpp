@@ -3,6 +3,7 @@
 // hit. Internal header.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -21,6 +22,8 @@ namespace nodetrace::tracer {
 struct Renderer::Context {
   std::vector<formats::Record>* records = nullptr;
   RenderStats stats;
+  // Per kind, rays left before the next one timed (render/ray_timing.hpp).
+  std::array<std::uint32_t, kRayKindCount> untimed{};
   std::function<void()> flush;
   std::uint64_t flushed = 0;  // records already handed on
   std::size_t flush_at = 0;

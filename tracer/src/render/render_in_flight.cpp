@@ -12,6 +12,7 @@
 
 #include "nodetrace/base/ordered_pipeline.hpp"
 #include "nodetrace/tracer/render/render.hpp"
+#include "render/ray_timing.hpp"
 #include "render/render_context.hpp"
 
 namespace nodetrace::tracer {
@@ -57,7 +58,9 @@ RenderStats Renderer::render_in_flight(const RecordCallback& sink, Image* image,
         context.rays = &tree.rays;
       };
     }
+    const double cpu_start = detail::thread_cpu_seconds();
     for (; position < end; ++position) render_pixel(sequence[position], context, image);
+    context.stats.cpu_seconds = detail::thread_cpu_seconds() - cpu_start;
     chunk.stats = context.stats;
     return chunk;
   };

@@ -12,6 +12,7 @@
 #include "render/fresnel.hpp"
 #include "nodetrace/tracer/render/interaction.hpp"
 #include "nodetrace/tracer/render/render.hpp"
+#include "render/ray_timing.hpp"
 #include "render/render_context.hpp"
 
 namespace nodetrace::tracer {
@@ -48,7 +49,11 @@ bool Renderer::light_visible(const Vec3& origin, const PointLight& light, std::u
   const Ray shadow{origin, light.position - origin};
   context.note(RayKind::Shadow, shadow);
   const std::uint32_t shadow_ray = context.begin_ray(caster);
-  const bool blocked = occluded(shadow, 1.0f - 1e-4f, context.records, &context.stats);
+  bool blocked;
+  {
+    const detail::RayKindTimer timer(context.untimed, context.stats, RayKind::Shadow);
+    blocked = occluded(shadow, 1.0f - 1e-4f, context.records, &context.stats);
+  }
   context.end_ray(shadow_ray);
   context.maybe_flush();
   return !blocked;
@@ -58,8 +63,11 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
   ++context.stats.rays[static_cast<int>(kind)];
   context.note(kind, ray);
   const std::uint32_t self = context.begin_ray(context.parent);
-  const auto hit = closest_hit(ray, std::numeric_limits<float>::infinity(), context.records,
-                               &context.stats);
+  std::optional<Hit> hit;
+  {
+    const detail::RayKindTimer timer(context.untimed, context.stats, kind);
+    hit = closest_hit(ray, std::numeric_limits<float>::infinity(), context.records, &context.stats);
+  }
   context.end_ray(self);
   context.maybe_flush();
   if (!hit) return scene_.background;
