@@ -56,7 +56,7 @@ void InfoCommand::add_options(CLI::App& app) {
   app.add_option("--node-size", node_size_option,
                  "bytes per node, for the bytes and split levels shown (at most 65535; default: the structure's)")
       ->check(CLI::Range(1, kMaxNodeSize));
-  app.add_option("--threads", threads, "threads building the kd-tree (default: one per core); the tree does not depend on it");
+  app.add_option("--threads", threads, "threads reading an OBJ file and building the kd-tree (default: one per core); neither depends on it");
   add_scene_options(app, scene_options, /*frame_runs=*/false);
 }
 
@@ -68,7 +68,7 @@ int InfoCommand::run() const {
     const bool path = *parse_integrator(integrator) == Integrator::Path;
     if (max_bounces && !path) throw base::UsageError("--max-bounces needs --integrator path (Whitted: --max-depth)");
     build_options.threads = cli::check_thread_count(threads, "--threads");
-    const auto source = open_scene(scene_spec);
+    const auto source = open_scene(scene_spec, {.threads = build_options.threads});
     for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer info: warning: %s\n", warning.c_str());
     const Animation& animation = source->animation();
     const std::uint64_t frame = scene_options.frame.value_or(0);

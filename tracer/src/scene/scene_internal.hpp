@@ -40,7 +40,8 @@ class StaticSceneSource final : public SceneSource {
 };
 
 std::unique_ptr<SceneSource> open_aff(const std::filesystem::path& path);
-std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path);
+// `threads`: threads reading the file (0: one per core); the scene does not depend on it.
+std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path, unsigned threads = 0);
 // Throws SceneError for an unknown name or a size out of range.
 // `size` nullopt: the scene's default size.
 std::unique_ptr<SceneSource> open_builtin(const std::string& name, std::optional<int> size);
