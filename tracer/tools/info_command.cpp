@@ -74,7 +74,8 @@ int InfoCommand::run() const {
     const std::uint64_t frame = scene_options.frame.value_or(0);
     if (!scene_options.time) check_frame_range({frame, frame, 1}, animation.frames, source->name());
     const double time = scene_options.time.value_or(animation.time_of_frame(frame));
-    const Scene scene = source->at_time(time);
+    const std::shared_ptr<const Scene> shared_scene = source->shared_at_time(time);
+    const Scene& scene = *shared_scene;
     const AccelKind kind = *parse_accel_name(scene_options.accel);
     const AccelerationStructure tree =
         AccelerationStructure::build(scene.triangles, kind, {build_options, make_bvh_options(scene_options)});

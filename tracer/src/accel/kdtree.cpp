@@ -86,6 +86,7 @@ KdTree KdTree::build(std::span<const Triangle> triangles, const KdBuildOptions& 
     kd_build::BuiltNodes built = kd_build::build_nodes(triangles, options, max_depth, tree.bounds_, pool);
     const kd_build::TreeAssembly assembly(built);
     tree.stats_.sah_cost = assembly.sah_cost(tree.bounds_);
+    kd_build::release_costs(built);
     if (built.spliced.empty()) {
       tree.nodes_ = std::move(built.nodes);
       tree.primitives_ = std::move(built.primitives);

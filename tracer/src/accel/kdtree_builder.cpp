@@ -35,7 +35,12 @@ class SpareVectors {
     return list;
   }
   void give(std::vector<T>&& list) {
-    if (list.capacity() > kLongest) return;
+    if (list.capacity() > kLongest) {
+      // Freed now: the caller's node, whose list it was, lives on until its
+      // subtree is built, and so would the list.
+      std::vector<T>().swap(list);
+      return;
+    }
     list.clear();
     spare_.push_back(std::move(list));
   }

@@ -40,4 +40,12 @@ struct BuiltNodes {
   std::size_t total_primitives() const { return primitives.size() + spliced_primitives; }
 };
 
+// Frees the costs of `part` and of the subtrees spliced into it: once the
+// tree's SAH cost is summed they are not needed, and the tree's assembly
+// is the build's high-water mark.
+inline void release_costs(BuiltNodes& part) {
+  part.costs = {};
+  for (SplicedSubtree& subtree : part.spliced) release_costs(*subtree.part);
+}
+
 }  // namespace nodetrace::tracer::kd_build

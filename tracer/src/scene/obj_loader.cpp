@@ -6,7 +6,9 @@
 #include <cfloat>
 #include <charconv>
 #include <string_view>
+#include <cctype>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -57,17 +59,28 @@ Material whitted_material(const tinyobj::material_t& m) {
   return material;
 }
 
-// The `mtllib` names of an OBJ file, for the content hash.
-std::vector<std::string> material_libraries(const std::string& obj_text) {
+// The `mtllib` names of an OBJ file, for the content hash: on each line
+// whose first word is `mtllib`, the words after it (words as a stream reads
+// them: between white space).
+std::vector<std::string> material_libraries(std::string_view obj_text) {
   std::vector<std::string> names;
-  std::istringstream lines(obj_text);
-  std::string line;
-  while (std::getline(lines, line)) {
-    std::istringstream words(line);
-    std::string keyword, name;
-    if (words >> keyword && keyword == "mtllib") {
-      while (words >> name) names.push_back(name);
+  const auto blank = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+  // Only the lines that hold the keyword are looked at: most files have one or none.
+  for (std::size_t at = obj_text.find("mtllib"); at != std::string_view::npos; at = obj_text.find("mtllib", at + 1)) {
+    const std::size_t line_start = obj_text.rfind('\n', at) == std::string_view::npos ? 0 : obj_text.rfind('\n', at) + 1;
+    const std::size_t line_end = std::min(obj_text.find('\n', at), obj_text.size());
+    std::string_view line = obj_text.substr(line_start, line_end - line_start);
+    std::vector<std::string_view> words;
+    for (std::size_t i = 0; i < line.size();) {
+      while (i < line.size() && blank(line[i])) ++i;
+      const std::size_t start = i;
+      while (i < line.size() && !blank(line[i])) ++i;
+      if (i > start) words.push_back(line.substr(start, i - start));
     }
+    if (!words.empty() && words[0] == "mtllib" && words[0].data() == obj_text.data() + at) {
+      for (std::size_t k = 1; k < words.size(); ++k) names.emplace_back(words[k]);
+    }
+    at = line_end;
   }
   return names;
 }
@@ -176,6 +189,7 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path, unsigne
                ? path.string() + ":" + std::to_string((*lines)[triangle_index])
                : path.string() + ": triangle " + std::to_string(triangle_index + 1);
   };
+  const std::function<std::string()> where_function = where;  // made once, not per triangle
   scene.triangles.reserve(mesh.material_ids.size());
   for (std::size_t t = 0; t < mesh.material_ids.size(); ++t) {
     const ObjCorner* corners = mesh.corners.data() + 3 * t;
@@ -184,7 +198,7 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path, unsigne
                       material >= 0 && static_cast<std::size_t>(material) < mesh.materials.size()
                           ? static_cast<std::uint32_t>(material)
                           : default_material};
-    const bool keep = checks.keep(triangle, where);
+    const bool keep = checks.keep(triangle, where_function);
     ++triangle_index;
     if (!keep) continue;
     if (faces_give_normals) {
