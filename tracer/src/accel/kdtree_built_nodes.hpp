@@ -14,6 +14,18 @@ namespace nodetrace::tracer::kd_build {
 
 struct BuiltNodes;
 
+// A node as a builder makes it, half a KdNode: in a builder's pre-order a
+// node's left child is always the next node, so an interior node keeps only
+// its split and right child, a leaf its primitive range. The tree's
+// KdNodes are made from these when it is assembled.
+struct BuiltNode {
+  std::uint32_t split_or_first = 0;  // interior: the split position's bits; leaf: its first primitive
+  std::uint32_t right_or_count = 0;  // interior: its right child (or kSplicedRoot); leaf: its primitives
+  std::uint16_t level = 0;           // root = 0
+  std::uint8_t axis = KdNode::kLeafAxis;
+  bool is_leaf() const { return axis == KdNode::kLeafAxis; }
+};
+
 // A subtree another builder made, to go between a builder's own nodes.
 struct SplicedSubtree {
   std::uint32_t nodes_before = 0;       // the builder's own nodes before it
@@ -30,7 +42,7 @@ constexpr std::uint32_t kSplicedRoot = std::numeric_limits<std::uint32_t>::max()
 // the tree is assembled, so each node is copied once.
 struct BuiltNodes {
   // Children and leaf ranges index these vectors alone.
-  std::vector<KdNode> nodes;
+  std::vector<BuiltNode> nodes;
   std::vector<std::uint32_t> primitives;
   // Each node's term of the tree's SAH cost, summed in pre-order at the end.
   std::vector<double> costs;
