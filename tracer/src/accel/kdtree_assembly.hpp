@@ -135,8 +135,8 @@ class TreeAssembly {
     std::size_t from = 0;
     for (std::size_t k = 0; k <= part.spliced.size(); ++k) {
       const std::size_t to = k < part.spliced.size() ? part.spliced[k].primitives_before : part.primitives.size();
-      std::copy(part.primitives.begin() + from, part.primitives.begin() + to,
-                primitives.begin() + placement.primitive_base + from + placement.spliced_primitives_before[k]);
+      std::uint32_t* out = primitives.data() + placement.primitive_base + placement.spliced_primitives_before[k];
+      for (std::size_t i = from; i < to; ++i) out[i] = part.primitives[i];
       from = to;
     }
   }

@@ -243,7 +243,7 @@ class KdTreeBuilder {
     leaf.axis = KdNode::kLeafAxis;
     leaf.split_or_first = static_cast<std::uint32_t>(output_->primitives.size());
     leaf.right_or_count = static_cast<std::uint32_t>(node.ids.size());
-    output_->primitives.insert(output_->primitives.end(), node.ids.begin(), node.ids.end());
+    output_->primitives.append(node.ids.begin(), node.ids.end());
     output_->costs[index] =
         options_.intersection_cost * double(leaf.right_or_count) * surface_area(node.box) / root_area_;
     spare_events_.give(std::move(node.events.events));

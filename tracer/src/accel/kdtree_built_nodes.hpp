@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "accel/block_list.hpp"
 #include "nodetrace/tracer/accel/kdtree.hpp"
 
 namespace nodetrace::tracer::kd_build {
@@ -42,10 +43,10 @@ constexpr std::uint32_t kSplicedRoot = std::numeric_limits<std::uint32_t>::max()
 // the tree is assembled, so each node is copied once.
 struct BuiltNodes {
   // Children and leaf ranges index these vectors alone.
-  std::vector<BuiltNode> nodes;
-  std::vector<std::uint32_t> primitives;
+  BlockList<BuiltNode> nodes;
+  BlockList<std::uint32_t> primitives;
   // Each node's term of the tree's SAH cost, summed in pre-order at the end.
-  std::vector<double> costs;
+  BlockList<double> costs;
   std::vector<SplicedSubtree> spliced;  // in pre-order
   std::size_t spliced_nodes = 0, spliced_primitives = 0;  // in all of them, nested ones too
   std::size_t total_nodes() const { return nodes.size() + spliced_nodes; }
