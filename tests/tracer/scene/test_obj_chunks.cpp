@@ -203,6 +203,32 @@ TEST(ObjChunks, FeaturesLeftToLoadObjAreDeclined) {
   }
 }
 
+// An empty index after a slash: LoadObj fails on it, or (atoi skipping
+// blanks) reads the next corner's number there, while the callback API
+// reads no index. Declined by the chunks: LoadObj's outcome on every
+// thread count.
+TEST(ObjChunks, AnEmptyIndexAfterASlashIsLeftToLoadObj) {
+  TempDir dir;
+  for (const std::string face : {"f 1/ 2/ 3/\n", "f 1//1 2//1 3//\n", "f 1/1/ 2/1/1 3/1/1\n"}) {
+    const std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n" + face;
+    tinyobj::MaterialFileReader reader(dir.path().string() + "/");
+    const std::vector<std::string_view> whole = {text};
+    EXPECT_FALSE(read_obj_chunks(whole, reader, 2).has_value()) << face;
+    const auto path = dir / "slash.obj";
+    write_file(path, text);
+    std::vector<std::string> outcomes;
+    for (const unsigned threads : {1u, 2u}) {
+      try {
+        outcomes.push_back(std::to_string(open_scene(path.string(), {.threads = threads})->at_time(0).triangles.size()));
+      } catch (const SceneError& error) {
+        outcomes.push_back(error.what());
+      }
+    }
+    EXPECT_EQ(outcomes[0], outcomes[1]) << face;
+    EXPECT_NE(outcomes[0], "1") << face;  // LoadObj's error, or ours on the normal it read
+  }
+}
+
 // A bad line is the same error whatever the threads: the first in the file.
 TEST(ObjChunks, TheFirstBadLineIsReportedWhateverTheThreads) {
   TempDir dir;

@@ -155,6 +155,14 @@ ChunkScan scan_chunk(std::string_view chunk) {
     }
     if (first == 'f' && is_space(second)) {
       ++scan.faces;
+      // LoadObj fails on an empty index after a slash ("3/", "3/1/"), which
+      // the callback API reads as no index: left to LoadObj, which says so.
+      for (std::size_t slash = text.find('/'); slash != std::string_view::npos; slash = text.find('/', slash + 1)) {
+        if (slash + 1 == text.size() || is_space(text[slash + 1])) {
+          scan.unsupported = true;
+          return scan;
+        }
+      }
       continue;
     }
     line.assign(text.substr(blanks));
