@@ -205,11 +205,12 @@ TEST(ObjChunks, FeaturesLeftToLoadObjAreDeclined) {
 
 // An empty index after a slash: LoadObj fails on it, or (atoi skipping
 // blanks) reads the next corner's number there, while the callback API
-// reads no index. Declined by the chunks: LoadObj's outcome on every
+// reads no index; a comment after the corners, which LoadObj reads as a
+// corner of index 0. Declined by the chunks: LoadObj's outcome on every
 // thread count.
-TEST(ObjChunks, AnEmptyIndexAfterASlashIsLeftToLoadObj) {
+TEST(ObjChunks, IndicesLoadObjReadsApartAreLeftToIt) {
   TempDir dir;
-  for (const std::string face : {"f 1/ 2/ 3/\n", "f 1//1 2//1 3//\n", "f 1/1/ 2/1/1 3/1/1\n"}) {
+  for (const std::string face : {"f 1/ 2/ 3/\n", "f 1//1 2//1 3//\n", "f 1/1/ 2/1/1 3/1/1\n", "f 1 2 3 # a comment\n"}) {
     const std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n" + face;
     tinyobj::MaterialFileReader reader(dir.path().string() + "/");
     const std::vector<std::string_view> whole = {text};

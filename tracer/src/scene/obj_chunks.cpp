@@ -282,6 +282,9 @@ struct ChunkParse {
     }
     ObjCorner corner[4];
     for (int k = 0; k < count; ++k) {
+      // No vertex index (a `#` after the corners, which LoadObj rejects):
+      // left to LoadObj.
+      if (indices[k].vertex_index == 0) unsupported = true;
       const std::int64_t vertex = resolve(indices[k].vertex_index, place.vertices_before, vertices);
       const std::int64_t normal =
           indices[k].normal_index == 0 ? -1 : resolve(indices[k].normal_index, place.normals_before, normals);
