@@ -56,7 +56,7 @@ void InfoCommand::add_options(CLI::App& app) {
   app.add_option("--node-size", node_size_option,
                  "bytes per node, for the bytes and split levels shown (at most 65535; default: the structure's)")
       ->check(CLI::Range(1, kMaxNodeSize));
-  app.add_option("--threads", threads, "threads building the kd-tree (default: one per core); the tree does not depend on it");
+  app.add_option("--threads", threads, "threads reading an OBJ file and building the kd-tree (default: one per core); neither depends on it");
   add_scene_options(app, scene_options, /*frame_runs=*/false);
 }
 
@@ -68,13 +68,14 @@ int InfoCommand::run() const {
     const bool path = *parse_integrator(integrator) == Integrator::Path;
     if (max_bounces && !path) throw base::UsageError("--max-bounces needs --integrator path (Whitted: --max-depth)");
     build_options.threads = cli::check_thread_count(threads, "--threads");
-    const auto source = open_scene(scene_spec);
+    const auto source = open_scene(scene_spec, {.threads = build_options.threads});
     for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer info: warning: %s\n", warning.c_str());
     const Animation& animation = source->animation();
     const std::uint64_t frame = scene_options.frame.value_or(0);
     if (!scene_options.time) check_frame_range({frame, frame, 1}, animation.frames, source->name());
     const double time = scene_options.time.value_or(animation.time_of_frame(frame));
-    const Scene scene = source->at_time(time);
+    const std::shared_ptr<const Scene> shared_scene = source->shared_at_time(time);
+    const Scene& scene = *shared_scene;
     const AccelKind kind = *parse_accel_name(scene_options.accel);
     const std::unique_ptr<TreeCache> tree_cache = open_tree_cache(scene_options.tree_cache, "tracer info");
     const AccelerationStructure tree =

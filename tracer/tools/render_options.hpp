@@ -238,7 +238,7 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
   app.add_option("--up", o.up, "camera up direction X Y Z")->expected(3);
   app.add_option("--fov", o.fov, "vertical field of view in degrees, 0.01 to 179");
   app.add_option("--threads", o.threads,
-                 "threads rendering and building the kd-tree (default: one per core; at most 16 per core); the output does not depend on it");
+                 "threads reading an OBJ scene, rendering and building the kd-tree (default: one per core; at most 16 per core); the output does not depend on it");
   app.add_option("--layout", o.layouts,
                  "tree layout: dfl, bfl, hybrid, veb or treelet, or several, comma-separated, for one trace "
                  "each from one render (-o with {layout}) (default: hybrid when --split-level or --high-size "

@@ -1,5 +1,9 @@
 #include "nodetrace/tracer/accel/kdtree.hpp"
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include "accel/kdtree_assembly.hpp"
 #include "accel/kdtree_builder.hpp"
 #include "accel/kdtree_events.hpp"
@@ -86,23 +90,17 @@ KdTree KdTree::build(std::span<const Triangle> triangles, const KdBuildOptions& 
     kd_build::BuiltNodes built = kd_build::build_nodes(triangles, options, max_depth, tree.bounds_, pool);
     const kd_build::TreeAssembly assembly(built);
     tree.stats_.sah_cost = assembly.sah_cost(tree.bounds_);
-    if (built.spliced.empty()) {
-      tree.nodes_ = std::move(built.nodes);
-      tree.primitives_ = std::move(built.primitives);
-      tree.compute_stats();
-    } else {
-      // Counted from the builders' nodes by another thread while this one
-      // makes room for the tree (it pays for the new memory's pages).
-      TaskPool::Task count([&](unsigned) { tree.compute_stats(assembly.parts()); });
-      pool.offer(count);
-      assembly.copy_into(tree.nodes_, tree.primitives_, pool);
-      if (pool.take_back(count)) {
-        count.run(0);
-      } else {
-        pool.wait(count, 0);
-      }
-    }
+    kd_build::release_costs(built);
+    // The builders' nodes become the tree's KdNodes (twice their size), then
+    // are freed: the parts and the tree are the build's high-water mark.
+    // The events freed during the build stay in the allocator's arenas,
+    // resident, unless handed back to the system first.
+#if defined(__GLIBC__)
+    malloc_trim(0);
+#endif
+    assembly.copy_into(tree.nodes_, tree.primitives_, pool);
   }
+  tree.compute_stats();
   tree.stats_.depth_limit = max_depth;
   tree.stats_.build_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -24,12 +25,6 @@ class TreeAssembly {
   explicit TreeAssembly(const BuiltNodes& root) : root_(root) { place(root, 0, 0); }
 
   // Every builder's nodes.
-  std::vector<std::span<const KdNode>> parts() const {
-    std::vector<std::span<const KdNode>> parts;
-    for (const Placement& placement : placements_) parts.emplace_back(placement.part->nodes);
-    return parts;
-  }
-
   void copy_into(std::vector<KdNode>& nodes, std::vector<std::uint32_t>& primitives, TaskPool& pool) const {
     nodes.resize(root_.total_nodes());
     primitives.resize(root_.total_primitives());
@@ -111,12 +106,18 @@ class TreeAssembly {
     std::size_t before = spliced_before(part, static_cast<std::uint32_t>(first));
     for (std::size_t i = first; i < last; ++i) {
       while (before < part.spliced.size() && part.spliced[before].nodes_before <= i) ++before;
-      KdNode node = part.nodes[i];
-      if (node.is_leaf()) {
-        node.first = static_cast<std::uint32_t>(placement.primitive_base + node.first +
+      const BuiltNode& built = part.nodes[i];
+      KdNode node;
+      node.level = built.level;
+      node.axis = built.axis;
+      if (built.is_leaf()) {
+        node.first = static_cast<std::uint32_t>(placement.primitive_base + built.split_or_first +
                                                 placement.spliced_primitives_before[before]);
+        node.count = built.right_or_count;
       } else {
-        node.left = place_of(node.left);
+        node.split = std::bit_cast<float>(built.split_or_first);
+        node.left = place_of(static_cast<std::uint32_t>(i + 1));
+        node.right = built.right_or_count;
         if (node.right == kSplicedRoot) {
           const auto root = std::lower_bound(placement.spliced_roots.begin(), placement.spliced_roots.end(),
                                              std::pair{static_cast<std::uint32_t>(i), std::size_t{0}});
@@ -134,8 +135,8 @@ class TreeAssembly {
     std::size_t from = 0;
     for (std::size_t k = 0; k <= part.spliced.size(); ++k) {
       const std::size_t to = k < part.spliced.size() ? part.spliced[k].primitives_before : part.primitives.size();
-      std::copy(part.primitives.begin() + from, part.primitives.begin() + to,
-                primitives.begin() + placement.primitive_base + from + placement.spliced_primitives_before[k]);
+      std::uint32_t* out = primitives.data() + placement.primitive_base + placement.spliced_primitives_before[k];
+      for (std::size_t i = from; i < to; ++i) out[i] = part.primitives[i];
       from = to;
     }
   }

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <stdexcept>
 #include <thread>
 #include <utility>
 
@@ -35,7 +37,12 @@ class SpareVectors {
     return list;
   }
   void give(std::vector<T>&& list) {
-    if (list.capacity() > kLongest) return;
+    if (list.capacity() > kLongest) {
+      // Freed now: the caller's node, whose list it was, lives on until its
+      // subtree is built, and so would the list.
+      std::vector<T>().swap(list);
+      return;
+    }
     list.clear();
     spare_.push_back(std::move(list));
   }
@@ -232,12 +239,13 @@ class KdTreeBuilder {
   }
 
   std::uint32_t make_leaf(std::uint32_t index, NodeInput&& node) {
-    KdNode& leaf = output_->nodes[index];
+    BuiltNode& leaf = output_->nodes[index];
     leaf.axis = KdNode::kLeafAxis;
-    leaf.first = static_cast<std::uint32_t>(output_->primitives.size());
-    leaf.count = static_cast<std::uint32_t>(node.ids.size());
-    output_->primitives.insert(output_->primitives.end(), node.ids.begin(), node.ids.end());
-    output_->costs[index] = options_.intersection_cost * double(leaf.count) * surface_area(node.box) / root_area_;
+    leaf.split_or_first = static_cast<std::uint32_t>(output_->primitives.size());
+    leaf.right_or_count = static_cast<std::uint32_t>(node.ids.size());
+    output_->primitives.append(node.ids.begin(), node.ids.end());
+    output_->costs[index] =
+        options_.intersection_cost * double(leaf.right_or_count) * surface_area(node.box) / root_area_;
     spare_events_.give(std::move(node.events.events));
     spare_ids_.give(std::move(node.ids));
     return index;
@@ -259,9 +267,9 @@ class KdTreeBuilder {
       return make_leaf(index, std::move(node));
     }
     {
-      KdNode& interior = output_->nodes[index];
+      BuiltNode& interior = output_->nodes[index];
       interior.axis = static_cast<std::uint8_t>(split.axis);
-      interior.split = split.position;
+      interior.split_or_first = std::bit_cast<std::uint32_t>(split.position);
       output_->costs[index] = options_.traversal_cost * surface_area(node.box) / root_area_;
     }
     // Named members, not a structured binding: clang before 16 cannot capture one in a lambda (the fuzzers' build).
@@ -288,8 +296,9 @@ class KdTreeBuilder {
       left_index = build_node(std::move(left));
       right_index = build_node(std::move(right));
     }
-    output_->nodes[index].left = left_index;
-    output_->nodes[index].right = right_index;
+    // The left child is the next node (pre-order): only the right is kept.
+    if (left_index != index + 1) throw std::logic_error("kd-tree build: a left child is not its parent's next node");
+    output_->nodes[index].right_or_count = right_index;
     return index;
   }
 

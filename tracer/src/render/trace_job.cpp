@@ -141,7 +141,8 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
   std::vector<formats::Record> relocated;  // a batch of records in another layout
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const auto [frame, time] = frames[i];
-    const Scene scene = source.at_time(time);
+    const std::shared_ptr<const Scene> shared_scene = source.shared_at_time(time);
+    const Scene& scene = *shared_scene;
     const AccelerationStructure tree =
         build_or_load(options.tree_cache, scene.triangles, options.accel, {options.build, options.bvh});
     AnimationFrameReport report;

@@ -25,22 +25,24 @@ std::string read_scene_file(const std::filesystem::path& path);
 class StaticSceneSource final : public SceneSource {
  public:
   StaticSceneSource(Scene scene, std::string hash, std::vector<std::string> warnings = {})
-      : scene_(std::move(scene)), hash_(std::move(hash)), warnings_(std::move(warnings)) {}
-  const std::string& name() const override { return scene_.name; }
+      : scene_(std::make_shared<const Scene>(std::move(scene))), hash_(std::move(hash)), warnings_(std::move(warnings)) {}
+  const std::string& name() const override { return scene_->name; }
   const Animation& animation() const override { return animation_; }
-  Scene at_time(double) const override { return scene_; }
+  Scene at_time(double) const override { return *scene_; }
+  std::shared_ptr<const Scene> shared_at_time(double) const override { return scene_; }
   std::string content_hash() const override { return hash_; }
   std::vector<std::string> warnings() const override { return warnings_; }
 
  private:
-  Scene scene_;
+  std::shared_ptr<const Scene> scene_;
   std::string hash_;
   std::vector<std::string> warnings_;
   Animation animation_;
 };
 
 std::unique_ptr<SceneSource> open_aff(const std::filesystem::path& path);
-std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path);
+// `threads`: threads reading the file (0: one per core); the scene does not depend on it.
+std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path, unsigned threads = 0);
 // Throws SceneError for an unknown name or a size out of range.
 // `size` nullopt: the scene's default size.
 std::unique_ptr<SceneSource> open_builtin(const std::string& name, std::optional<int> size);

@@ -92,6 +92,11 @@ class SceneSource {
   virtual const std::string& name() const = 0;
   virtual const Animation& animation() const = 0;
   virtual Scene at_time(double time) const = 0;
+  // The scene at `time`, shared: a source whose scene does not change hands
+  // over its own instead of a copy (a large scene's triangles once, not twice).
+  virtual std::shared_ptr<const Scene> shared_at_time(double time) const {
+    return std::make_shared<const Scene>(at_time(time));
+  }
   Scene at_frame(std::uint64_t frame) const { return at_time(animation().time_of_frame(frame)); }
   // Content hash of the source (file bytes including includes, or generator
   // name and parameters), for the trace header.

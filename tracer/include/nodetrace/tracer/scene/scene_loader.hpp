@@ -35,6 +35,8 @@ std::string default_scene_name();
 struct SceneLoadOptions {
   // Size parameter of a built-in scene (0: its default).
   int builtin_size = 0;
+  // Threads reading an OBJ file (0: one per core); the scene does not depend on it.
+  unsigned threads = 0;
 };
 
 // `spec` is a path ending in .obj or .aff, or a built-in scene's name
