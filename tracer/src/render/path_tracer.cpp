@@ -15,14 +15,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 
 #include "nodetrace/base/portable_math.hpp"
 #include "nodetrace/tracer/render/render.hpp"
 #include "render/fresnel.hpp"
 #include "render/path_lobes.hpp"
 #include "render/path_random.hpp"
-#include "render/ray_timing.hpp"
 #include "render/render_context.hpp"
 
 namespace nodetrace::tracer {
@@ -62,16 +60,7 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
     return Vec3{};
   };
   for (int bounce = 0;; ++bounce) {
-    ++context.stats.rays[static_cast<int>(kind)];
-    context.note(kind, ray);
-    const std::uint32_t self = context.begin_ray(context.parent);
-    std::optional<Hit> hit;
-    {
-      const detail::RayKindTimer timer(context.untimed, context.stats, kind);
-      hit = closest_hit(ray, std::numeric_limits<float>::infinity(), context.records, &context.stats);
-    }
-    context.end_ray(self);
-    context.maybe_flush();
+    const auto [self, hit] = cast_closest(ray, kind, context);
     if (!hit) {
       radiance += throughput * scene_.background;
       break;

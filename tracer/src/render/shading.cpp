@@ -59,7 +59,7 @@ bool Renderer::light_visible(const Vec3& origin, const PointLight& light, std::u
   return !blocked;
 }
 
-Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) const {
+Renderer::TracedRay Renderer::cast_closest(const Ray& ray, RayKind kind, Context& context) const {
   ++context.stats.rays[static_cast<int>(kind)];
   context.note(kind, ray);
   const std::uint32_t self = context.begin_ray(context.parent);
@@ -70,6 +70,11 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
   }
   context.end_ray(self);
   context.maybe_flush();
+  return {self, hit};
+}
+
+Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) const {
+  const auto [self, hit] = cast_closest(ray, kind, context);
   if (!hit) return scene_.background;
 
   const ShadingPoint at = shading_point(ray, *hit);

@@ -133,6 +133,15 @@ class Renderer {
   // Casts the shadow ray from `origin` to the light (a child of ray
   // `caster`): whether nothing blocks it.
   bool light_visible(const Vec3& origin, const PointLight& light, std::uint32_t caster, Context& context) const;
+  // A cast ray: its id (the caster of its shadow rays, the parent of its
+  // children) and its closest hit.
+  struct TracedRay {
+    std::uint32_t id;
+    std::optional<Hit> hit;
+  };
+  // Casts `ray` of `kind` (a child of context.parent), counted, timed and
+  // recorded. Both integrators' rays other than shadow rays.
+  TracedRay cast_closest(const Ray& ray, RayKind kind, Context& context) const;
   Vec3 shade(const Ray& ray, RayKind kind, int depth, Context& context) const;
   // One path: the radiance of one sample of the pixel (path_tracer.cpp).
   Vec3 trace_path(std::uint32_t pixel, std::uint32_t sample, Context& context) const;
