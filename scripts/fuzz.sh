@@ -41,11 +41,7 @@ packages=(clang libclang-rt-14-dev cmake make pkg-config zstd libzstd-dev libxxh
 scripts/install-packages.sh "${packages[@]}"
 
 build=build-fuzz
-launcher=()
-if command -v ccache >/dev/null 2>&1; then  # as in setup.sh: never required
-  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-  export CCACHE_BASEDIR="$PWD"
-fi
+source scripts/ccache-launcher.sh
 CC=clang CXX=clang++ cmake -S . -B "$build" -DNODETRACE_FUZZ=ON -DNODETRACE_BUILD_TESTS=OFF \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" >/dev/null
 cmake --build "$build" -j "$(nproc)" --target $(printf 'fuzz_%s ' "${targets[@]}") >/dev/null

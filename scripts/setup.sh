@@ -24,11 +24,7 @@ packages=(cmake g++ make pkg-config zstd python3-matplotlib libzstd-dev libxxhas
           librandom123-dev)
 scripts/install-packages.sh "${packages[@]}"
 
-# ccache, where installed, makes rebuilds cheap (also across clones: paths are
-# taken relative to the checkout); it is never required.
-if command -v ccache >/dev/null 2>&1; then
-  cmake_args+=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-  export CCACHE_BASEDIR="$PWD"
-fi
+source scripts/ccache-launcher.sh
+cmake_args+=("${launcher[@]}")
 cmake -S . -B "$build_dir" "${cmake_args[@]}" >/dev/null
 cmake --build "$build_dir" -j "$(nproc)"

@@ -45,11 +45,7 @@ scripts/install-packages.sh crossbuild-essential-arm64 qemu-user clang \
 # --- builds ------------------------------------------------------------------
 stage "building the native programs"
 scripts/setup.sh >/dev/null
-launcher=()
-if command -v ccache >/dev/null 2>&1; then
-  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-  export CCACHE_BASEDIR="$PWD"
-fi
+source scripts/ccache-launcher.sh
 build_variant() {
   local name=$1 targets=$2
   shift 2
