@@ -156,10 +156,8 @@ class TreePlru {
   std::vector<std::uint8_t> bits_;  // per set, assoc entries (entry 0 unused)
 };
 
-// Re-reference interval prediction (Jaleel et al., ISCA 2010), 2-bit values
-// per way: 0 on a hit; the victim is the lowest-numbered way at 3, after
-// ageing every way of the set by 3 - (its highest value) when none is.
-// Insertion: srrip at 2; brrip at 3, except every 32nd brrip insertion of the
+// The insertion value of an RRIP fill (Jaleel et al., ISCA 2010), one per
+// cache: srrip at 2; brrip at 3, except every 32nd brrip insertion of the
 // cache (the 32nd, 64th, ... counted from its first) at 2; drrip: set
 // dueling with a 10-bit selector PSEL starting at 511. With S sets, L =
 // min(32, S / 2) leaders of each kind: in each of the L runs of S / L
@@ -167,35 +165,15 @@ class TreePlru {
 // leader. A miss in an srrip leader adds 1 to PSEL, in a brrip leader takes
 // 1 (saturating at 0 and 1023); the other sets insert as brrip while PSEL >=
 // 512, else as srrip (a cache of one set has no leaders: srrip).
-class Rrip {
+class RripInsertion {
  public:
-  Rrip(std::uint64_t sets, const CacheGeometry& geometry)
-      : assoc_(geometry.assoc), policy_(geometry.replacement), values_(sets * geometry.assoc, kDistant) {
+  RripInsertion(std::uint64_t sets, ReplacementPolicy policy) : policy_(policy) {
     const std::uint64_t leaders = std::min<std::uint64_t>(32, sets / 2);
     run_ = leaders == 0 ? 0 : sets / leaders;
   }
 
-  void hit(std::uint64_t set, std::uint32_t way) { values_[set * assoc_ + way] = 0; }
-  std::uint32_t victim(std::uint64_t set) {
-    std::uint8_t* const values = values_.data() + set * assoc_;
-    const std::uint8_t highest = *std::max_element(values, values + assoc_);
-    if (highest != kDistant) {
-      const auto age = static_cast<std::uint8_t>(kDistant - highest);
-      for (std::uint32_t way = 0; way < assoc_; ++way) values[way] = static_cast<std::uint8_t>(values[way] + age);
-    }
-    return static_cast<std::uint32_t>(static_cast<const std::uint8_t*>(std::memchr(values, kDistant, assoc_)) -
-                                      values);
-  }
-  void fill(std::uint64_t set, std::uint32_t way) { values_[set * assoc_ + way] = insertion(set); }
-  void invalidate(std::uint64_t, std::uint32_t) {}
-
- private:
-  static constexpr std::uint8_t kDistant = 3;
-  static constexpr std::uint32_t kSelectorMax = 1023;
-
-  std::uint8_t bimodal() { return ++bimodal_insertions_ % 32 == 0 ? 2 : kDistant; }
-
-  std::uint8_t insertion(std::uint64_t set) {
+  // The value of a block filled into `set` now (a miss there).
+  std::uint8_t operator()(std::uint64_t set) {
     if (policy_ == ReplacementPolicy::Srrip) return 2;
     if (policy_ == ReplacementPolicy::Brrip) return bimodal();
     const std::uint64_t in_run = run_ == 0 ? 1 : set % run_;
@@ -210,12 +188,45 @@ class Rrip {
     return selector_ >= 512 ? bimodal() : 2;
   }
 
-  std::uint32_t assoc_;
+ private:
+  static constexpr std::uint32_t kSelectorMax = 1023;
+
+  std::uint8_t bimodal() { return ++bimodal_insertions_ % 32 == 0 ? 2 : 3; }
+
   ReplacementPolicy policy_;
-  std::vector<std::uint8_t> values_;  // per slot
   std::uint64_t run_ = 0;             // drrip: sets per run holding one leader of each kind
   std::uint32_t selector_ = 511;      // drrip: PSEL
   std::uint64_t bimodal_insertions_ = 0;
+};
+
+// Re-reference interval prediction, 2-bit values per way: 0 on a hit; the
+// victim is the lowest-numbered way at 3, after ageing every way of the set
+// by 3 - (its highest value) when none is; a fill takes RripInsertion's value.
+class Rrip {
+ public:
+  Rrip(std::uint64_t sets, const CacheGeometry& geometry)
+      : assoc_(geometry.assoc), values_(sets * geometry.assoc, kDistant), insertion_(sets, geometry.replacement) {}
+
+  void hit(std::uint64_t set, std::uint32_t way) { values_[set * assoc_ + way] = 0; }
+  std::uint32_t victim(std::uint64_t set) {
+    std::uint8_t* const values = values_.data() + set * assoc_;
+    const std::uint8_t highest = *std::max_element(values, values + assoc_);
+    if (highest != kDistant) {
+      const auto age = static_cast<std::uint8_t>(kDistant - highest);
+      for (std::uint32_t way = 0; way < assoc_; ++way) values[way] = static_cast<std::uint8_t>(values[way] + age);
+    }
+    return static_cast<std::uint32_t>(static_cast<const std::uint8_t*>(std::memchr(values, kDistant, assoc_)) -
+                                      values);
+  }
+  void fill(std::uint64_t set, std::uint32_t way) { values_[set * assoc_ + way] = insertion_(set); }
+  void invalidate(std::uint64_t, std::uint32_t) {}
+
+ private:
+  static constexpr std::uint8_t kDistant = 3;
+
+  std::uint32_t assoc_;
+  std::vector<std::uint8_t> values_;  // per slot
+  RripInsertion insertion_;
 };
 
 }  // namespace nodetrace::cachesim

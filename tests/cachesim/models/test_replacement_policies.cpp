@@ -289,6 +289,77 @@ TEST(ReplacementPolicies, EqualTheReferenceModelOnRandomTracesAndConfigurations)
   EXPECT_EQ(checked, 1200u);
 }
 
+// The single caches of plru, srrip, brrip and drrip of 2 to 16 ways of one
+// block size are simulated together by a policy grid: packed per-set state,
+// 32-bit tags widened when a block number needs more, and consecutive
+// fetches of one block counted once (the repeat filter). Over many seeded
+// traces, with repeats, invalidations, block numbers past 2^32 from some
+// point on and batches of any length (chunk edges inside runs), every
+// member must count as the reference model does.
+TEST(ReplacementPolicies, PolicyGridEqualsTheReferenceModelOverBatchesAndInvalidates) {
+  constexpr ReplacementPolicy kGridPolicies[] = {ReplacementPolicy::Plru, ReplacementPolicy::Srrip,
+                                                 ReplacementPolicy::Brrip, ReplacementPolicy::Drrip};
+  std::size_t members = 0;
+  std::size_t widened = 0;
+  for (std::uint64_t seed = 1; seed <= 300; ++seed) {
+    std::mt19937_64 random(seed);
+    const std::uint32_t block = 4u << (random() % 4);  // 4 .. 32
+    std::vector<Configuration> configs;
+    for (int c = 0; c < 8; ++c) {
+      Configuration config;
+      config.block = block;
+      config.policy = kGridPolicies[random() % std::size(kGridPolicies)];
+      config.assoc = 2u << (random() % 4);                                       // 2 .. 16
+      config.size = std::uint64_t{config.assoc} * block << (random() % 9);  // 1 .. 256 sets
+      if (std::find(configs.begin(), configs.end(), config) == configs.end()) configs.push_back(config);
+    }
+    const std::uint64_t spread = 64 * (2 + random() % 12);
+    std::vector<Record> records = random_records(random, 6000, spread, block, random() % 3 != 0);
+    // Runs of one block, longer than the locality above makes them.
+    std::vector<Record> repeated;
+    for (const Record& record : records) {
+      const std::size_t copies = random() % 4 == 0 ? 1 + random() % 4 : 1;
+      for (std::size_t copy = 0; copy < copies; ++copy) repeated.push_back(record);
+    }
+    records = std::move(repeated);
+    if (seed % 5 == 0) {  // block numbers of more than 32 bits after a while
+      const std::size_t from = random() % records.size();
+      for (std::size_t i = from; i < records.size(); ++i) records[i].address += (std::uint64_t{1} << 36) * block;
+      ++widened;
+    }
+    TraceContext context;
+    context.trace = "t";
+    context.form = formats::RecordForm::Din;
+    context.tags_are_levels = true;
+    Sweep sweep(configs, context, false);
+    if (seed % 2 == 0) sweep.set_parts(2);
+    for (std::size_t at = 0; at < records.size();) {
+      formats::RecordBatch batch;
+      const std::size_t length = std::min<std::size_t>(records.size() - at, 1 + random() % 9000);
+      batch.first_record = at;
+      batch.records.assign(records.begin() + static_cast<std::ptrdiff_t>(at),
+                           records.begin() + static_cast<std::ptrdiff_t>(at + length));
+      sweep.feed(batch);
+      at += length;
+    }
+    const TraceResult result = sweep.finish();
+    const std::uint64_t fetches = static_cast<std::uint64_t>(std::count_if(
+        records.begin(), records.end(), [](const Record& record) { return record.type != AccessType::Invalidate; }));
+    ASSERT_EQ(result.rows.size(), configs.size());
+    for (std::size_t c = 0; c < configs.size(); ++c) {
+      const Configuration& config = configs[c];
+      SCOPED_TRACE(::testing::Message() << "seed " << seed << " policy " << policy_name(config.policy) << " size "
+                                        << config.size << " block " << block << " ways " << config.assoc);
+      EXPECT_EQ(result.rows[c].refs, records.size());
+      EXPECT_EQ(result.rows[c].fetches, fetches);
+      EXPECT_EQ(result.rows[c].misses, reference_counts(config, records).low_misses);
+      ++members;
+    }
+  }
+  EXPECT_GT(members, 2000u);
+  EXPECT_EQ(widened, 60u);
+}
+
 // Misses of a single cache of `size` bytes, `ways` ways, 8-byte blocks.
 std::uint64_t single_misses(ReplacementPolicy policy, std::uint64_t size, std::uint32_t ways,
                             const std::vector<Record>& records) {

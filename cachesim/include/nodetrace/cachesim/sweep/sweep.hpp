@@ -64,8 +64,8 @@ class Sweep {
   void feed_part(const formats::RecordBatch& batch, std::size_t part);
 
  private:
-  // Simulators fed by one loop: a stack group or a piece of one (fed
-  // through its first member, for all of them), a set of split
+  // Simulators fed by one loop: a stack group or a piece of one, or a
+  // policy grid (fed through its first member, for all of them), a set of split
   // configurations fed together, or one configuration.
   struct WorkUnit {
     std::vector<std::size_t> simulators;
