@@ -26,6 +26,14 @@ inline constexpr std::uint32_t kMaxPackedWays = 16;
 // Blocks below this fit a narrow (32-bit) tag.
 inline constexpr std::uint64_t kNarrowBlocks = 0xFFFFFFFF;
 
+// What one reference of a list asks of a packed cache.
+// Fetch | 1 is Refetched.
+enum class PackedReference : std::uint8_t {
+  Fetch = 0,      // a demand fetch
+  Refetched = 1,  // a demand fetch whose block is fetched again before any other block of its set
+  Invalidate = 2,
+};
+
 template <typename State, unsigned kWays>
 class PackedPolicyCache {
  public:
@@ -44,38 +52,54 @@ class PackedPolicyCache {
     narrow_ = {};
   }
 
-  // True on a miss (the block is then resident). `repeated`: the reference
-  // is followed by more of the same block, before any other reference or
-  // invalidation. They all hit and re-apply the hit's update, which is
-  // idempotent (PLRU points the same bits away again, RRIP sets the same
-  // value to 0 again, and neither counts hits), so one hit stands for all.
-  // After a hit that hit is this one's update again; after a fill it is not
-  // (RRIP: 0, not the insertion value), so it is applied.
-  template <typename Tag>
-  bool access(std::uint64_t block, bool repeated) {
-    const std::uint64_t set = block & set_mask_;
-    Tag* const ways = tags<Tag>() + set * kWays;
-    const auto tag = static_cast<Tag>(block);
-    const std::uint32_t found = match_ways<kWays>(ways, tag);
-    if (found != 0) [[likely]] {
-      state_.hit(set, static_cast<std::uint32_t>(std::countr_zero(found)));
-      return false;
+  // The misses of `count` references in order (`kInvalidates`: some may be
+  // invalidations). A Refetched fetch stands for itself and the fetches of
+  // its block that follow it before any other fetch of its set: those hit,
+  // and a hit's update is idempotent (PLRU points the same bits away again,
+  // RRIP sets the same value to 0 again, neither counts hits), so they
+  // change the set as one hit does. After a hit that is this fetch's update
+  // again; after a fill it is not (RRIP: 0, not the insertion value), so it
+  // is applied once.
+  template <typename Tag, bool kInvalidates>
+  std::uint64_t run(const std::uint64_t* blocks, const PackedReference* kinds, std::size_t count) {
+    // Locals, not members: the words may be bytes, whose stores the
+    // compiler must otherwise assume change any member.
+    Tag* const tags = this->tags<Tag>();
+    Word* const words = state_.words();
+    const std::uint64_t set_mask = set_mask_;
+    std::uint64_t misses = 0;
+    for (std::size_t r = 0; r < count; ++r) {
+      const std::uint64_t block = blocks[r];
+      const std::uint64_t set = block & set_mask;
+      Tag* const ways = tags + set * kWays;
+      const auto tag = static_cast<Tag>(block);
+      if constexpr (kInvalidates) {
+        if (kinds[r] == PackedReference::Invalidate) [[unlikely]] {
+          const std::uint32_t found = match_ways<kWays>(ways, tag);
+          if (found != 0) ways[std::countr_zero(found)] = static_cast<Tag>(~Tag{0});  // the state stays
+          continue;
+        }
+      }
+      const Word word = words[set];
+      const std::uint32_t found = match_ways<kWays>(ways, tag);
+      if (found != 0) [[likely]] {
+        words[set] = State::hit(word, static_cast<std::uint32_t>(std::countr_zero(found)));
+        continue;
+      }
+      // A miss: the lowest invalid way, else the victim.
+      ++misses;
+      const std::uint32_t invalid = match_ways<kWays>(ways, static_cast<Tag>(~Tag{0}));
+      const bool evicted = invalid == 0;
+      const std::uint32_t way = evicted ? State::victim(word) : static_cast<std::uint32_t>(std::countr_zero(invalid));
+      ways[way] = tag;
+      words[set] = state_.fill(word, way, set, evicted, kinds[r] == PackedReference::Refetched);
     }
-    const std::uint32_t way = fill(ways, tag, set);
-    if (repeated) state_.hit(set, way);
-    return true;
-  }
-
-  // The block's way, if resident, becomes invalid (the policy state is left
-  // as it is, as PolicyCache leaves it).
-  template <typename Tag>
-  void invalidate(std::uint64_t block) {
-    Tag* const ways = tags<Tag>() + (block & set_mask_) * kWays;
-    const std::uint32_t found = match_ways<kWays>(ways, static_cast<Tag>(block));
-    if (found != 0) ways[std::countr_zero(found)] = static_cast<Tag>(~Tag{0});
+    return misses;
   }
 
  private:
+  using Word = typename State::Word;
+
   template <typename Tag>
   Tag* tags() {
     if constexpr (sizeof(Tag) == 4) {
@@ -83,17 +107,6 @@ class PackedPolicyCache {
     } else {
       return wide_.data();
     }
-  }
-
-  // A miss: the lowest invalid way of the set, or the policy's victim.
-  template <typename Tag>
-  [[gnu::noinline]] std::uint32_t fill(Tag* ways, Tag tag, std::uint64_t set) {
-    const std::uint32_t invalid = match_ways<kWays>(ways, static_cast<Tag>(~Tag{0}));
-    const std::uint32_t way =
-        invalid != 0 ? static_cast<std::uint32_t>(std::countr_zero(invalid)) : state_.victim(set);
-    ways[way] = tag;
-    state_.fill(set, way);
-    return way;
   }
 
   std::uint64_t set_mask_;

@@ -169,14 +169,14 @@ class RripInsertion {
  public:
   RripInsertion(std::uint64_t sets, ReplacementPolicy policy) : policy_(policy) {
     const std::uint64_t leaders = std::min<std::uint64_t>(32, sets / 2);
-    run_ = leaders == 0 ? 0 : sets / leaders;
+    run_ = leaders == 0 ? 0 : sets / leaders;  // a power of two, as `sets`
   }
 
   // The value of a block filled into `set` now (a miss there).
   std::uint8_t operator()(std::uint64_t set) {
     if (policy_ == ReplacementPolicy::Srrip) return 2;
     if (policy_ == ReplacementPolicy::Brrip) return bimodal();
-    const std::uint64_t in_run = run_ == 0 ? 1 : set % run_;
+    const std::uint64_t in_run = set & (run_ - 1);
     if (run_ != 0 && in_run == 0) {
       selector_ = std::min(selector_ + 1, kSelectorMax);
       return 2;

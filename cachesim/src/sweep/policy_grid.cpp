@@ -1,11 +1,13 @@
-// The policy grid: a chunk's references collected once (repeat filter,
-// invalidations in their place), then each member's packed cache run over
-// them.
+// The policy grid: a chunk's references collected once, then, for each
+// set count of its members (fewest sets first), filtered by that set
+// count's filter and run through those members' packed caches.
 #include "sweep/policy_grid.hpp"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <bit>
+#include <map>
 
 #include "models/packed_policy_cache.hpp"
 #include "models/record_blocks.hpp"
@@ -17,25 +19,29 @@ using formats::Record;
 
 namespace {
 
-// What a chunk asks of every cache, in trace order.
-enum class Reference : std::uint8_t {
-  Fetch,      // a demand fetch
-  Repeated,   // a demand fetch followed by more of the same block
-  Invalidate,
-};
-
+// References in trace order.
 struct References {
   std::vector<std::uint64_t> blocks;
-  std::vector<Reference> kinds;
+  std::vector<PackedReference> kinds;
   std::size_t count = 0;
-  bool beyond_narrow = false;  // a block number too large for a 32-bit tag
+  bool invalidates = false;  // some are invalidations
+
+  void make_room(std::size_t most) {
+    if (blocks.size() < most) {
+      blocks.resize(most);
+      kinds.resize(most);
+    }
+    count = 0;
+    invalidates = false;
+  }
 };
 
 // One member's cache behind a virtual call per chunk.
 class GridCache {
  public:
   virtual ~GridCache() = default;
-  virtual void run(const References& references) = 0;
+  // `beyond_narrow`: a block number of the chunk needs a 64-bit tag.
+  virtual void run(const References& references, bool beyond_narrow) = 0;
   std::uint64_t misses() const { return misses_; }
 
  protected:
@@ -47,8 +53,8 @@ class GridCacheOf final : public GridCache {
  public:
   explicit GridCacheOf(const CacheGeometry& geometry) : cache_(geometry) {}
 
-  void run(const References& references) override {
-    if (references.beyond_narrow && !cache_.wide()) cache_.widen();
+  void run(const References& references, bool beyond_narrow) override {
+    if (beyond_narrow && !cache_.wide()) cache_.widen();
     if (cache_.wide()) {
       run_with<std::uint64_t>(references);
     } else {
@@ -60,16 +66,9 @@ class GridCacheOf final : public GridCache {
   template <typename Tag>
   void run_with(const References& references) {
     const std::uint64_t* const blocks = references.blocks.data();
-    const Reference* const kinds = references.kinds.data();
-    std::uint64_t misses = 0;
-    for (std::size_t r = 0; r < references.count; ++r) {
-      if (kinds[r] == Reference::Invalidate) [[unlikely]] {
-        cache_.template invalidate<Tag>(blocks[r]);
-        continue;
-      }
-      misses += cache_.template access<Tag>(blocks[r], kinds[r] == Reference::Repeated);
-    }
-    misses_ += misses;
+    const PackedReference* const kinds = references.kinds.data();
+    misses_ += references.invalidates ? cache_.template run<Tag, true>(blocks, kinds, references.count)
+                                      : cache_.template run<Tag, false>(blocks, kinds, references.count);
   }
 
   PackedPolicyCache<State, kWays> cache_;
@@ -92,6 +91,80 @@ std::unique_ptr<GridCache> grid_cache(const Configuration& config) {
   return grid_cache_of<PackedRrip>(geometry);
 }
 
+// The filter of one set count: per set, the block its last fetch fetched
+// and where that fetch is in the references kept. A fetch of the same block
+// again, with no invalidation of it between, is a hit in every cache of
+// this set count whose update is idempotent (packed_policy_cache.hpp): it is
+// left out, and the kept fetch becomes Refetched. Left out here, a fetch
+// would be left out by every larger set count too (each of their sets is
+// part of one set here), so each set count filters what the one before it
+// kept. Only fetches of the same chunk are joined (the kept one must not
+// have been run yet).
+class SetFilter {
+ public:
+  explicit SetFilter(unsigned log2_sets) : slots_(std::size_t{1} << log2_sets), mask_(slots_.size() - 1) {}
+
+  // Filters `in` into `out`.
+  void filter(const References& in, References& out) {
+    out.make_room(in.count);
+    out.invalidates = in.invalidates;
+    if (in.invalidates) {
+      out.count = filter_with<true>(in, out);
+    } else {
+      out.count = filter_with<false>(in, out);
+    }
+    first_position_ += out.count;
+  }
+
+ private:
+  struct Slot {
+    std::uint64_t block = 0;
+    std::uint64_t position = 0;  // of the kept fetch; 0: none (positions start at 1)
+  };
+
+  // Without a branch on the filter's answer: a fetch left out rewrites the
+  // kept one as Refetched, another starts a new one.
+  template <bool kInvalidates>
+  std::size_t filter_with(const References& in, References& out) {
+    Slot* const slots = slots_.data();
+    const std::uint64_t mask = mask_;
+    const std::uint64_t first = first_position_;
+    std::uint64_t* const blocks = out.blocks.data();
+    PackedReference* const kinds = out.kinds.data();
+    std::size_t kept = 0;
+    for (std::size_t r = 0; r < in.count; ++r) {
+      const std::uint64_t block = in.blocks[r];
+      const PackedReference kind = in.kinds[r];
+      Slot& slot = slots[block & mask];
+      if constexpr (kInvalidates) {
+        if (kind == PackedReference::Invalidate) {
+          if (slot.block == block) slot.position = 0;
+          blocks[kept] = block;
+          kinds[kept] = kind;
+          ++kept;
+          continue;
+        }
+      }
+      // All ones when left out; an empty asm keeps the compiler from
+      // branching on it.
+      std::uint64_t again = std::uint64_t{0} - static_cast<std::uint64_t>((slot.block == block) & (slot.position >= first));
+      asm("" : "+r"(again));
+      const std::uint64_t position = (first + kept) ^ (((first + kept) ^ slot.position) & again);
+      const std::size_t at = static_cast<std::size_t>(position - first);
+      blocks[at] = block;
+      kinds[at] = static_cast<PackedReference>(static_cast<std::uint8_t>(kind) | (again & 1));  // Fetch becomes Refetched
+      slot.block = block;
+      slot.position = position;
+      kept += 1 - (again & 1);
+    }
+    return kept;
+  }
+
+  std::vector<Slot> slots_;
+  std::uint64_t mask_;
+  std::uint64_t first_position_ = 1;  // of the next chunk's first kept reference
+};
+
 class PolicyGrid {
  public:
   PolicyGrid(const std::vector<Configuration>& configs, const TraceContext& context)
@@ -99,7 +172,13 @@ class PolicyGrid {
         configs_(configs),
         shift_(static_cast<unsigned>(std::countr_zero(configs.front().block))),
         aligned_din_(context.form == formats::RecordForm::Din && configs.front().block >= 4) {
-    for (const Configuration& config : configs) caches_.push_back(grid_cache(config));
+    std::map<unsigned, std::vector<std::size_t>> by_sets;
+    for (std::size_t m = 0; m < configs.size(); ++m) {
+      const Configuration& config = configs[m];
+      caches_.push_back(grid_cache(config));
+      by_sets[static_cast<unsigned>(std::countr_zero(config.size / config.block / config.assoc))].push_back(m);
+    }
+    for (auto& [log2_sets, members] : by_sets) levels_.push_back(Level{SetFilter(log2_sets), std::move(members), {}});
   }
 
   void feed(const Record* records, std::size_t count, const PreparedBatch& prepared) {
@@ -108,7 +187,12 @@ class PolicyGrid {
     } else {
       collect_generic(records, count);
     }
-    for (const std::unique_ptr<GridCache>& cache : caches_) cache->run(references_);
+    const References* in = &chunk_;
+    for (Level& level : levels_) {
+      level.filter.filter(*in, level.kept);
+      for (const std::size_t m : level.members) caches_[m]->run(level.kept, beyond_narrow_);
+      in = &level.kept;
+    }
   }
 
   ResultRow result(std::size_t m) const {
@@ -122,42 +206,31 @@ class PolicyGrid {
   }
 
  private:
-  void reserve(std::size_t count) {
-    if (references_.blocks.size() < count) {
-      references_.blocks.resize(count);
-      references_.kinds.resize(count);
-    }
-    references_.count = 0;
-  }
+  // One set count: its filter, its members, and the references it kept.
+  struct Level {
+    SetFilter filter;
+    std::vector<std::size_t> members;
+    References kept;
+  };
 
   // Every record one demand fetch of one block (din addresses need no
-  // rounding: blocks are at least 4 bytes). Without a branch on repeats:
-  // a repeat rewrites the last reference as Repeated, another block
-  // starts a new one.
+  // rounding: blocks are at least 4 bytes).
   void collect_blocks(const Record* records, std::size_t count) {
-    reserve(count);
+    chunk_.make_room(count);
     refs_ += count;
     fetches_ += count;
-    if (count == 0) return;
-    std::uint64_t* const blocks = references_.blocks.data();
-    Reference* const kinds = references_.kinds.data();
+    std::uint64_t* const blocks = chunk_.blocks.data();
+    PackedReference* const kinds = chunk_.kinds.data();
     const unsigned shift = shift_;
-    std::uint64_t previous = records[0].address >> shift;
-    blocks[0] = previous;
-    kinds[0] = Reference::Fetch;
-    std::size_t end = 1;
-    bool beyond_narrow = previous >= kNarrowBlocks;
-    for (std::size_t i = 1; i < count; ++i) {
+    bool beyond_narrow = false;
+    for (std::size_t i = 0; i < count; ++i) {
       const std::uint64_t block = records[i].address >> shift;
-      const bool repeat = block == previous;
-      end += !repeat;
-      blocks[end - 1] = block;
-      kinds[end - 1] = repeat ? Reference::Repeated : Reference::Fetch;
+      blocks[i] = block;
+      kinds[i] = PackedReference::Fetch;
       beyond_narrow |= block >= kNarrowBlocks;
-      previous = block;
     }
-    references_.count = end;
-    references_.beyond_narrow |= beyond_narrow;
+    chunk_.count = count;
+    beyond_narrow_ |= beyond_narrow;
   }
 
   // Any record: types, spans, other streams.
@@ -167,7 +240,7 @@ class PolicyGrid {
       const BlockRange blocks = blocks_of(records[i], context_.form, shift_, aligned_din_);
       most += blocks.last - blocks.first + 1;
     }
-    reserve(most);
+    chunk_.make_room(most);
     for (std::size_t i = 0; i < count; ++i) {
       const Record& record = records[i];
       if (is_other_stream(record.tag)) continue;
@@ -176,26 +249,21 @@ class PolicyGrid {
       for (std::uint64_t block = blocks.first;; ++block) {
         if (record.type <= AccessType::Misc) {
           ++fetches_;
-          add(block, Reference::Fetch);
+          add(block, PackedReference::Fetch);
         } else if (record.type == AccessType::Invalidate) {
-          add(block, Reference::Invalidate);
+          add(block, PackedReference::Invalidate);
+          chunk_.invalidates = true;
         }
         if (block == blocks.last) break;
       }
     }
   }
 
-  void add(std::uint64_t block, Reference kind) {
-    References& refs = references_;
-    refs.beyond_narrow |= block >= kNarrowBlocks;
-    if (kind == Reference::Fetch && refs.count > 0 && refs.blocks[refs.count - 1] == block &&
-        refs.kinds[refs.count - 1] != Reference::Invalidate) {
-      refs.kinds[refs.count - 1] = Reference::Repeated;
-      return;
-    }
-    refs.blocks[refs.count] = block;
-    refs.kinds[refs.count] = kind;
-    ++refs.count;
+  void add(std::uint64_t block, PackedReference kind) {
+    beyond_narrow_ |= block >= kNarrowBlocks;
+    chunk_.blocks[chunk_.count] = block;
+    chunk_.kinds[chunk_.count] = kind;
+    ++chunk_.count;
   }
 
   const TraceContext& context_;
@@ -203,7 +271,9 @@ class PolicyGrid {
   unsigned shift_;
   bool aligned_din_;
   std::vector<std::unique_ptr<GridCache>> caches_;
-  References references_;  // the chunk's, reused
+  std::vector<Level> levels_;  // fewest sets first
+  References chunk_;           // the chunk's references, reused
+  bool beyond_narrow_ = false;
   std::uint64_t refs_ = 0;
   std::uint64_t fetches_ = 0;
 };
