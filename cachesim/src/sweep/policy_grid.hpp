@@ -1,11 +1,15 @@
 // Configurations answered together by a policy grid: the single caches of
 // one block size under a policy set stacks cannot answer (plru of more than
 // 2 ways, srrip, brrip, drrip) with 2 to 16 ways, demand fetch. Each keeps
-// its own compact cache (packed_policy_cache.hpp); the grid turns each chunk
-// of records once into the references its caches see, consecutive
-// references to one block made one (they hit in every cache once the first
-// is in: the repeat filter), and runs each cache over that list in turn, so
-// its sets stay in the processor's cache for the whole chunk.
+// its own compact cache (packed_policy_cache.hpp). The grid turns each
+// chunk of records once into references; then, for each set count of its
+// members, fewest sets first, a filter leaves out every fetch of the block
+// its set fetched last (a hit in every cache of that set count, whose
+// update changes nothing: see SetFilter), and each of those members runs
+// over what is left, so its sets stay in the processor's cache for the
+// whole chunk. On a rendered kd-tree trace with 8-byte blocks no fetch
+// repeats the one before it, but a set of 64 sets leaves out 40 % of them
+// and one of 512 sets 83 %.
 #pragma once
 
 #include <memory>

@@ -55,10 +55,11 @@ double cost_alone(const Configuration& config) {
   return 1.0 + (config.scheme == Scheme::Split ? 1.5 : 1.0) * cache;
 }
 
-// Estimated work per record of one member of a policy grid (measured: a
-// grid of 18 plru and rrip caches of 4 and 8 ways cost about as much CPU
-// as ... ).
-constexpr double kGridMemberCost = 0.5;
+// Estimated work per record of one member of a policy grid, in the units
+// of StackGroupCost: its filters leave it a third of the fetches or fewer
+// (measured on BART Kitchen, 8-byte blocks, 64 to 512 sets), each costing
+// about as much as a set-associative access.
+constexpr double kGridMemberCost = 1.0;
 
 // The calling thread's CPU time: what a unit's feed costs, whatever else
 // runs on the machine.
