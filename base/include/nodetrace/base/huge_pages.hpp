@@ -16,8 +16,8 @@ void ask_for_huge_pages(void* start, std::size_t size);
 
 // Reserves room for `count` elements in `values` and asks for huge pages for
 // it before any of it is touched (a large reservation is fresh memory).
-template <class T>
-void reserve_on_huge_pages(std::vector<T>& values, std::size_t count) {
+template <class T, class Allocator>
+void reserve_on_huge_pages(std::vector<T, Allocator>& values, std::size_t count) {
   values.reserve(count);
   ask_for_huge_pages(values.data(), values.capacity() * sizeof(T));
 }
