@@ -18,8 +18,10 @@ while [ $# -gt 0 ]; do
 done
 
 # groff-base: the test that the manual pages render without warnings. librandom123-dev:
-# Philox, the path tracer's counter-based random numbers (header-only).
-packages=(cmake g++ make pkg-config zstd python3-matplotlib libzstd-dev libxxhash-dev libcli11-dev libfmt-dev
+# Philox, the path tracer's counter-based random numbers (header-only). ccache:
+# a rebuild (the sanitizer, cross and fuzz builds of CI, another clone) reuses
+# what an earlier build compiled.
+packages=(cmake g++ make ccache pkg-config zstd python3-matplotlib libzstd-dev libxxhash-dev libcli11-dev libfmt-dev
           libtinyobjloader-dev nlohmann-json3-dev libpng-dev libgtest-dev libgmock-dev groff-base
           librandom123-dev)
 scripts/install-packages.sh "${packages[@]}"

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <utility>
 
 #include "nodetrace/base/error.hpp"
@@ -98,7 +99,16 @@ void RecordPipe::begin_window(const WindowMarker& marker) {
 }
 
 void RecordPipe::write(std::span<const Record> records) {
-  if (records.empty()) return;
+  // In pieces of a container's decoded size: the reader's simulation then
+  // finds each piece in cache, and the pieces in flight are few and of one
+  // size, so their memory is reused rather than paged in afresh.
+  constexpr std::size_t kPieceRecords = std::size_t{1} << 14;
+  for (std::size_t begin = 0; begin < records.size(); begin += kPieceRecords) {
+    write_piece(records.subspan(begin, std::min(kPieceRecords, records.size() - begin)));
+  }
+}
+
+void RecordPipe::write_piece(std::span<const Record> records) {
   RecordBatch batch;
   batch.marker = std::exchange(pending_marker_, std::nullopt);
   batch.window = std::exchange(pending_window_, std::nullopt);

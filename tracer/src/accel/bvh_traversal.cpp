@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "accel/box_test.hpp"
+#include "nodetrace/base/huge_pages.hpp"
 #include "accel/leaf_visit.hpp"
 
 namespace nodetrace::tracer {
@@ -37,6 +38,7 @@ BvhTraversal::BvhTraversal(const std::vector<Triangle>& triangles, const Bvh& bv
 template <unsigned W>
 void BvhTraversal::fill(std::vector<WideNode<W>>& wide) const {
   const auto& nodes = bvh_.nodes();
+  base::reserve_on_huge_pages(wide, nodes.size());
   wide.assign(nodes.size(), WideNode<W>{});
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     if (nodes[i].child_count > W) throw std::invalid_argument("BVH node wider than its tree's arity");

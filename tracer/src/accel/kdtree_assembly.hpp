@@ -14,6 +14,7 @@
 #include "accel/kdtree_built_nodes.hpp"
 #include "accel/kdtree_events.hpp"
 #include "accel/task_pool.hpp"
+#include "nodetrace/base/huge_pages.hpp"
 #include "nodetrace/tracer/accel/kdtree.hpp"
 
 namespace nodetrace::tracer::kd_build {
@@ -26,6 +27,8 @@ class TreeAssembly {
 
   // Every builder's nodes.
   void copy_into(std::vector<KdNode>& nodes, std::vector<std::uint32_t>& primitives, TaskPool& pool) const {
+    base::reserve_on_huge_pages(nodes, root_.total_nodes());
+    base::reserve_on_huge_pages(primitives, root_.total_primitives());
     nodes.resize(root_.total_nodes());
     primitives.resize(root_.total_primitives());
     std::vector<std::unique_ptr<TaskPool::Task>> copies;

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "accel/kdtree_events.hpp"
+#include "nodetrace/base/huge_pages.hpp"
 
 namespace nodetrace::tracer::kd_build {
 
@@ -26,21 +27,21 @@ struct SplitChoice {
 // Lists a builder has done with, for its next nodes: the build allocates
 // (and the system zeroes) far less. Depth-first, few are spare at a time;
 // long lists, from the few nodes near the root, are freed.
-template <typename T>
+template <typename List>
 class SpareVectors {
  public:
   static constexpr std::size_t kLongest = std::size_t{1} << 15;
-  std::vector<T> take() {
+  List take() {
     if (spare_.empty()) return {};
-    std::vector<T> list = std::move(spare_.back());
+    List list = std::move(spare_.back());
     spare_.pop_back();
     return list;
   }
-  void give(std::vector<T>&& list) {
+  void give(List&& list) {
     if (list.capacity() > kLongest) {
       // Freed now: the caller's node, whose list it was, lives on until its
       // subtree is built, and so would the list.
-      std::vector<T>().swap(list);
+      List().swap(list);
       return;
     }
     list.clear();
@@ -48,7 +49,7 @@ class SpareVectors {
   }
 
  private:
-  std::vector<std::vector<T>> spare_;
+  std::vector<List> spare_;
 };
 
 // What one node's build starts from.
@@ -109,6 +110,7 @@ class KdTreeBuilder {
     output_ = &tree;
     NodeInput root;
     root.box = root_box;
+    base::reserve_on_huge_pages(root.ids, triangles_.size());
     root.ids.resize(triangles_.size());
     std::iota(root.ids.begin(), root.ids.end(), std::uint32_t{0});
     // A flat triangle has one event on an axis, any other two.
@@ -119,6 +121,7 @@ class KdTreeBuilder {
     }
     NodeEvents& events = root.events;
     events.begin = {0, counts[0], counts[0] + counts[1], counts[0] + counts[1] + counts[2]};
+    base::reserve_on_huge_pages(events.events, events.begin[3]);
     events.events.resize(events.begin[3]);
     // The three axes' events are made and sorted apart, on other threads when free.
     for_each_axis([&](int axis) {
@@ -132,7 +135,7 @@ class KdTreeBuilder {
           *next++ = {box.hi[axis], kEnd << kTriangleBits | i};
         }
       }
-      std::vector<Event> buffer;
+      EventList buffer;
       sort_events({events.events.data() + events.begin[axis], events.events.data() + events.begin[axis + 1]}, buffer);
     });
     build_node(std::move(root));
@@ -346,17 +349,24 @@ class KdTreeBuilder {
         }
       }
     }
-    // At most two events per triangle and axis.
-    left.events.events.reserve(6 * left.ids.size());
-    right.events.events.reserve(6 * right.ids.size());
+    // At most two events per triangle and axis (and a slot for split_events'
+    // last write). The lists of the nodes near the root are fresh memory,
+    // each page of it first touched here.
+    for (NodeInput* child : {&left, &right}) {
+      base::reserve_on_huge_pages(child->events.events, 6 * child->ids.size() + 1);
+      child->events.events.resize(6 * child->ids.size() + 1);
+    }
+    std::size_t left_size = 0, right_size = 0;
     for (int axis = 0; axis < 3; ++axis) {
       sort_events(new_left_[axis], sort_buffer_);
       sort_events(new_right_[axis], sort_buffer_);
-      left.events.begin[axis] = left.events.events.size();
-      right.events.begin[axis] = right.events.events.size();
-      split_events(node.events.axis(axis), new_left_[axis], new_right_[axis], left.events.events,
-                   right.events.events);
+      left.events.begin[axis] = left_size;
+      right.events.begin[axis] = right_size;
+      split_events(node.events.axis(axis), new_left_[axis], new_right_[axis], left.events.events.data(),
+                   left_size, right.events.events.data(), right_size);
     }
+    left.events.events.resize(left_size);
+    right.events.events.resize(right_size);
     left.events.begin[3] = left.events.events.size();
     right.events.begin[3] = right.events.events.size();
     // Triangle ids stay ascending in every list (filtered in order), so
@@ -420,27 +430,31 @@ class KdTreeBuilder {
   }
 
 
-  // Appends a node's events of one axis to its children's lists, each merged
+  // Appends a node's events of one axis to its children's lists (at
+  // left[left_size] and right[right_size], sizes counted on), each merged
   // with the sorted events of its clipped triangles, so both stay sorted.
+  // Without a branch on the side: the sides of an axis's events alternate at
+  // random, and a branch on them mispredicts about half the time. Each event
+  // is written to both lists and counted in the one its side names.
   void split_events(std::span<const Event> events, const std::vector<Event>& clipped_left,
-                    const std::vector<Event>& clipped_right, std::vector<Event>& left,
-                    std::vector<Event>& right) const {
+                    const std::vector<Event>& clipped_right, Event* left, std::size_t& left_size, Event* right,
+                    std::size_t& right_size) const {
     const Event* next_left = clipped_left.data();
     const Event* const left_end = next_left + clipped_left.size();
     const Event* next_right = clipped_right.data();
     const Event* const right_end = next_right + clipped_right.size();
+    std::size_t l = left_size, r = right_size;
     for (const Event& e : events) {
+      for (; next_left != left_end && event_less(*next_left, e); ++next_left) left[l++] = *next_left;
+      for (; next_right != right_end && event_less(*next_right, e); ++next_right) right[r++] = *next_right;
       const std::uint8_t side = side_[e.triangle()];
-      if (side == kLeftOnly) {
-        for (; next_left != left_end && event_less(*next_left, e); ++next_left) left.push_back(*next_left);
-        left.push_back(e);
-      } else if (side == kRightOnly) {
-        for (; next_right != right_end && event_less(*next_right, e); ++next_right) right.push_back(*next_right);
-        right.push_back(e);
-      }
+      left[l] = e;
+      l += side == kLeftOnly;
+      right[r] = e;
+      r += side == kRightOnly;
     }
-    left.insert(left.end(), next_left, left_end);
-    right.insert(right.end(), next_right, right_end);
+    left_size = std::copy(next_left, left_end, left + l) - left;
+    right_size = std::copy(next_right, right_end, right + r) - right;
   }
 
   std::span<const Triangle> triangles_;
@@ -453,9 +467,9 @@ class KdTreeBuilder {
   BuiltNodes* output_ = nullptr;  // the tree or fragment being built
   std::vector<std::uint8_t> side_;
   AxisEvents new_left_, new_right_;  // scratch: events of the triangles one node clips
-  std::vector<Event> sort_buffer_;
-  SpareVectors<Event> spare_events_;
-  SpareVectors<std::uint32_t> spare_ids_;
+  EventList sort_buffer_;
+  SpareVectors<EventList> spare_events_;
+  SpareVectors<std::vector<std::uint32_t>> spare_ids_;
 };
 
 BuiltNodes build_nodes(std::span<const Triangle> triangles, const KdBuildOptions& options, int max_depth,

@@ -4,6 +4,8 @@
 #include <bit>
 #include <utility>
 
+#include "nodetrace/base/huge_pages.hpp"
+
 namespace nodetrace::tracer::kd_build {
 
 namespace {
@@ -19,13 +21,14 @@ std::uint64_t sort_key(const Event& e) {
 
 // LSD radix sort on sort_key, a byte per pass, through `buffer`; passes
 // where every event has the same byte are skipped.
-void radix_sort(std::span<Event> events, std::vector<Event>& buffer) {
+void radix_sort(std::span<Event> events, EventList& buffer) {
   constexpr int kPasses = 8;
   std::array<std::array<std::uint32_t, 256>, kPasses> counts{};
   for (const Event& e : events) {
     const std::uint64_t key = sort_key(e);
     for (int pass = 0; pass < kPasses; ++pass) ++counts[pass][(key >> (8 * pass)) & 0xff];
   }
+  base::reserve_on_huge_pages(buffer, events.size());
   buffer.resize(events.size());
   Event* from = events.data();
   Event* to = buffer.data();
@@ -42,7 +45,7 @@ void radix_sort(std::span<Event> events, std::vector<Event>& buffer) {
 
 }  // namespace
 
-void sort_events(std::span<Event> events, std::vector<Event>& buffer) {
+void sort_events(std::span<Event> events, EventList& buffer) {
   // Radix sorting pays off for long lists only.
   if (events.size() >= 4096) {
     radix_sort(events, buffer);

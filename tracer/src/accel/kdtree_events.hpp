@@ -5,7 +5,10 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <new>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "nodetrace/tracer/accel/kdtree.hpp"
@@ -34,9 +37,27 @@ inline bool event_less(const Event& a, const Event& b) {
   return a.position < b.position || (a.position == b.position && a.type_and_triangle < b.type_and_triangle);
 }
 
+// Leaves a list's new elements unwritten (a resize does not zero them): a
+// node's split writes each child's events into a list sized for the most it
+// can hold, and zeroing that first would double the writes.
+template <typename T>
+struct UninitializedAllocator : std::allocator<T> {
+  template <typename U>
+  void construct(U* place) noexcept {
+    ::new (static_cast<void*>(place)) U;
+  }
+  template <typename U, typename... Args>
+  void construct(U* place, Args&&... args) {
+    ::new (static_cast<void*>(place)) U(std::forward<Args>(args)...);
+  }
+};
+
+// A node's list of events.
+using EventList = std::vector<Event, UninitializedAllocator<Event>>;
+
 // A node's events: those of axis a, sorted, are [begin[a], begin[a + 1]).
 struct NodeEvents {
-  std::vector<Event> events;
+  EventList events;
   std::array<std::size_t, 4> begin{};
   std::span<const Event> axis(int a) const { return {events.data() + begin[a], events.data() + begin[a + 1]}; }
 };
@@ -65,6 +86,6 @@ inline void add_events(AxisEvents& events, std::uint32_t triangle, const Bounds&
 }
 
 // Sorts one axis's events in event_less order, through `buffer`.
-void sort_events(std::span<Event> events, std::vector<Event>& buffer);
+void sort_events(std::span<Event> events, EventList& buffer);
 
 }  // namespace nodetrace::tracer::kd_build

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "accel/box_test.hpp"
+#include "nodetrace/base/huge_pages.hpp"
 
 namespace nodetrace::tracer {
 
@@ -34,10 +35,15 @@ std::uint32_t treelet_nodes_for(std::uint32_t treelet_bytes, std::uint32_t node_
 TreeShape kdtree_shape(const KdTree& tree) {
   const auto& nodes = tree.nodes();
   TreeShape shape;
+  base::reserve_on_huge_pages(shape.level, nodes.size());
+  base::reserve_on_huge_pages(shape.area, nodes.size());
+  base::reserve_on_huge_pages(shape.child_begin, nodes.size() + 1);
+  base::reserve_on_huge_pages(shape.children, nodes.size());  // two per inner node, fewer than the nodes
   shape.level.resize(nodes.size());
   shape.area.resize(nodes.size());
-  shape.child_begin.reserve(nodes.size() + 1);
-  std::vector<Bounds> boxes(nodes.size());
+  std::vector<Bounds> boxes;
+  base::reserve_on_huge_pages(boxes, nodes.size());
+  boxes.resize(nodes.size());
   if (!nodes.empty()) boxes[0] = tree.bounds();
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     const KdNode& n = nodes[i];

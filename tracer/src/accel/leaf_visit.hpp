@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "accel/watertight_intersection.hpp"
+#include "nodetrace/base/huge_pages.hpp"
 #include "nodetrace/formats/record/record.hpp"
 #include "nodetrace/tracer/accel/traversal.hpp"
 
@@ -16,7 +17,7 @@ namespace nodetrace::tracer::detail {
 inline std::vector<Triangle> triangles_in_list_order(const std::vector<Triangle>& triangles,
                                                      const std::vector<std::uint32_t>& primitives) {
   std::vector<Triangle> ordered;
-  ordered.reserve(primitives.size());
+  base::reserve_on_huge_pages(ordered, primitives.size());
   for (const std::uint32_t id : primitives) ordered.push_back(triangles[id]);
   return ordered;
 }

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "accel/box_test.hpp"
+#include "nodetrace/base/huge_pages.hpp"
 #include "accel/leaf_visit.hpp"
 
 namespace nodetrace::tracer {
@@ -23,6 +24,8 @@ Traversal::Traversal(const std::vector<Triangle>& triangles, const KdTree& tree,
   const auto& slots = layout.slot_of_node;
   const auto& nodes = tree.nodes();
   if (slots.size() != nodes.size()) throw std::invalid_argument("layout does not match the kd-tree");
+  base::reserve_on_huge_pages(node_records_, nodes.size());
+  base::reserve_on_huge_pages(compact_, nodes.size());
   node_records_.resize(nodes.size());
   compact_.resize(nodes.size());
   for (std::size_t i = 0; i < nodes.size(); ++i) {

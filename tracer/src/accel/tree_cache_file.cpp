@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 #include <xxhash.h>
 
-#include <sys/mman.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -15,6 +14,8 @@
 #include <optional>
 #include <type_traits>
 #include <vector>
+
+#include "nodetrace/base/huge_pages.hpp"
 
 namespace nodetrace::tracer {
 
@@ -48,16 +49,6 @@ class ByteAppender {
   std::string bytes_;
 };
 
-// Large arrays on huge pages where the system has them (transparent huge
-// pages in `madvise` mode): a first touch of each 4 KiB page is what loading
-// a tree costs most, far more than reading it.
-void ask_for_huge_pages(void* start, std::size_t size) {
-  constexpr std::uintptr_t kHugePage = 2u << 20;
-  const auto begin = (reinterpret_cast<std::uintptr_t>(start) + kHugePage - 1) & ~(kHugePage - 1);
-  const auto end = (reinterpret_cast<std::uintptr_t>(start) + size) & ~(kHugePage - 1);
-  if (end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
-}
-
 // Reads what ByteAppender wrote from a file, straight into the values and
 // arrays (one pread per array: no copy of the whole file), refusing to read
 // past `end` and hashing what it reads when given a hash state.
@@ -79,8 +70,7 @@ class ByteReader {
       throw DamagedTreeFile(fmt::format("{} of {} elements runs past the end of the file", what, count));
     }
     std::vector<T> values;
-    values.reserve(count);
-    ask_for_huge_pages(values.data(), count * sizeof(T));
+    base::reserve_on_huge_pages(values, count);
     values.resize(count);
     read_into(values.data(), count * sizeof(T), what);
     return values;

@@ -12,6 +12,7 @@
 #include <utility>
 #include <thread>
 
+#include "nodetrace/base/huge_pages.hpp"
 #include "nodetrace/base/ordered_pipeline.hpp"
 #include "nodetrace/tracer/render/interaction.hpp"
 #include "render/ray_timing.hpp"
@@ -128,6 +129,8 @@ RenderStats Renderer::render_runs(std::span<const PixelRun> runs, const RunStart
     context.records = options_.record ? &chunk.records : nullptr;
     if (context.records) {
       context.flush_at = std::max<std::size_t>(1, options_.records_per_flush);
+      // A buffer's first use: a flush's worth, before it is touched.
+      if (chunk.records.capacity() == 0) base::reserve_on_huge_pages(chunk.records, context.flush_at);
       context.flush = [&, c] {
         if (sink) {
           if (wait_for_turn) wait_for_turn(c);

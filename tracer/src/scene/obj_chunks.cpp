@@ -17,6 +17,8 @@
 #include <string>
 #include <thread>
 
+#include "nodetrace/base/huge_pages.hpp"
+
 namespace nodetrace::tracer::detail {
 
 std::vector<std::string_view> split_at_lines(std::string_view text, std::size_t count) {
@@ -324,6 +326,9 @@ void parse_chunk(std::string_view chunk, ChunkParse& parse) {
   callbacks.index_cb = [](void* data, tinyobj::index_t* indices, int count) {
     static_cast<ChunkParse*>(data)->face(indices, count);
   };
+  // A triangle a face at least (a quad makes two): the lists grow once at most.
+  parse.corners.reserve(3 * parse.scan->faces);
+  parse.material_ids.reserve(parse.scan->faces);
   TextStreamBuffer buffer(chunk);
   std::istream stream(&buffer);
   // No material reader and no usemtl callback: the chunk's own material
@@ -379,6 +384,8 @@ std::optional<ObjMesh> read_obj_chunks(std::span<const std::string_view> chunks,
     normals += scans[i].normals;
   }
   const std::vector<int> materials_at_start = follow_materials(scans, material_reader, mesh);
+  base::reserve_on_huge_pages(mesh.vertices, 3 * vertices);
+  base::reserve_on_huge_pages(mesh.normals, 3 * normals);
   mesh.vertices.resize(3 * vertices);
   mesh.normals.resize(3 * normals);
 
@@ -404,8 +411,8 @@ std::optional<ObjMesh> read_obj_chunks(std::span<const std::string_view> chunks,
     }
   });
   if (std::find(tie.begin(), tie.end(), 1) != tie.end()) return std::nullopt;
-  mesh.corners.reserve(3 * triangles);
-  mesh.material_ids.reserve(triangles);
+  base::reserve_on_huge_pages(mesh.corners, 3 * triangles);
+  base::reserve_on_huge_pages(mesh.material_ids, triangles);
   for (auto& parse : parses) {
     mesh.corners.insert(mesh.corners.end(), parse.corners.begin(), parse.corners.end());
     mesh.material_ids.insert(mesh.material_ids.end(), parse.material_ids.begin(), parse.material_ids.end());

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "nodetrace/base/huge_pages.hpp"
 #include "scene/obj_chunks.hpp"
 #include "scene/obj_line_checks.hpp"
 #include "scene/obj_mesh.hpp"
@@ -190,7 +191,7 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path, unsigne
                : path.string() + ": triangle " + std::to_string(triangle_index + 1);
   };
   const std::function<std::string()> where_function = where;  // made once, not per triangle
-  scene.triangles.reserve(mesh.material_ids.size());
+  base::reserve_on_huge_pages(scene.triangles, mesh.material_ids.size());
   for (std::size_t t = 0; t < mesh.material_ids.size(); ++t) {
     const ObjCorner* corners = mesh.corners.data() + 3 * t;
     const int material = mesh.material_ids[t];

@@ -5,9 +5,11 @@
 #include <cctype>
 #include <charconv>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "nodetrace/base/huge_pages.hpp"
 #include "scene/scene_internal.hpp"
 
 namespace nodetrace::tracer {
@@ -31,10 +33,29 @@ std::string format_hash(std::uint64_t hash) {
 std::string read_scene_file(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path.string() + ": cannot open scene file");
-  std::ostringstream contents;
-  contents << in.rdbuf();
+  std::string contents;
+  // A regular file in one read into memory of its size (on huge pages when
+  // large): copied through a growing stream buffer, a 100 MB OBJ file's pages
+  // were touched three times over.
+  std::error_code error;
+  if (std::filesystem::is_regular_file(path, error)) {
+    const std::uintmax_t size = std::filesystem::file_size(path, error);
+    if (!error && size > 0) {
+      contents.reserve(size);
+      base::ask_for_huge_pages(contents.data(), contents.capacity());
+      contents.resize(size);
+      in.read(contents.data(), static_cast<std::streamsize>(size));
+      contents.resize(static_cast<std::size_t>(in.gcount()));
+    }
+  }
+  // The rest: all of a pipe's bytes, or what a file gained since its size was taken.
+  if (!in.eof() && !in.bad()) {
+    std::ostringstream rest;
+    rest << in.rdbuf();
+    contents += std::move(rest).str();
+  }
   if (in.bad()) throw SceneError(path.string() + ": read error");
-  return std::move(contents).str();
+  return contents;
 }
 
 }  // namespace detail

@@ -58,6 +58,7 @@ class RecordPipe {
  private:
   class Reader;
   void push(RecordBatch&& batch);
+  void write_piece(std::span<const Record> records);
   void flush_pending_markers();
 
   std::string name_;

@@ -1,0 +1,64 @@
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "nodetrace/base/huge_pages.hpp"
+
+namespace nodetrace::base {
+namespace {
+
+constexpr std::uintptr_t kHugePage = std::uintptr_t{2} << 20;
+
+// The VmFlags of the mapping that holds `address`, from /proc/self/smaps.
+std::string mapping_flags(std::uintptr_t address) {
+  std::ifstream smaps("/proc/self/smaps");
+  bool inside = false;
+  for (std::string line; std::getline(smaps, line);) {
+    std::uintptr_t begin = 0, end = 0;
+    char dash = 0;
+    std::istringstream range(line);
+    if (range >> std::hex >> begin >> dash >> end && dash == '-') {
+      inside = begin <= address && address < end;
+    } else if (inside && line.starts_with("VmFlags:")) {
+      return line;
+    }
+  }
+  return "";
+}
+
+TEST(HugePages, ReservationHoldsTheCountAndLeavesTheVectorEmpty) {
+  std::vector<std::uint64_t> values{1, 2, 3};
+  values.clear();
+  reserve_on_huge_pages(values, 3'000'000);
+  EXPECT_TRUE(values.empty());
+  EXPECT_GE(values.capacity(), 3'000'000u);
+  values.assign(3'000'000, 7);
+  EXPECT_EQ(values.front(), 7u);
+  EXPECT_EQ(values.back(), 7u);
+}
+
+TEST(HugePages, TheWholeHugePagesOfAReservationAreAdvisedAsHuge) {
+  if (!std::filesystem::exists("/sys/kernel/mm/transparent_hugepage/enabled")) {
+    GTEST_SKIP() << "this kernel has no transparent huge pages: the advice is a no-op";
+  }
+  std::vector<char> bytes;
+  reserve_on_huge_pages(bytes, 8 * kHugePage);
+  const auto start = reinterpret_cast<std::uintptr_t>(bytes.data());
+  const std::uintptr_t first_whole = (start + kHugePage - 1) & ~(kHugePage - 1);
+  EXPECT_NE(mapping_flags(first_whole).find(" hg"), std::string::npos) << mapping_flags(first_whole);
+}
+
+TEST(HugePages, ARangeWithNoWholeHugePageIsLeftAlone) {
+  std::vector<char> bytes(4096, 'x');
+  ask_for_huge_pages(bytes.data(), bytes.size());
+  ask_for_huge_pages(nullptr, 0);
+  EXPECT_EQ(std::string(bytes.begin(), bytes.end()), std::string(4096, 'x'));
+}
+
+}  // namespace
+}  // namespace nodetrace::base
