@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "models/set_stack_run.hpp"
+
 namespace nodetrace::cachesim {
 
 SetStacks::SetStacks(std::vector<Level> levels, bool by_tag) : by_tag_(by_tag) {
@@ -35,26 +37,24 @@ SetStacks::SetStacks(std::vector<Level> levels, bool by_tag) : by_tag_(by_tag) {
   for (const LevelState& level : levels_) direct_mapped_ = direct_mapped_ && level.depth == 1;
 }
 
-void SetStacks::access_direct_mapped(const std::uint64_t* blocks, std::size_t count) {
-  constexpr std::size_t kMaxLevels = 64;  // set counts 2^0 .. 2^63
-  std::uint64_t* stacks[kMaxLevels];
-  std::uint64_t masks[kMaxLevels];
-  std::uint64_t misses[kMaxLevels] = {};
-  const std::size_t levels = levels_.size();
-  for (std::size_t l = 0; l < levels; ++l) {
-    stacks[l] = levels_[l].stacks;
-    masks[l] = levels_[l].mask;
-  }
-  for (std::size_t i = 0; i < count; ++i) {
-    const std::uint64_t block = blocks[i];
-    for (std::size_t l = 0; l < levels; ++l) {
-      std::uint64_t& slot = stacks[l][block & masks[l]];
-      misses[l] += slot != block;
-      slot = block;
-    }
-  }
-  for (std::size_t l = 0; l < levels; ++l) levels_[l].deeper[1] += misses[l];
+void SetStacks::access_blocks(const std::uint64_t* blocks, std::size_t count) {
   fetches_ += count;
+  if (passed_.size() < count) passed_.resize(count);
+  // Each set count passes on what it did not find on top, in place.
+  const std::uint64_t* in = blocks;
+  std::uint64_t* const passed = passed_.data();
+  for (LevelState& level : levels_) {
+    switch (level.depth) {
+      case 1: count = run_set_stacks<1>(level.stacks, level.mask, in, count, passed, level.deeper); break;
+      case 2: count = run_set_stacks<2>(level.stacks, level.mask, in, count, passed, level.deeper); break;
+      case 4: count = run_set_stacks<4>(level.stacks, level.mask, in, count, passed, level.deeper); break;
+      case 8: count = run_set_stacks<8>(level.stacks, level.mask, in, count, passed, level.deeper); break;
+      case 16: count = run_set_stacks<16>(level.stacks, level.mask, in, count, passed, level.deeper); break;
+      default:
+        count = run_set_stacks_any(level.stacks, level.mask, level.depth, in, count, passed, level.deeper);
+    }
+    in = passed;
+  }
 }
 
 void SetStacks::count_tag(LevelState& level, unsigned tag, std::uint32_t position) {

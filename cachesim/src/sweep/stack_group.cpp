@@ -215,9 +215,11 @@ class StackGroup {
     const unsigned shift = shift_;
     const Tag split_level = static_cast<Tag>(std::min<std::uint32_t>(split_level_, 0xFFFF));
     std::uint64_t high_refs = 0;
-    if (!kByTag && low_.direct_mapped()) {
-      // The low blocks in order, then one branchless pass over them.
+    if constexpr (!kByTag) {
+      // Each side's blocks in order, then its stacks run over them set
+      // count by set count (the two sides' stacks are independent).
       low_blocks_.clear();
+      high_blocks_.clear();
       for (std::size_t i = 0; i < count; ++i) {
         const std::uint64_t block = records[i].address >> shift;
         if (kSplit && records[i].tag < split_level) {
@@ -225,13 +227,14 @@ class StackGroup {
           if constexpr (kRetain) {
             retain_access(block, records[i].tag, first_record + i + 1);
           } else {
-            high_->access(block, records[i].tag);
+            high_blocks_.push_back(block);
           }
         } else {
           low_blocks_.push_back(block);
         }
       }
-      low_.access_direct_mapped(low_blocks_.data(), low_blocks_.size());
+      low_.access_blocks(low_blocks_.data(), low_blocks_.size());
+      if (kSplit && !kRetain) high_->access_blocks(high_blocks_.data(), high_blocks_.size());
       refs_ += count;
       fetches_ += count;
       high_refs_ += high_refs;
@@ -371,7 +374,8 @@ class StackGroup {
   std::vector<std::uint64_t> refs_by_tag_;
   bool handed_over_ = false;
   std::vector<Member> members_;
-  std::vector<std::uint64_t> low_blocks_;  // feed_blocks' scratch
+  std::vector<std::uint64_t> low_blocks_;   // feed_blocks' scratch
+  std::vector<std::uint64_t> high_blocks_;  // feed_blocks' scratch
 };
 
 class StackMember final : public ConfigSimulator {

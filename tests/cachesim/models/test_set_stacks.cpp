@@ -75,6 +75,37 @@ TEST(SetStacks, WaysOfAreTheCacheContents) {
   }
 }
 
+TEST(SetStacks, BlocksSetCountBySetCountEqualTheWalk) {
+  // Every depth with a vector path (1, 2, 4, 8, 16) and others (3, 32).
+  const std::vector<SetStacks::Level> levels{{0, 32}, {1, 16}, {2, 8}, {3, 3}, {4, 4}, {5, 2}, {6, 1}, {8, 1}};
+  for (const std::uint64_t seed : {5u, 6u}) {
+    const auto blocks = random_blocks(30000, seed);
+    SetStacks walked(levels);
+    SetStacks by_set_count(levels);
+    for (const std::uint64_t block : blocks) walked.access(block);
+    // In chunks of uneven length, as a sweep's batches end anywhere.
+    for (std::size_t begin = 0; begin < blocks.size();) {
+      const std::size_t count = std::min<std::size_t>(1 + begin % 4099, blocks.size() - begin);
+      by_set_count.access_blocks(blocks.data() + begin, count);
+      begin += count;
+    }
+    EXPECT_EQ(by_set_count.fetches(), walked.fetches());
+    for (const SetStacks::Level& level : levels) {
+      for (std::uint32_t ways = 1; ways <= level.depth; ++ways) {
+        EXPECT_EQ(by_set_count.misses(level.log2_sets, ways), walked.misses(level.log2_sets, ways))
+            << "seed " << seed << ", 2^" << level.log2_sets << " sets, " << ways << " ways";
+      }
+      const std::uint64_t sets = std::uint64_t{1} << level.log2_sets;
+      for (std::uint64_t set = 0; set < sets; ++set) {
+        EXPECT_EQ(by_set_count.ways_of(level.log2_sets, set, level.depth),
+                  walked.ways_of(level.log2_sets, set, level.depth));
+      }
+      EXPECT_EQ(by_set_count.walk(level.log2_sets).visits, walked.walk(level.log2_sets).visits);
+      EXPECT_EQ(by_set_count.walk(level.log2_sets).places, walked.walk(level.log2_sets).places);
+    }
+  }
+}
+
 TraceContext context_of(formats::RecordForm form) {
   TraceContext context;
   context.trace = "t";

@@ -56,10 +56,11 @@ class SetStacks {
 
   // Every level one block deep (direct-mapped caches only)?
   bool direct_mapped() const { return direct_mapped_; }
-  // access() of each block in turn when direct_mapped(), without the walk's
-  // branches: a hit in one set count changes nothing in the larger ones, so
-  // every level is simply updated (no counts by tag).
-  void access_direct_mapped(const std::uint64_t* blocks, std::size_t count);
+  // access() of each block in turn (no counts by tag), set count by set
+  // count: each one's stacks run over the fetches the one before it did
+  // not find on top, so its stacks stay in the processor's cache for all
+  // of them and no branch depends on where a block was found.
+  void access_blocks(const std::uint64_t* blocks, std::size_t count);
 
   std::uint64_t fetches() const { return fetches_; }
   // Misses of the cache with 2^log2_sets sets and `ways` ways (ways <= its
@@ -71,8 +72,8 @@ class SetStacks {
   std::vector<std::uint64_t> ways_of(unsigned log2_sets, std::uint64_t set,
                                      std::uint32_t ways) const;
 
-  // What access()'s walk did at one set count so far (access_direct_mapped
-  // visits every set count and is not described): the fetches that reached
+  // What access()'s walk (or access_blocks()) did at one set count so
+  // far: the fetches that reached
   // it, and the places they searched and moved down there (a block found at
   // place p moves p blocks; one not kept, depth - 1). A sweep weighs the
   // set counts' work by these to share them out among threads.
@@ -99,6 +100,7 @@ class SetStacks {
   std::vector<LevelState> levels_;
   std::vector<std::uint64_t> storage_;
   std::vector<std::uint64_t> counts_;
+  std::vector<std::uint64_t> passed_;  // access_blocks()' fetches not on top so far
   std::uint64_t fetches_ = 0;
   bool by_tag_ = false;
   bool direct_mapped_ = true;
