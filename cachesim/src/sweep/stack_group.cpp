@@ -34,9 +34,12 @@ unsigned log2_sets(std::uint64_t size, std::uint32_t block, std::uint32_t assoc)
   return static_cast<unsigned>(std::countr_zero(size / block / assoc));
 }
 
-// One set count per distinct number of sets, as deep as its most ways.
-std::vector<SetStacks::Level> levels_of(const std::vector<std::pair<unsigned, std::uint32_t>>& caches) {
+// One set count per distinct number of sets, as deep as its most ways
+// (and `entry`, one block deep: see StackPiece).
+std::vector<SetStacks::Level> levels_of(const std::vector<std::pair<unsigned, std::uint32_t>>& caches,
+                                        std::optional<unsigned> entry = std::nullopt) {
   std::vector<SetStacks::Level> levels;
+  if (entry) levels.push_back({*entry, 1});
   for (const auto& [log2, ways] : caches) {
     auto at = std::find_if(levels.begin(), levels.end(),
                            [log2 = log2](const SetStacks::Level& level) { return level.log2_sets == log2; });
@@ -55,7 +58,8 @@ class StackGroup {
   // cache holds the fewest blocks: every piece's retain set has its
   // capacity and its error names it, so pieces fail alike.
   StackGroup(const std::vector<Configuration>& configs, std::uint32_t split_level,
-             const TraceContext& context, bool per_level, const Configuration& retain_bound)
+             const TraceContext& context, bool per_level, const Configuration& retain_bound,
+             std::optional<unsigned> entry_log2_sets = std::nullopt)
       : context_(context),
         split_(configs.front().scheme == Scheme::Split),
         retain_(split_ && configs.front().high_policy == HighPolicy::Retain),
@@ -63,7 +67,7 @@ class StackGroup {
         aligned_din_(context.form == formats::RecordForm::Din && configs.front().block >= 4),
         shift_(static_cast<unsigned>(std::countr_zero(configs.front().block))),
         split_level_(split_level),
-        low_(levels_of(cache_shapes(configs, false)), per_level),
+        low_(levels_of(cache_shapes(configs, false), entry_log2_sets), per_level),
         retained_(retain_ ? retain_bound.high_size / retain_bound.block : 0),
         retain_bound_(retain_bound) {
     for (const Configuration& config : configs) {
@@ -429,9 +433,10 @@ std::size_t tightest_member(const std::vector<Configuration>& members) {
 
 std::vector<std::unique_ptr<ConfigSimulator>> make_stack_group(
     const std::vector<Configuration>& members, std::uint32_t split_level,
-    const TraceContext& context, bool per_level, const Configuration* retain_bound) {
+    const TraceContext& context, bool per_level, const Configuration* retain_bound,
+    std::optional<unsigned> entry_log2_sets) {
   const Configuration& bound = retain_bound ? *retain_bound : members[tightest_member(members)];
-  auto group = std::make_shared<StackGroup>(members, split_level, context, per_level, bound);
+  auto group = std::make_shared<StackGroup>(members, split_level, context, per_level, bound, entry_log2_sets);
   std::vector<std::unique_ptr<ConfigSimulator>> simulators;
   for (std::size_t m = 0; m < members.size(); ++m) {
     simulators.push_back(std::make_unique<StackMember>(group, m));
@@ -480,8 +485,9 @@ struct SideWork {
   // The set counts `wanted` (sorted) walked by one stack of their own,
   // records sent to this side a share `share` of all; the first of them
   // is looked at by every fetch (the walk of fewer sets before it, which
-  // would have stopped some fetches, is another piece's).
-  double cost(const std::vector<unsigned>& wanted, double share, bool branchless) const {
+  // would have stopped some fetches, is another piece's), or, `entered`,
+  // only the fetches that reach it, after a direct-mapped look of all.
+  double cost(const std::vector<unsigned>& wanted, double share, bool branchless, bool entered) const {
     if (wanted.empty()) return 0;
     if (branchless && direct_mapped) return kDirectMappedCost * static_cast<double>(wanted.size()) * share;
     double cost = 0;
@@ -490,6 +496,7 @@ struct SideWork {
     }
     const std::size_t first = static_cast<std::size_t>(
         std::lower_bound(log2_sets.begin(), log2_sets.end(), wanted.front()) - log2_sets.begin());
+    if (entered) return cost + (first > 0 ? kDirectMappedCost * share : 0.0);
     return cost + std::max(0.0, share - visits[first]);
   }
 };
@@ -552,11 +559,11 @@ double StackGroupCost::piece_cost(unsigned first_low, unsigned last_low,
   std::sort(high_sets.begin(), high_sets.end());
   high_sets.erase(std::unique(high_sets.begin(), high_sets.end()), high_sets.end());
   const double low_share = 1.0 - profile.high_share;
-  double cost = kRouterCost + profile.low->cost(low_sets, low_share, !profile.per_level);
+  double cost = kRouterCost + profile.low->cost(low_sets, low_share, !profile.per_level, true);
   if (profile.retain) {
     cost += kRetainCost * profile.high_share;
   } else if (profile.high) {
-    cost += profile.high->cost(high_sets, profile.high_share, false);
+    cost += profile.high->cost(high_sets, profile.high_share, false, false);
   }
   return cost;
 }
@@ -589,6 +596,7 @@ std::vector<StackPiece> StackGroupCost::cut(std::size_t pieces) const {
     const std::size_t begin = from[p][end];
     StackPiece& piece = cut[p - 1];
     piece.cost = piece_cost(sets[begin], sets[end - 1], &piece.members);
+    if (begin > 0) piece.entry_log2_sets = sets[begin - 1];
     end = begin;
   }
   return cut;

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,17 +29,27 @@ std::size_t tightest_member(const std::vector<Configuration>& members);
 // same thread and see the same begin_animation_frame calls. `retain_bound` (split
 // under `retain`, when the group is a piece of a larger one): the larger
 // group's tightest member, whose capacity and name the retain set uses;
-// null: the tightest of `members`.
+// null: the tightest of `members`. `entry_log2_sets` (a piece past the
+// first): the set count of the group's low caches just below this piece's,
+// kept one block deep in front of its stacks, so that only the fetches the
+// whole group's walk brings here reach them (see StackPiece).
 std::vector<std::unique_ptr<ConfigSimulator>> make_stack_group(
     const std::vector<Configuration>& members, std::uint32_t split_level,
-    const TraceContext& context, bool per_level, const Configuration* retain_bound = nullptr);
+    const TraceContext& context, bool per_level, const Configuration* retain_bound = nullptr,
+    std::optional<unsigned> entry_log2_sets = std::nullopt);
 
 // Some of a stack group's members (indices into them, in order) and their
 // estimated work per record (units: a set count looked at by a fetch is
-// about 1; comparable with the sweep's estimates of other simulators).
+// about 1; comparable with the sweep's estimates of other simulators). A
+// piece past the first has an entry: the group's low set count just below
+// its own. A fetch goes on past it exactly when its block is not the last
+// one fetched in its set there (on top of a set, a block is on top in every
+// larger set count), which one block per set tells: a direct-mapped look
+// instead of the walk of the set counts before it.
 struct StackPiece {
   std::vector<std::size_t> members;
   double cost = 0;
+  std::optional<unsigned> entry_log2_sets;
 };
 
 // What a stack group costs, from a probe: its stacks walk sample records
@@ -48,7 +59,7 @@ struct StackPiece {
 // own: each set count's stacks see the same fetches whatever the others
 // do (the walk only stops early), so the pieces' counts are the group's;
 // the hand-over at an invalidate is per member, so it too. A piece past
-// the first costs one look at its first set count for every fetch.
+// the first costs a direct-mapped look (its entry) for every fetch.
 class StackGroupCost {
  public:
   StackGroupCost(const std::vector<Configuration>& members, std::uint32_t split_level,

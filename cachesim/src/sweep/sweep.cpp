@@ -212,7 +212,7 @@ void Sweep::start(const formats::RecordBatch& first_batch) {
         members.push_back(group.members[m]);
       }
       auto made = make_stack_group(piece_configs, plan_->current(members.front()), context_,
-                                   per_level_, &bound);
+                                   per_level_, &bound, piece.entry_log2_sets);
       for (std::size_t m = 0; m < members.size(); ++m) simulators_[members[m]] = std::move(made[m]);
       unit_cost.push_back(piece.cost);
       units.push_back(std::move(members));
