@@ -75,7 +75,7 @@ class RecordPipe::Reader final : public TraceReader {
 
   bool next(RecordBatch& batch) override {
     std::unique_lock lock(pipe_.mutex_);
-    pipe_.changed_.wait(lock, [&] { return !pipe_.batches_.empty() || pipe_.finished_ || pipe_.failure_; });
+    pipe_.changed_.wait(lock, [&] { return pipe_.batches_.size() >= pipe_.wake_at_ || pipe_.finished_ || pipe_.failure_; });
     if (pipe_.failure_) throw base::IoError(fmt::format("{}: {}", pipe_.name_, *pipe_.failure_));
     if (pipe_.batches_.empty()) {
       trailer_ = pipe_.trailer_;
@@ -89,7 +89,7 @@ class RecordPipe::Reader final : public TraceReader {
     }
     batch = std::move(pipe_.batches_.front());
     pipe_.batches_.pop_front();
-    pipe_.changed_.notify_all();
+    if (pipe_.batches_.size() == pipe_.batches_ahead_ / 2) pipe_.changed_.notify_all();  // see push()
     return true;
   }
 
@@ -106,20 +106,43 @@ class RecordPipe::Reader final : public TraceReader {
 
 RecordPipe::RecordPipe(std::string name, const nlohmann::json& header, const WriterOptions& options,
                        std::size_t batches_ahead)
-    : name_(std::move(name)), form_(options.form), batches_ahead_(std::max<std::size_t>(1, batches_ahead)) {
+    : name_(std::move(name)),
+      form_(options.form),
+      batches_ahead_(std::max<std::size_t>(1, batches_ahead)),
+      wake_at_(std::max<std::size_t>(1, batches_ahead_ / 2)) {
   header_.json = container_header(header, options);
+}
+
+RecordPipe::RecordPipe(std::string name, const nlohmann::json& header, const WriterOptions& options,
+                       BatchConsumer consume)
+    : RecordPipe(std::move(name), header, options) {
+  consume_ = std::move(consume);
 }
 
 RecordPipe::~RecordPipe() = default;
 
 std::unique_ptr<TraceReader> RecordPipe::reader() { return std::make_unique<Reader>(*this); }
 
+// Each side sleeps until the other has done half the queue's worth, and is
+// woken only then: a wake-up per batch (a reader faster than the render
+// waits for every batch) cost the in-render simulation more CPU than
+// copying the records.
 void RecordPipe::push(RecordBatch&& batch) {
+  if (consume_) {
+    consume_(batch);
+    if (batch.records.capacity() > 0) {
+      batch.records.clear();
+      spare_.push_back(std::move(batch.records));  // no lock: one thread
+    }
+    return;
+  }
   std::unique_lock lock(mutex_);
-  changed_.wait(lock, [&] { return batches_.size() < batches_ahead_ || reading_stopped_; });
+  if (batches_.size() >= batches_ahead_) {
+    changed_.wait(lock, [&] { return batches_.size() <= batches_ahead_ / 2 || reading_stopped_; });
+  }
   if (reading_stopped_) return;
   batches_.push_back(std::move(batch));
-  changed_.notify_all();
+  if (batches_.size() == wake_at_) changed_.notify_all();
 }
 
 // A marker with no records after it before the next marker or the end
