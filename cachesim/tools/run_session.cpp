@@ -225,6 +225,14 @@ TraceOutcome RunSession::simulate(RunMode mode, formats::TraceReader& reader, co
   return outcome;
 }
 
+std::unique_ptr<Sweep> RunSession::fed_sweep(const formats::TraceReader& source,
+                                             const std::string& trace_column) const {
+  auto sweep = std::make_unique<Sweep>(configs_, trace_context(source, trace_column), options_.per_level,
+                                       options_.per_animation_frame);
+  sweep->set_parts(1);
+  return sweep;
+}
+
 RunReport RunSession::report(RunMode mode, const std::vector<TraceOutcome>& outcomes) const {
   const ReportFormat format = parse_report_format(line_.format).value_or(ReportFormat::Table);
   if (mode == RunMode::Curve) {

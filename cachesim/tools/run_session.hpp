@@ -63,6 +63,11 @@ class RunSession {
   // Simulates one trace; `trace_column` names it in the report.
   TraceOutcome simulate(RunMode mode, formats::TraceReader& reader, const std::string& trace_column,
                         const SweepProgress& progress = {}) const;
+  // RunMode::Sweep's simulation of one trace, to be fed its batches on the
+  // caller's thread (Sweep::feed, then finish() for TraceOutcome::sweep):
+  // what simulate() gives for a reader of the same batches, with no thread
+  // of its own. `source` gives the trace's header and form; it is not read.
+  std::unique_ptr<Sweep> fed_sweep(const formats::TraceReader& source, const std::string& trace_column) const;
   // The report of the traces' outcomes, in order; writes the side tables
   // that name files (--per-level, --per-frame, --per-unit).
   RunReport report(RunMode mode, const std::vector<TraceOutcome>& outcomes) const;

@@ -14,11 +14,14 @@
 
 namespace nodetrace::tracer::tools {
 
-// One layout's simulation: the pipe its sink fills and the thread that
-// runs cachesim's sweep over the pipe's reader.
+// One layout's simulation: the pipe its sink fills, and either the sweep
+// the pipe feeds on the render's thread that hands over the records, or
+// the thread that runs cachesim over the pipe's reader (the modes that
+// read a trace their own way).
 struct InRenderSimulation::Layout {
   std::unique_ptr<formats::RecordPipe> pipe;
   std::unique_ptr<formats::TraceReader> reader;
+  std::unique_ptr<cachesim::Sweep> fed;
   std::thread thread;
   cachesim::tools::TraceOutcome outcome;
   std::exception_ptr error;
@@ -63,6 +66,7 @@ class SimulationSink final : public RecordSink {
   void finish(const nlohmann::json& totals) override {
     check();
     layout_->pipe->finish(totals);
+    if (layout_->fed) layout_->outcome.sweep = layout_->fed->finish();
     layout_->rethrow_failure();
     layout_->finished = true;
   }
@@ -128,6 +132,17 @@ RecordSinkMaker InRenderSimulation::sink_maker(std::vector<std::string> trace_na
     const cachesim::tools::RunMode mode = session_.mode_for({layout->reader.get()});
     if (!mode_) mode_ = mode;
     Layout* simulated = layout.get();
+    if (mode == cachesim::tools::RunMode::Sweep) {
+      // Fed as the records are handed over, on that thread: a thread of
+      // its own cost more CPU in hand-overs, wake-ups and records moved
+      // between cores than the simulation itself.
+      layout->pipe = std::make_unique<formats::RecordPipe>(
+          name, start.header, start.writer, [simulated](const formats::RecordBatch& batch) { simulated->fed->feed(batch); });
+      layout->reader = layout->pipe->reader();
+      layout->fed = session_.fed_sweep(*layout->reader, name);
+      layouts_.push_back(layout);
+      return std::make_unique<SimulationSink>(std::move(layout));
+    }
     layout->thread = std::thread([this, simulated, mode, name] {
       try {
         simulated->outcome = session_.simulate(mode, *simulated->reader, name);

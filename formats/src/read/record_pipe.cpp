@@ -3,6 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstddef>
+#include <cstring>
 #include <utility>
 
 #include "nodetrace/base/error.hpp"
@@ -18,6 +21,48 @@ Record as_read_back(Record record, RecordForm form) {
   return record;
 }
 
+namespace {
+
+// Each record as `form` gives it back, and the kinds of them all
+// (record_kinds), in one pass over records the caller has just copied.
+RecordKinds read_back_in_place(std::vector<Record>& records, RecordForm form) {
+  if constexpr (std::endian::native == std::endian::little && sizeof(Record) == 16 &&
+                offsetof(Record, size) == 8 && offsetof(Record, type) == 12 && offsetof(Record, unit) == 13 &&
+                offsetof(Record, tag) == 14) {
+    // The second word of a record (size, type, unit, tag) changed by a mask
+    // and bits set, the same for every record: no branch per record, and
+    // the kinds as record_kinds finds them (see there).
+    static_assert(static_cast<unsigned>(AccessType::Misc) == 3 && kMaxLevel == 0xFFFF - 15);
+    std::uint64_t keep = ~std::uint64_t{0}, set = 0;
+    if (form == RecordForm::Din) {
+      keep = ~std::uint64_t{0xFFFFFFFF};
+      set = 4;
+    } else if (form == RecordForm::Binary) {
+      keep = 0x000000FFFFFFFFFF;
+      set = std::uint64_t{kTagNone} << 48;
+    }
+    std::uint64_t types = 0, tags = 0;
+    char* const bytes = reinterpret_cast<char*>(records.data());
+    for (std::size_t i = 0; i < records.size(); ++i) {
+      std::uint64_t word;
+      std::memcpy(&word, bytes + 16 * i + 8, 8);
+      word = (word & keep) | set;
+      std::memcpy(bytes + 16 * i + 8, &word, 8);
+      types |= word;
+      tags |= (word >> 48) + 15;
+    }
+    types >>= 32;
+    return {(types & 0xFC) == 0, (tags & 0x10000) == 0};
+  } else {
+    if (form != RecordForm::ExtendedDin) {
+      for (Record& record : records) record = as_read_back(record, form);
+    }
+    return record_kinds(records.data(), records.size());
+  }
+}
+
+}  // namespace
+
 class RecordPipe::Reader final : public TraceReader {
  public:
   explicit Reader(RecordPipe& pipe) : pipe_(pipe) {}
@@ -30,7 +75,7 @@ class RecordPipe::Reader final : public TraceReader {
 
   bool next(RecordBatch& batch) override {
     std::unique_lock lock(pipe_.mutex_);
-    pipe_.changed_.wait(lock, [&] { return !pipe_.batches_.empty() || pipe_.finished_ || pipe_.failure_; });
+    pipe_.changed_.wait(lock, [&] { return pipe_.batches_.size() >= pipe_.wake_at_ || pipe_.finished_ || pipe_.failure_; });
     if (pipe_.failure_) throw base::IoError(fmt::format("{}: {}", pipe_.name_, *pipe_.failure_));
     if (pipe_.batches_.empty()) {
       trailer_ = pipe_.trailer_;
@@ -44,7 +89,7 @@ class RecordPipe::Reader final : public TraceReader {
     }
     batch = std::move(pipe_.batches_.front());
     pipe_.batches_.pop_front();
-    pipe_.changed_.notify_all();
+    if (pipe_.batches_.size() == pipe_.batches_ahead_ / 2) pipe_.changed_.notify_all();  // see push()
     return true;
   }
 
@@ -61,20 +106,43 @@ class RecordPipe::Reader final : public TraceReader {
 
 RecordPipe::RecordPipe(std::string name, const nlohmann::json& header, const WriterOptions& options,
                        std::size_t batches_ahead)
-    : name_(std::move(name)), form_(options.form), batches_ahead_(std::max<std::size_t>(1, batches_ahead)) {
+    : name_(std::move(name)),
+      form_(options.form),
+      batches_ahead_(std::max<std::size_t>(1, batches_ahead)),
+      wake_at_(std::max<std::size_t>(1, batches_ahead_ / 2)) {
   header_.json = container_header(header, options);
+}
+
+RecordPipe::RecordPipe(std::string name, const nlohmann::json& header, const WriterOptions& options,
+                       BatchConsumer consume)
+    : RecordPipe(std::move(name), header, options) {
+  consume_ = std::move(consume);
 }
 
 RecordPipe::~RecordPipe() = default;
 
 std::unique_ptr<TraceReader> RecordPipe::reader() { return std::make_unique<Reader>(*this); }
 
+// Each side sleeps until the other has done half the queue's worth, and is
+// woken only then: a wake-up per batch (a reader faster than the render
+// waits for every batch) cost the in-render simulation more CPU than
+// copying the records.
 void RecordPipe::push(RecordBatch&& batch) {
+  if (consume_) {
+    consume_(batch);
+    if (batch.records.capacity() > 0) {
+      batch.records.clear();
+      spare_.push_back(std::move(batch.records));  // no lock: one thread
+    }
+    return;
+  }
   std::unique_lock lock(mutex_);
-  changed_.wait(lock, [&] { return batches_.size() < batches_ahead_ || reading_stopped_; });
+  if (batches_.size() >= batches_ahead_) {
+    changed_.wait(lock, [&] { return batches_.size() <= batches_ahead_ / 2 || reading_stopped_; });
+  }
   if (reading_stopped_) return;
   batches_.push_back(std::move(batch));
-  changed_.notify_all();
+  if (batches_.size() == wake_at_) changed_.notify_all();
 }
 
 // A marker with no records after it before the next marker or the end
@@ -121,11 +189,8 @@ void RecordPipe::write_piece(std::span<const Record> records) {
     }
   }
   batch.records.assign(records.begin(), records.end());
-  if (form_ != RecordForm::ExtendedDin) {
-    for (Record& record : batch.records) record = as_read_back(record, form_);
-  }
   // As a container's decoding workers do: the simulator then skips its own pass.
-  batch.kinds = record_kinds(batch.records.data(), batch.records.size());
+  batch.kinds = read_back_in_place(batch.records, form_);
   records_written_ += records.size();
   push(std::move(batch));
 }

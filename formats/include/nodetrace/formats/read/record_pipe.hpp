@@ -1,13 +1,15 @@
 // Records handed from one thread to a TraceReader on another, in memory:
 // the reader delivers what a reader of the container the producer would
 // write delivers (its header, markers, and each record as its form reads
-// back), with no text made, compressed or parsed.
+// back), with no text made, compressed or parsed. Or the same batches
+// handed to a function on the producer's own thread, as they are made.
 #pragma once
 
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -32,9 +34,15 @@ class RecordPipe {
  public:
   // `name`: the trace's name in the reader's messages; `header` and
   // `options`: what TraceWriter::create would be given for the container.
-  // The producer runs at most `batches_ahead` batches ahead of the reader.
+  // The producer runs at most `batches_ahead` batches ahead of the reader;
+  // the reader waits for half of them (or the end) before it reads on.
   RecordPipe(std::string name, const nlohmann::json& header, const WriterOptions& options,
-             std::size_t batches_ahead = 4);
+             std::size_t batches_ahead = 8);
+  // Each batch goes to `consume` on the producer's thread as it is made,
+  // with no thread, queue or wake-up between (its exceptions reach the
+  // producer's call); reader() then serves only the header and form.
+  using BatchConsumer = std::function<void(const RecordBatch&)>;
+  RecordPipe(std::string name, const nlohmann::json& header, const WriterOptions& options, BatchConsumer consume);
   ~RecordPipe();
   RecordPipe(const RecordPipe&) = delete;
   RecordPipe& operator=(const RecordPipe&) = delete;
@@ -65,6 +73,8 @@ class RecordPipe {
   TraceHeader header_;
   RecordForm form_;
   std::size_t batches_ahead_;
+  std::size_t wake_at_;  // the queue's length that wakes a waiting reader
+  BatchConsumer consume_;
   // The producer's: markers waiting for the records they begin at.
   std::optional<AnimationFrameMarker> pending_marker_;
   std::optional<WindowMarker> pending_window_;
