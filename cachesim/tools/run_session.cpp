@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <utility>
 
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/base/sample_rate.hpp"
@@ -225,12 +226,45 @@ TraceOutcome RunSession::simulate(RunMode mode, formats::TraceReader& reader, co
   return outcome;
 }
 
-std::unique_ptr<Sweep> RunSession::fed_sweep(const formats::TraceReader& source,
-                                             const std::string& trace_column) const {
-  auto sweep = std::make_unique<Sweep>(configs_, trace_context(source, trace_column), options_.per_level,
-                                       options_.per_animation_frame);
-  sweep->set_parts(1);
-  return sweep;
+namespace {
+
+// A run fed batch by batch (a Sweep or a FedSampledSweep), its result the outcome's `Member`.
+template <typename Run, auto Member>
+class FedRun final : public FedSimulation {
+ public:
+  template <typename... Args>
+  explicit FedRun(Args&&... args) : run_(std::forward<Args>(args)...) {}
+  Run& run() { return run_; }
+  void feed(const formats::RecordBatch& batch) override { run_.feed(batch); }
+  TraceOutcome finish() override {
+    TraceOutcome outcome;
+    outcome.*Member = run_.finish();
+    return outcome;
+  }
+
+ private:
+  Run run_;
+};
+
+}  // namespace
+
+std::unique_ptr<FedSimulation> RunSession::fed_simulation(RunMode mode, const formats::TraceReader& source,
+                                                          const std::string& trace_column) const {
+  switch (mode) {
+    case RunMode::Sweep: {
+      auto fed = std::make_unique<FedRun<Sweep, &TraceOutcome::sweep>>(
+          configs_, trace_context(source, trace_column), options_.per_level, options_.per_animation_frame);
+      fed->run().set_parts(1);
+      return fed;
+    }
+    case RunMode::Sampled:
+      return std::make_unique<FedRun<FedSampledSweep, &TraceOutcome::sampled>>(source, configs_, trace_column,
+                                                                               sampling_);
+    case RunMode::Curve:
+    case RunMode::UnitCaches:
+      break;
+  }
+  return nullptr;
 }
 
 RunReport RunSession::report(RunMode mode, const std::vector<TraceOutcome>& outcomes) const {

@@ -47,6 +47,14 @@ struct TraceOutcome {
   SampledResult sampled;            // Sampled
 };
 
+// One trace's simulation fed batch by batch, in trace order (RunSession::fed_simulation).
+class FedSimulation {
+ public:
+  virtual ~FedSimulation() = default;
+  virtual void feed(const formats::RecordBatch& batch) = 0;
+  virtual TraceOutcome finish() = 0;
+};
+
 class RunSession {
  public:
   // `traces_positional`: cachesim run names its traces on the command line;
@@ -63,11 +71,13 @@ class RunSession {
   // Simulates one trace; `trace_column` names it in the report.
   TraceOutcome simulate(RunMode mode, formats::TraceReader& reader, const std::string& trace_column,
                         const SweepProgress& progress = {}) const;
-  // RunMode::Sweep's simulation of one trace, to be fed its batches on the
-  // caller's thread (Sweep::feed, then finish() for TraceOutcome::sweep):
+  // The simulation of one trace fed its batches on the caller's thread:
   // what simulate() gives for a reader of the same batches, with no thread
-  // of its own. `source` gives the trace's header and form; it is not read.
-  std::unique_ptr<Sweep> fed_sweep(const formats::TraceReader& source, const std::string& trace_column) const;
+  // of its own. `source` gives the trace's header and form (its records are
+  // not read). Null for the modes that read a trace their own way (--curve,
+  // private caches of units).
+  std::unique_ptr<FedSimulation> fed_simulation(RunMode mode, const formats::TraceReader& source,
+                                                const std::string& trace_column) const;
   // The report of the traces' outcomes, in order; writes the side tables
   // that name files (--per-level, --per-frame, --per-unit).
   RunReport report(RunMode mode, const std::vector<TraceOutcome>& outcomes) const;

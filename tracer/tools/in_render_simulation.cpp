@@ -21,7 +21,7 @@ namespace nodetrace::tracer::tools {
 struct InRenderSimulation::Layout {
   std::unique_ptr<formats::RecordPipe> pipe;
   std::unique_ptr<formats::TraceReader> reader;
-  std::unique_ptr<cachesim::Sweep> fed;
+  std::unique_ptr<cachesim::tools::FedSimulation> fed;
   std::thread thread;
   cachesim::tools::TraceOutcome outcome;
   std::exception_ptr error;
@@ -66,7 +66,7 @@ class SimulationSink final : public RecordSink {
   void finish(const nlohmann::json& totals) override {
     check();
     layout_->pipe->finish(totals);
-    if (layout_->fed) layout_->outcome.sweep = layout_->fed->finish();
+    if (layout_->fed) layout_->outcome = layout_->fed->finish();
     layout_->rethrow_failure();
     layout_->finished = true;
   }
@@ -127,22 +127,23 @@ RecordSinkMaker InRenderSimulation::sink_maker(std::vector<std::string> trace_na
     if (only_layout_ && *only_layout_ != start.layout_index) return nullptr;
     auto layout = std::make_shared<Layout>();
     const std::string& name = names.at(start.layout_index);
-    layout->pipe = std::make_unique<formats::RecordPipe>(name, start.header, start.writer);
+    Layout* simulated = layout.get();
+    // Fed as the records are handed over, on that thread, where the mode
+    // allows: a thread of its own cost more CPU in hand-overs, wake-ups and
+    // records moved between cores than the simulation itself.
+    layout->pipe = std::make_unique<formats::RecordPipe>(
+        name, start.header, start.writer, [simulated](const formats::RecordBatch& batch) { simulated->fed->feed(batch); });
     layout->reader = layout->pipe->reader();
     const cachesim::tools::RunMode mode = session_.mode_for({layout->reader.get()});
     if (!mode_) mode_ = mode;
-    Layout* simulated = layout.get();
-    if (mode == cachesim::tools::RunMode::Sweep) {
-      // Fed as the records are handed over, on that thread: a thread of
-      // its own cost more CPU in hand-overs, wake-ups and records moved
-      // between cores than the simulation itself.
-      layout->pipe = std::make_unique<formats::RecordPipe>(
-          name, start.header, start.writer, [simulated](const formats::RecordBatch& batch) { simulated->fed->feed(batch); });
-      layout->reader = layout->pipe->reader();
-      layout->fed = session_.fed_sweep(*layout->reader, name);
+    layout->fed = session_.fed_simulation(mode, *layout->reader, name);
+    if (layout->fed) {
       layouts_.push_back(layout);
       return std::make_unique<SimulationSink>(std::move(layout));
     }
+    // The other modes read the pipe on a thread of their own.
+    layout->pipe = std::make_unique<formats::RecordPipe>(name, start.header, start.writer);
+    layout->reader = layout->pipe->reader();
     layout->thread = std::thread([this, simulated, mode, name] {
       try {
         simulated->outcome = session_.simulate(mode, *simulated->reader, name);

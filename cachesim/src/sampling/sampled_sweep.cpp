@@ -411,14 +411,30 @@ std::function<bool(const formats::DataFrameIndexEntry&)> data_frame_filter(const
   };
 }
 
+class FedSampledSweep::Run : public SampledRun {
+  using SampledRun::SampledRun;
+};
+
+FedSampledSweep::FedSampledSweep(const formats::TraceReader& source, const std::vector<Configuration>& configs,
+                                 const std::string& trace_column, const SamplingOptions& options)
+    : source_(source) {
+  const std::optional<formats::SamplingInfo> rows = source.header().sampling();
+  run_ = std::make_unique<Run>(configs, trace_context(source, trace_column), options, rows);
+}
+
+FedSampledSweep::~FedSampledSweep() = default;
+
+void FedSampledSweep::feed(const formats::RecordBatch& batch) { run_->feed(batch); }
+
+SampledResult FedSampledSweep::finish() { return run_->finish(trailer_records(source_)); }
+
 SampledResult run_sampled_sweep(formats::TraceReader& reader,
                                 const std::vector<Configuration>& configs,
                                 const std::string& trace_column, const SamplingOptions& options) {
-  const std::optional<formats::SamplingInfo> rows = reader.header().sampling();
-  SampledRun run(configs, trace_context(reader, trace_column), options, rows);
+  FedSampledSweep run(reader, configs, trace_column, options);
   formats::RecordBatch batch;
   while (reader.next(batch)) run.feed(batch);
-  return run.finish(trailer_records(reader));
+  return run.finish();
 }
 
 }  // namespace nodetrace::cachesim

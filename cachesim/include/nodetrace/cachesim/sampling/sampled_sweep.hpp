@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -71,5 +72,24 @@ struct SampledResult {
 SampledResult run_sampled_sweep(formats::TraceReader& reader,
                                 const std::vector<Configuration>& configs,
                                 const std::string& trace_column, const SamplingOptions& options);
+
+// run_sampled_sweep fed its batches in trace order on the caller's thread
+// instead of reading them (in-render simulation); `source` gives the
+// trace's header, and its trailer at finish(). Throws as run_sampled_sweep.
+class FedSampledSweep {
+ public:
+  FedSampledSweep(const formats::TraceReader& source, const std::vector<Configuration>& configs,
+                  const std::string& trace_column, const SamplingOptions& options);
+  ~FedSampledSweep();
+  FedSampledSweep(const FedSampledSweep&) = delete;
+  FedSampledSweep& operator=(const FedSampledSweep&) = delete;
+  void feed(const formats::RecordBatch& batch);
+  SampledResult finish();
+
+ private:
+  class Run;
+  const formats::TraceReader& source_;
+  std::unique_ptr<Run> run_;
+};
 
 }  // namespace nodetrace::cachesim
