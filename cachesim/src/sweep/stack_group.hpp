@@ -7,11 +7,13 @@
 // size; each member checks its own capacity).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "nodetrace/cachesim/models/set_stacks.hpp"
 #include "sweep/config_simulator.hpp"
 
 namespace nodetrace::cachesim {
@@ -22,6 +24,22 @@ std::string stack_group_key(const Configuration& config);
 
 // The member whose high cache holds the fewest blocks (the first of them).
 std::size_t tightest_member(const std::vector<Configuration>& members);
+
+// What a stack group of `members` (built as make_stack_group builds it,
+// no per-level counts) found walking sample records: its routing, the set
+// counts of each member, and its stacks, whose walk statistics tell how far
+// fetches went (valid only during `look`).
+struct StackGroupProbe {
+  bool split = false;
+  bool retain = false;
+  std::uint64_t high_refs = 0;
+  std::vector<unsigned> member_low, member_high;  // log2 of each member's low and high set counts
+  const SetStacks* low = nullptr;
+  const SetStacks* high = nullptr;  // null: no high stacks
+};
+void probe_stack_group(const std::vector<Configuration>& members, std::uint32_t split_level,
+                       const TraceContext& context, const formats::Record* sample, std::size_t count,
+                       const std::function<void(const StackGroupProbe&)>& look);
 
 // One simulator per member (configurations of one key, report order). The
 // first one is the leader: only its feed() simulates (for all of them);
