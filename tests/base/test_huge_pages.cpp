@@ -1,4 +1,6 @@
 #include <gtest/gtest.h>
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include <cstdint>
 #include <filesystem>
@@ -58,6 +60,44 @@ TEST(HugePages, ARangeWithNoWholeHugePageIsLeftAlone) {
   ask_for_huge_pages(bytes.data(), bytes.size());
   ask_for_huge_pages(nullptr, 0);
   EXPECT_EQ(std::string(bytes.begin(), bytes.end()), std::string(4096, 'x'));
+}
+
+// How many of the pages of [start, start + size) are in memory (mincore).
+std::size_t resident_pages(const void* start, std::size_t size) {
+  const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
+  const auto first = reinterpret_cast<std::uintptr_t>(start) & ~(page - 1);
+  const std::size_t pages = (reinterpret_cast<std::uintptr_t>(start) + size - first + page - 1) / page;
+  std::vector<unsigned char> in_memory(pages);
+  if (::mincore(reinterpret_cast<void*>(first), pages * page, in_memory.data()) != 0) return 0;
+  std::size_t resident = 0;
+  for (unsigned char flag : in_memory) resident += flag & 1;
+  return resident;
+}
+
+TEST(HugePages, ATouchedReservationIsInMemoryBeforeItIsFilledAndKeepsTheValuesBefore) {
+  std::vector<std::uint32_t> values{5, 6, 7};
+  const std::size_t count = 24u << 20;  // 96 MiB: large enough for every thread's share
+  reserve_touched_on_huge_pages(values, count, 2);
+  ASSERT_GE(values.capacity(), count);
+  EXPECT_EQ(values, (std::vector<std::uint32_t>{5, 6, 7}));
+  const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  const std::size_t room_pages = count * sizeof(std::uint32_t) / page;
+  EXPECT_GE(resident_pages(values.data(), count * sizeof(std::uint32_t)), room_pages);
+}
+
+TEST(HugePages, AnUntouchedReservationIsNotInMemoryYet) {
+  // The counterpart that makes the test above mean something: fresh memory
+  // is not resident until touched.
+  std::vector<std::uint32_t> values;
+  const std::size_t count = 24u << 20;
+  reserve_on_huge_pages(values, count);
+  EXPECT_LT(resident_pages(values.data(), count * sizeof(std::uint32_t)), count * sizeof(std::uint32_t) / 4096 / 2);
+}
+
+TEST(HugePages, TouchingWithOneThreadOrASmallRangeLeavesItToTheFiller) {
+  std::vector<std::uint32_t> values;
+  reserve_touched_on_huge_pages(values, 24u << 20, 1);
+  EXPECT_LT(resident_pages(values.data(), (24u << 20) * sizeof(std::uint32_t)), (24u << 20) * 4 / 4096 / 2);
 }
 
 }  // namespace

@@ -27,8 +27,8 @@ class TreeAssembly {
 
   // Every builder's nodes.
   void copy_into(std::vector<KdNode>& nodes, std::vector<std::uint32_t>& primitives, TaskPool& pool) const {
-    base::reserve_on_huge_pages(nodes, root_.total_nodes());
-    base::reserve_on_huge_pages(primitives, root_.total_primitives());
+    base::reserve_touched_on_huge_pages(nodes, root_.total_nodes(), pool.threads());
+    base::reserve_touched_on_huge_pages(primitives, root_.total_primitives(), pool.threads());
     nodes.resize(root_.total_nodes());
     primitives.resize(root_.total_primitives());
     std::vector<std::unique_ptr<TaskPool::Task>> copies;

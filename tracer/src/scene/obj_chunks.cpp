@@ -384,8 +384,8 @@ std::optional<ObjMesh> read_obj_chunks(std::span<const std::string_view> chunks,
     normals += scans[i].normals;
   }
   const std::vector<int> materials_at_start = follow_materials(scans, material_reader, mesh);
-  base::reserve_on_huge_pages(mesh.vertices, 3 * vertices);
-  base::reserve_on_huge_pages(mesh.normals, 3 * normals);
+  base::reserve_touched_on_huge_pages(mesh.vertices, 3 * vertices, load_threads(threads));
+  base::reserve_touched_on_huge_pages(mesh.normals, 3 * normals, load_threads(threads));
   mesh.vertices.resize(3 * vertices);
   mesh.normals.resize(3 * normals);
 
@@ -411,8 +411,8 @@ std::optional<ObjMesh> read_obj_chunks(std::span<const std::string_view> chunks,
     }
   });
   if (std::find(tie.begin(), tie.end(), 1) != tie.end()) return std::nullopt;
-  base::reserve_on_huge_pages(mesh.corners, 3 * triangles);
-  base::reserve_on_huge_pages(mesh.material_ids, triangles);
+  base::reserve_touched_on_huge_pages(mesh.corners, 3 * triangles, load_threads(threads));
+  base::reserve_touched_on_huge_pages(mesh.material_ids, triangles, load_threads(threads));
   for (auto& parse : parses) {
     mesh.corners.insert(mesh.corners.end(), parse.corners.begin(), parse.corners.end());
     mesh.material_ids.insert(mesh.material_ids.end(), parse.material_ids.begin(), parse.material_ids.end());

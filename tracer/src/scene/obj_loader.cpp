@@ -9,6 +9,7 @@
 #include <cctype>
 #include <cmath>
 #include <functional>
+#include <future>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -110,13 +111,13 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path, unsigne
   const std::string text = read_scene_file(path);
   const std::vector<std::string_view> chunks = split_at_lines(text, kChunksPerThread * load_threads(threads));
   check_obj_lines(chunks, path, threads);
-  std::uint64_t hash = fnv1a64(text);
   const std::filesystem::path directory = path.parent_path();
   std::vector<std::string> notes;
+  std::vector<std::filesystem::path> hashed_libraries;
   for (const auto& library : material_libraries(text)) {
     std::error_code error;
     if (std::filesystem::is_regular_file(directory / library, error)) {
-      hash = fnv1a64(read_scene_file(directory / library), hash);
+      hashed_libraries.push_back(directory / library);
     } else {
       notes.push_back(path.string() + ": mtllib " + library +
                       ": no such file beside the OBJ file; its materials are missing and their faces get the "
@@ -191,7 +192,14 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path, unsigne
                : path.string() + ": triangle " + std::to_string(triangle_index + 1);
   };
   const std::function<std::string()> where_function = where;  // made once, not per triangle
-  base::reserve_on_huge_pages(scene.triangles, mesh.material_ids.size());
+  // The hash (one thread by its nature) beside the triangles' assembly,
+  // which is one thread's too. The future waits for it even when a check throws.
+  std::future<std::uint64_t> hash = std::async(std::launch::async, [&] {
+    std::uint64_t state = fnv1a64(text);
+    for (const auto& library : hashed_libraries) state = fnv1a64(read_scene_file(library), state);
+    return state;
+  });
+  base::reserve_touched_on_huge_pages(scene.triangles, mesh.material_ids.size(), load_threads(threads));
   for (std::size_t t = 0; t < mesh.material_ids.size(); ++t) {
     const ObjCorner* corners = mesh.corners.data() + 3 * t;
     const int material = mesh.material_ids[t];
@@ -239,7 +247,7 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path, unsigne
     scene.lights.push_back({Vec3{box.lo.x - reach, box.hi.y + reach, centre.z + reach}, {0.4f, 0.4f, 0.4f}});
   }
   if (auto warning = checks.warning()) notes.push_back(std::move(*warning));
-  return std::make_unique<StaticSceneSource>(std::move(scene), format_hash(hash), std::move(notes));
+  return std::make_unique<StaticSceneSource>(std::move(scene), format_hash(hash.get()), std::move(notes));
 }
 
 }  // namespace nodetrace::tracer::detail
