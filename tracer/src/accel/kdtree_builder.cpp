@@ -350,10 +350,11 @@ class KdTreeBuilder {
       }
     }
     // At most two events per triangle and axis (and a slot for split_events'
-    // last write). The lists of the nodes near the root are fresh memory,
-    // each page of it first touched here.
+    // last write), nearly all used. The lists of the nodes near the root are
+    // fresh memory: its pages are touched by all threads first, as the other
+    // threads wait for the first split anyway.
     for (NodeInput* child : {&left, &right}) {
-      base::reserve_on_huge_pages(child->events.events, 6 * child->ids.size() + 1);
+      base::reserve_touched_on_huge_pages(child->events.events, 6 * child->ids.size() + 1, pool_.threads());
       child->events.events.resize(6 * child->ids.size() + 1);
     }
     std::size_t left_size = 0, right_size = 0;
