@@ -108,7 +108,7 @@ std::vector<int> triangle_lines(const std::string& obj_text) {
 }  // namespace
 
 std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path, unsigned threads) {
-  const std::string text = read_scene_file(path);
+  const std::string text = read_scene_file(path, load_threads(threads));
   const std::vector<std::string_view> chunks = split_at_lines(text, kChunksPerThread * load_threads(threads));
   check_obj_lines(chunks, path, threads);
   const std::filesystem::path directory = path.parent_path();

@@ -18,8 +18,9 @@ constexpr std::uint64_t kFnvOffset = 0xcbf29ce484222325ULL;
 std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t state = kFnvOffset);
 std::string format_hash(std::uint64_t hash);  // "fnv1a64:<16 hex digits>"
 
-// Reads a whole file; throws SceneError naming `path` when it cannot.
-std::string read_scene_file(const std::filesystem::path& path);
+// Reads a whole file; throws SceneError naming `path` when it cannot. A
+// large regular file's memory is first touched by `threads` threads.
+std::string read_scene_file(const std::filesystem::path& path, unsigned threads = 1);
 
 // A scene that does not change with time.
 class StaticSceneSource final : public SceneSource {

@@ -30,7 +30,7 @@ std::string format_hash(std::uint64_t hash) {
   return text;
 }
 
-std::string read_scene_file(const std::filesystem::path& path) {
+std::string read_scene_file(const std::filesystem::path& path, unsigned threads) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path.string() + ": cannot open scene file");
   std::string contents;
@@ -43,6 +43,7 @@ std::string read_scene_file(const std::filesystem::path& path) {
     if (!error && size > 0) {
       contents.reserve(size);
       base::ask_for_huge_pages(contents.data(), contents.capacity());
+      base::touch_pages_in_parallel(contents.data(), contents.capacity(), threads);
       contents.resize(size);
       in.read(contents.data(), static_cast<std::streamsize>(size));
       contents.resize(static_cast<std::size_t>(in.gcount()));
