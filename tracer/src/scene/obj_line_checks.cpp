@@ -17,11 +17,23 @@ namespace nodetrace::tracer::detail {
 
 namespace {
 
-// Calls visit(line_number, keyword, words) for each line of an OBJ text
-// whose first line is `first_line`;
-// `words` holds what follows the keyword up to a comment.
-template <typename Visit>
-void for_each_line(std::string_view text, std::int64_t first_line, Visit visit) {
+// The next word of `rest` (blank-separated), taken off its front; empty at its end.
+std::string_view next_word(std::string_view& rest) {
+  const std::size_t begin = rest.find_first_not_of(" \t\r");
+  if (begin == std::string_view::npos) return std::string_view{};
+  rest.remove_prefix(begin);
+  const std::size_t end = std::min(rest.find_first_of(" \t\r"), rest.size());
+  const std::string_view word = rest.substr(0, end);
+  rest.remove_prefix(end);
+  return word;
+}
+
+// Calls visit(line_number, keyword, words) for each `v`, `vn`, `vt` and `f`
+// line of an OBJ text whose first line is `first_line`; `words` holds what
+// follows the keyword up to a comment, and is made only for the lines whose
+// keyword `with_words(keyword)` accepts (the others are only counted by a pass).
+template <typename WithWords, typename Visit>
+void for_each_line(std::string_view text, std::int64_t first_line, WithWords with_words, Visit visit) {
   std::size_t line_start = 0;
   std::vector<std::string_view> words;
   for (std::int64_t line = first_line; line_start < text.size(); ++line) {
@@ -29,20 +41,13 @@ void for_each_line(std::string_view text, std::int64_t first_line, Visit visit) 
     if (line_end == std::string::npos) line_end = text.size();
     std::string_view rest(text.data() + line_start, line_end - line_start);
     line_start = line_end + 1;
-    auto next_word = [&rest]() {
-      const std::size_t begin = rest.find_first_not_of(" \t\r");
-      if (begin == std::string_view::npos) return std::string_view{};
-      rest.remove_prefix(begin);
-      const std::size_t end = std::min(rest.find_first_of(" \t\r"), rest.size());
-      const std::string_view word = rest.substr(0, end);
-      rest.remove_prefix(end);
-      return word;
-    };
-    const std::string_view keyword = next_word();
+    const std::string_view keyword = next_word(rest);
     if (keyword != "v" && keyword != "vn" && keyword != "vt" && keyword != "f") continue;
     words.clear();
-    for (std::string_view word = next_word(); !word.empty() && word.front() != '#'; word = next_word()) {
-      words.push_back(word);
+    if (with_words(keyword)) {
+      for (std::string_view word = next_word(rest); !word.empty() && word.front() != '#'; word = next_word(rest)) {
+        words.push_back(word);
+      }
     }
     visit(line, keyword, words);
   }
@@ -60,7 +65,8 @@ struct ElementCounts {
 // The coordinates of a chunk's `v`, `vn` and `vt` lines; returns its counts.
 ElementCounts check_numbers(std::string_view chunk, std::int64_t first_line, const std::filesystem::path& path) {
   ElementCounts counts;
-  for_each_line(chunk, first_line, [&](std::int64_t line, std::string_view keyword, const std::vector<std::string_view>& words) {
+  const auto coordinates = [](std::string_view keyword) { return keyword != "f"; };
+  for_each_line(chunk, first_line, coordinates, [&](std::int64_t line, std::string_view keyword, const std::vector<std::string_view>& words) {
     if (keyword == "f") return;
     counts.count(keyword);
     for (std::string_view word : words) {
@@ -80,7 +86,8 @@ ElementCounts check_numbers(std::string_view chunk, std::int64_t first_line, con
 // The indices of a chunk's `f` lines; `before`: the elements above the chunk.
 void check_faces(std::string_view chunk, std::int64_t first_line, ElementCounts before, const ElementCounts& total,
                  const std::filesystem::path& path) {
-  for_each_line(chunk, first_line, [&](std::int64_t line, std::string_view keyword, const std::vector<std::string_view>& words) {
+  const auto faces = [](std::string_view keyword) { return keyword == "f"; };
+  for_each_line(chunk, first_line, faces, [&](std::int64_t line, std::string_view keyword, const std::vector<std::string_view>& words) {
     if (keyword != "f") {
       before.count(keyword);
       return;
