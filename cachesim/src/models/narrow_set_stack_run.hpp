@@ -97,8 +97,19 @@ inline unsigned narrow_access(std::uint32_t* stack, std::uint32_t block) {
 template <unsigned kDepth>
 std::size_t run_narrow_set_stacks(std::uint32_t* stacks, std::uint64_t mask, const std::uint64_t* in,
                                   std::size_t count, std::uint64_t* out, std::uint64_t* deeper) {
-  std::uint64_t found_at[kDepth + 1] = {};
   std::size_t passed = 0;
+  if constexpr (kDepth == 1) {
+    // Every fetch passed on is the one not kept: no histogram (an add to
+    // memory a fetch, each waiting for the last one to the same place).
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint64_t block = in[i];
+      out[passed] = block;
+      passed += narrow_access<1>(stacks + (block & mask), static_cast<std::uint32_t>(block));
+    }
+    deeper[1] += passed;
+    return passed;
+  }
+  std::uint64_t found_at[kDepth + 1] = {};
   for (std::size_t i = 0; i < count; ++i) {
     const std::uint64_t block = in[i];
     const unsigned place =
