@@ -99,8 +99,7 @@ std::size_t run_narrow_set_stacks(std::uint32_t* stacks, std::uint64_t mask, con
                                   std::size_t count, std::uint64_t* out, std::uint64_t* deeper) {
   std::size_t passed = 0;
   if constexpr (kDepth == 1) {
-    // Every fetch passed on is the one not kept: no histogram (an add to
-    // memory a fetch, each waiting for the last one to the same place).
+    // Every fetch passed on is one not kept: no histogram.
     for (std::size_t i = 0; i < count; ++i) {
       const std::uint64_t block = in[i];
       out[passed] = block;
@@ -109,16 +108,20 @@ std::size_t run_narrow_set_stacks(std::uint32_t* stacks, std::uint64_t mask, con
     deeper[1] += passed;
     return passed;
   }
-  std::uint64_t found_at[kDepth + 1] = {};
+  // Four histograms in turn: with one, a fetch's count waits for the last
+  // fetch found at the same place (an add to memory each).
+  std::uint64_t found_at[4][kDepth + 1] = {};
   for (std::size_t i = 0; i < count; ++i) {
     const std::uint64_t block = in[i];
     const unsigned place =
         narrow_access<kDepth>(stacks + (block & mask) * kDepth, static_cast<std::uint32_t>(block));
-    ++found_at[place];
+    ++found_at[i % 4][place];
     out[passed] = block;
     passed += place != 0;
   }
-  for (unsigned place = 1; place <= kDepth; ++place) deeper[place] += found_at[place];
+  for (unsigned place = 1; place <= kDepth; ++place) {
+    for (const auto& histogram : found_at) deeper[place] += histogram[place];
+  }
   return passed;
 }
 
