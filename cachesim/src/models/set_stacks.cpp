@@ -3,9 +3,16 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "models/narrow_set_stack_run.hpp"
 #include "models/set_stack_run.hpp"
 
 namespace nodetrace::cachesim {
+
+namespace {
+
+bool narrow_depth(std::uint32_t depth) { return depth == 1 || depth == 2 || depth == 4 || depth == 8; }
+
+}  // namespace
 
 SetStacks::SetStacks(std::vector<Level> levels, bool by_tag) : by_tag_(by_tag) {
   std::sort(levels.begin(), levels.end(),
@@ -14,36 +21,111 @@ SetStacks::SetStacks(std::vector<Level> levels, bool by_tag) : by_tag_(by_tag) {
     if (level.depth == 0) throw std::invalid_argument("SetStacks: a depth of 0");
   }
   std::size_t slots = 0;
+  std::size_t narrow_slots = 0;
   std::size_t counts = 0;
   for (const Level& level : levels) {
-    slots += (std::size_t{1} << level.log2_sets) * level.depth;
+    const std::size_t sets = std::size_t{1} << level.log2_sets;
+    (narrow_depth(level.depth) ? narrow_slots : slots) += sets * level.depth;
     counts += level.depth + 1;
   }
   storage_.assign(slots, kEmpty);
+  narrow_storage_.assign(narrow_slots, kNarrowEmpty);
   counts_.assign(counts, 0);
   std::size_t slot = 0;
+  std::size_t narrow_slot = 0;
   std::size_t count = 0;
   for (const Level& level : levels) {
+    const std::size_t sets = std::size_t{1} << level.log2_sets;
     LevelState state;
-    state.stacks = storage_.data() + slot;
-    state.mask = (std::uint64_t{1} << level.log2_sets) - 1;
+    if (narrow_depth(level.depth)) {
+      state.narrow_stacks = narrow_storage_.data() + narrow_slot;
+      narrow_slot += sets * level.depth;
+      narrow_ = true;
+    } else {
+      state.stacks = storage_.data() + slot;
+      slot += sets * level.depth;
+    }
+    state.mask = sets - 1;
     state.depth = level.depth;
     state.deeper = counts_.data() + count;
     state.log2_sets = level.log2_sets;
-    slot += (std::size_t{1} << level.log2_sets) * level.depth;
     count += level.depth + 1;
     levels_.push_back(std::move(state));
   }
   for (const LevelState& level : levels_) direct_mapped_ = direct_mapped_ && level.depth == 1;
 }
 
+void SetStacks::widen() {
+  widened_.resize(narrow_storage_.size());
+  std::transform(narrow_storage_.begin(), narrow_storage_.end(), widened_.begin(),
+                 [](std::uint32_t block) { return block == kNarrowEmpty ? kEmpty : block; });
+  for (LevelState& level : levels_) {
+    if (!level.narrow_stacks) continue;
+    level.stacks = widened_.data() + (level.narrow_stacks - narrow_storage_.data());
+    level.narrow_stacks = nullptr;
+  }
+  narrow_ = false;
+  narrow_storage_ = {};
+}
+
+void SetStacks::access(std::uint64_t block, unsigned tag) {
+  if (narrow_ && !fits_narrow(block)) widen();
+  ++fetches_;
+  for (LevelState& level : levels_) {
+    std::uint32_t position;
+    if (level.narrow_stacks) {
+      const auto narrow = static_cast<std::uint32_t>(block);
+      std::uint32_t* const set = level.narrow_stacks + (block & level.mask) * level.depth;
+      switch (level.depth) {
+        case 1: position = narrow_access<1>(set, narrow); break;
+        case 2: position = narrow_access<2>(set, narrow); break;
+        case 4: position = narrow_access<4>(set, narrow); break;
+        default: position = narrow_access<8>(set, narrow);
+      }
+      if (position == 0) return;  // on top here, so on top of every larger set count
+    } else {
+      std::uint64_t* const set = level.stacks + (block & level.mask) * level.depth;
+      if (set[0] == block) return;
+      // position: 0-based place found, or depth when not among the kept
+      // ones (then the oldest kept block falls off). Measured: this plain
+      // loop is faster than a branchless move-to-front.
+      position = 1;
+      while (position < level.depth && set[position] != block) ++position;
+      const std::uint32_t moved = position < level.depth ? position : level.depth - 1;
+      for (std::uint32_t i = moved; i > 0; --i) set[i] = set[i - 1];
+      set[0] = block;
+    }
+    ++level.deeper[position];
+    if (by_tag_) count_tag(level, tag, position);
+  }
+}
+
 void SetStacks::access_blocks(const std::uint64_t* blocks, std::size_t count) {
+  if (narrow_) {
+    // Widened before the batch when any block in it needs more than 32
+    // bits: the stacks so far saw only blocks that fit.
+    // (block + 1 reaches bit 32 exactly when a block does not fit; an OR
+    // of them tells for the batch, a loop the compiler vectorises.)
+    std::uint64_t any = 0;
+    for (std::size_t i = 0; i < count; ++i) any |= blocks[i] + 1;
+    if ((any >> 32) != 0) widen();
+  }
   fetches_ += count;
   if (passed_.size() < count) passed_.resize(count);
   // Each set count passes on what it did not find on top, in place.
   const std::uint64_t* in = blocks;
   std::uint64_t* const passed = passed_.data();
   for (LevelState& level : levels_) {
+    if (std::uint32_t* const stacks = level.narrow_stacks) {
+      switch (level.depth) {
+        case 1: count = run_narrow_set_stacks<1>(stacks, level.mask, in, count, passed, level.deeper); break;
+        case 2: count = run_narrow_set_stacks<2>(stacks, level.mask, in, count, passed, level.deeper); break;
+        case 4: count = run_narrow_set_stacks<4>(stacks, level.mask, in, count, passed, level.deeper); break;
+        default: count = run_narrow_set_stacks<8>(stacks, level.mask, in, count, passed, level.deeper);
+      }
+      in = passed;
+      continue;
+    }
     switch (level.depth) {
       case 1: count = run_set_stacks<1>(level.stacks, level.mask, in, count, passed, level.deeper); break;
       case 2: count = run_set_stacks<2>(level.stacks, level.mask, in, count, passed, level.deeper); break;
@@ -92,7 +174,15 @@ std::uint64_t SetStacks::misses(unsigned log2_sets, std::uint32_t ways, unsigned
 std::vector<std::uint64_t> SetStacks::ways_of(unsigned log2_sets, std::uint64_t set,
                                               std::uint32_t ways) const {
   const LevelState& at = level(log2_sets);
-  const std::uint64_t* const stack = at.stacks + (set & at.mask) * at.depth;
+  set &= at.mask;
+  if (at.narrow_stacks) {
+    const std::uint32_t* const stack = at.narrow_stacks + set * at.depth;
+    std::vector<std::uint64_t> blocks(ways);
+    std::transform(stack, stack + ways, blocks.begin(),
+                   [](std::uint32_t block) { return block == kNarrowEmpty ? kEmpty : block; });
+    return blocks;
+  }
+  const std::uint64_t* const stack = at.stacks + set * at.depth;
   return std::vector<std::uint64_t>(stack, stack + ways);
 }
 

@@ -37,6 +37,17 @@ std::vector<std::uint64_t> random_blocks(std::size_t count, std::uint64_t seed) 
   return blocks;
 }
 
+// access_blocks() of `blocks` in batches of uneven length (up to
+// `longest`), as a sweep's batches end anywhere.
+void access_in_uneven_batches(SetStacks& stacks, const std::vector<std::uint64_t>& blocks,
+                              std::size_t longest) {
+  for (std::size_t begin = 0; begin < blocks.size();) {
+    const std::size_t count = std::min<std::size_t>(1 + begin % longest, blocks.size() - begin);
+    stacks.access_blocks(blocks.data() + begin, count);
+    begin += count;
+  }
+}
+
 TEST(SetStacks, EverySetCountAndWaysEqualsAnLruNodeCache) {
   // Set counts 1..256 with stacks 1..16 deep (not all powers of two).
   const std::vector<SetStacks::Level> levels{{0, 16}, {2, 8}, {3, 3}, {5, 1}, {6, 4}, {8, 2}};
@@ -83,12 +94,7 @@ TEST(SetStacks, BlocksSetCountBySetCountEqualTheWalk) {
     SetStacks walked(levels);
     SetStacks by_set_count(levels);
     for (const std::uint64_t block : blocks) walked.access(block);
-    // In chunks of uneven length, as a sweep's batches end anywhere.
-    for (std::size_t begin = 0; begin < blocks.size();) {
-      const std::size_t count = std::min<std::size_t>(1 + begin % 4099, blocks.size() - begin);
-      by_set_count.access_blocks(blocks.data() + begin, count);
-      begin += count;
-    }
+    access_in_uneven_batches(by_set_count, blocks, 4099);
     EXPECT_EQ(by_set_count.fetches(), walked.fetches());
     for (const SetStacks::Level& level : levels) {
       for (std::uint32_t ways = 1; ways <= level.depth; ++ways) {
@@ -104,6 +110,70 @@ TEST(SetStacks, BlocksSetCountBySetCountEqualTheWalk) {
       EXPECT_EQ(by_set_count.walk(level.log2_sets).places, walked.walk(level.log2_sets).places);
     }
   }
+}
+
+// Stacks start with 32-bit blocks and widen to 64-bit ones before the first
+// block that needs more (set_stacks.hpp). Blocks that agree in their low
+// 32 bits (b and b + 2^32, in the same set of every set count) and the
+// block 2^32 - 1 (the narrow stacks' free place) come after the widening,
+// so a truncating or early narrow path miscounts them; both ways of feeding
+// (one block, a batch) against LRU caches, and the contents after.
+TEST(SetStacks, WideningPartwayKeepsEveryCountExact) {
+  const std::vector<SetStacks::Level> levels{{0, 8}, {2, 8}, {3, 4}, {4, 2}, {5, 1}, {6, 16}, {7, 3}};
+  constexpr std::uint64_t kHigh = std::uint64_t{1} << 32;
+  for (const std::uint64_t seed : {7u, 8u}) {
+    const auto low = random_blocks(20000, seed);
+    std::vector<std::uint64_t> blocks(low.begin(), low.begin() + 9000);
+    // Narrow until here, then: the last narrow-fitting block's neighbour
+    // (2^32 - 1) and aliases of blocks still held, mixed with the old ones.
+    blocks.push_back(kHigh - 1);
+    for (std::size_t i = 9000; i < low.size(); ++i) {
+      const std::uint64_t alias = i % 3 == 0 ? kHigh : i % 3 == 1 ? 0 : kHigh * 5;
+      blocks.push_back(low[i] % 64 + alias);
+      blocks.push_back(i % 7 == 0 ? kHigh - 1 : low[i]);
+    }
+    SetStacks walked(levels);
+    SetStacks batched(levels);
+    for (const std::uint64_t block : blocks) walked.access(block);
+    // The widening falls inside one of the batches.
+    access_in_uneven_batches(batched, blocks, 3001);
+    for (const SetStacks::Level& level : levels) {
+      const std::uint64_t sets = std::uint64_t{1} << level.log2_sets;
+      for (std::uint32_t ways = 1; ways <= level.depth; ways *= 2) {
+        SetAssociativeCache cache({sets * ways * 8, 8, ways, ReplacementPolicy::Lru});
+        std::uint64_t misses = 0;
+        for (const std::uint64_t block : blocks) misses += cache.access(block);
+        const std::string what = fmt::format("seed {}, {} sets, {} ways", seed, sets, ways);
+        EXPECT_EQ(walked.misses(level.log2_sets, ways), misses) << what;
+        EXPECT_EQ(batched.misses(level.log2_sets, ways), misses) << what;
+      }
+      for (std::uint64_t set = 0; set < sets; ++set) {
+        EXPECT_EQ(batched.ways_of(level.log2_sets, set, level.depth),
+                  walked.ways_of(level.log2_sets, set, level.depth));
+      }
+    }
+    // The contents after widening are the 64-bit blocks themselves.
+    SetAssociativeCache cache({4 * 2 * 8, 8, 2, ReplacementPolicy::Lru});
+    for (const std::uint64_t block : blocks) cache.access(block);
+    SetAssociativeCache copy({4 * 2 * 8, 8, 2, ReplacementPolicy::Lru});
+    for (std::uint64_t set = 0; set < 4; ++set) copy.assign_set(set, batched.ways_of(2, set, 2));
+    for (const std::uint64_t block : {kHigh - 1, kHigh + 1, std::uint64_t{1}, kHigh * 5 + 2}) {
+      EXPECT_EQ(copy.access(block), cache.access(block)) << block;
+    }
+  }
+}
+
+// Narrow stacks hold contents as the wide ones do: free places are
+// SetStacks::kEmpty, and a block equal to 2^32 - 2 (the largest narrow
+// one) is kept as itself.
+TEST(SetStacks, NarrowContentsAreTheBlocksAndFreePlacesAreEmpty) {
+  SetStacks stacks({{1, 4}});
+  const std::uint64_t largest = (std::uint64_t{1} << 32) - 2;
+  stacks.access(largest);
+  stacks.access(4);
+  EXPECT_EQ(stacks.ways_of(1, 0, 4),
+            (std::vector<std::uint64_t>{4, largest, SetStacks::kEmpty, SetStacks::kEmpty}));
+  EXPECT_EQ(stacks.ways_of(1, 1, 4), std::vector<std::uint64_t>(4, SetStacks::kEmpty));
 }
 
 TraceContext context_of(formats::RecordForm form) {

@@ -11,6 +11,11 @@
 // one, so the block is on top there too and nothing changes (the "forest"
 // of direct-mapped caches is the case of depth 1 everywhere).
 //
+// Stacks of 1, 2, 4 or 8 places start narrow (narrow_set_stack_run.hpp:
+// 32-bit blocks, half the work) and are widened to 64-bit blocks before the
+// first block that needs more than 32 bits: the counts are the same either
+// way.
+//
 // No invalidation: removing a block breaks the inclusion between
 // associativities (a W-way cache then holds a free way that a W+1-way cache
 // fills); a caller with invalidates hands over to per-cache simulation, the
@@ -36,23 +41,7 @@ class SetStacks {
   explicit SetStacks(std::vector<Level> levels, bool by_tag = false);
 
   // One demand fetch of `block`; `tag` is counted only with by_tag.
-  void access(std::uint64_t block, unsigned tag = 0) {
-    ++fetches_;
-    for (LevelState& level : levels_) {
-      std::uint64_t* const set = level.stacks + (block & level.mask) * level.depth;
-      if (set[0] == block) return;  // on top here, so on top of every larger set count
-      // position: 0-based place found, or depth when not among the kept
-      // ones (then the oldest kept block falls off). Measured: this plain
-      // loop is faster than a branchless move-to-front.
-      std::uint32_t position = 1;
-      while (position < level.depth && set[position] != block) ++position;
-      const std::uint32_t moved = position < level.depth ? position : level.depth - 1;
-      for (std::uint32_t i = moved; i > 0; --i) set[i] = set[i - 1];
-      set[0] = block;
-      ++level.deeper[position];
-      if (by_tag_) count_tag(level, tag, position);
-    }
-  }
+  void access(std::uint64_t block, unsigned tag = 0);
 
   // Every level one block deep (direct-mapped caches only)?
   bool direct_mapped() const { return direct_mapped_; }
@@ -85,7 +74,8 @@ class SetStacks {
 
  private:
   struct LevelState {
-    std::uint64_t* stacks = nullptr;
+    std::uint64_t* stacks = nullptr;  // wide: depth blocks a set, most recent first
+    std::uint32_t* narrow_stacks = nullptr;  // narrow (stacks null): the same with 32-bit blocks
     std::uint64_t mask = 0;
     std::uint32_t depth = 1;
     // deeper[p]: fetches found at 0-based place p >= 1 (p = depth: not
@@ -96,9 +86,14 @@ class SetStacks {
   };
   const LevelState& level(unsigned log2_sets) const;
   static void count_tag(LevelState& level, unsigned tag, std::uint32_t position);
+  // Every narrow level to wide stacks, keeping each set's order.
+  void widen();
 
   std::vector<LevelState> levels_;
-  std::vector<std::uint64_t> storage_;
+  std::vector<std::uint64_t> storage_;  // the wide levels' stacks
+  std::vector<std::uint32_t> narrow_storage_;  // the narrow levels' stacks
+  std::vector<std::uint64_t> widened_;         // the same once widened
+  bool narrow_ = false;                 // some levels are narrow
   std::vector<std::uint64_t> counts_;
   std::vector<std::uint64_t> passed_;  // access_blocks()' fetches not on top so far
   std::uint64_t fetches_ = 0;
