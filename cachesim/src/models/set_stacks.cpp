@@ -104,11 +104,7 @@ void SetStacks::access_blocks(const std::uint64_t* blocks, std::size_t count) {
   if (narrow_) {
     // Widened before the batch when any block in it needs more than 32
     // bits: the stacks so far saw only blocks that fit.
-    // (block + 1 reaches bit 32 exactly when a block does not fit; an OR
-    // of them tells for the batch, a loop the compiler vectorises.)
-    std::uint64_t any = 0;
-    for (std::size_t i = 0; i < count; ++i) any |= blocks[i] + 1;
-    if ((any >> 32) != 0) widen();
+    if (!all_fit_narrow(blocks, count)) widen();
   }
   fetches_ += count;
   if (passed_.size() < count) passed_.resize(count);
