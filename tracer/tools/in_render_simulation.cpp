@@ -128,22 +128,20 @@ RecordSinkMaker InRenderSimulation::sink_maker(std::vector<std::string> trace_na
     auto layout = std::make_shared<Layout>();
     const std::string& name = names.at(start.layout_index);
     Layout* simulated = layout.get();
-    // Fed as the records are handed over, on that thread, where the mode
-    // allows: a thread of its own cost more CPU in hand-overs, wake-ups and
-    // records moved between cores than the simulation itself.
-    layout->pipe = std::make_unique<formats::RecordPipe>(
-        name, start.header, start.writer, [simulated](const formats::RecordBatch& batch) { simulated->fed->feed(batch); });
+    layout->pipe = std::make_unique<formats::RecordPipe>(name, start.header, start.writer);
     layout->reader = layout->pipe->reader();
     const cachesim::tools::RunMode mode = session_.mode_for({layout->reader.get()});
     if (!mode_) mode_ = mode;
+    // Fed as the records are handed over, on that thread, where the mode
+    // allows: a thread of its own cost more CPU in hand-overs, wake-ups and
+    // records moved between cores than the simulation itself.
     layout->fed = session_.fed_simulation(mode, *layout->reader, name);
     if (layout->fed) {
+      layout->pipe->feed_to([simulated](const formats::RecordBatch& batch) { simulated->fed->feed(batch); });
       layouts_.push_back(layout);
       return std::make_unique<SimulationSink>(std::move(layout));
     }
     // The other modes read the pipe on a thread of their own.
-    layout->pipe = std::make_unique<formats::RecordPipe>(name, start.header, start.writer);
-    layout->reader = layout->pipe->reader();
     layout->thread = std::thread([this, simulated, mode, name] {
       try {
         simulated->outcome = session_.simulate(mode, *simulated->reader, name);

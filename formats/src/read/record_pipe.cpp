@@ -6,6 +6,7 @@
 #include <bit>
 #include <cstddef>
 #include <cstring>
+#include <stdexcept>
 #include <utility>
 
 #include "nodetrace/base/error.hpp"
@@ -113,9 +114,8 @@ RecordPipe::RecordPipe(std::string name, const nlohmann::json& header, const Wri
   header_.json = container_header(header, options);
 }
 
-RecordPipe::RecordPipe(std::string name, const nlohmann::json& header, const WriterOptions& options,
-                       BatchConsumer consume)
-    : RecordPipe(std::move(name), header, options) {
+void RecordPipe::feed_to(BatchConsumer consume) {
+  if (records_written_ > 0) throw std::logic_error("RecordPipe::feed_to after the first write");
   consume_ = std::move(consume);
 }
 

@@ -5,6 +5,7 @@
 // pieces, however large the producer's writes.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -107,7 +108,8 @@ TEST(RecordPipe, AConsumerGetsTheReadersBatchesOnTheProducersThreadAsTheyAreMade
   Delivered delivered;
   bool on_producers_thread = true;
   const std::thread::id producer = std::this_thread::get_id();
-  RecordPipe pipe("pipe", nlohmann::json::object(), options, [&](const RecordBatch& batch) {
+  RecordPipe pipe("pipe", nlohmann::json::object(), options);
+  pipe.feed_to([&](const RecordBatch& batch) {
     on_producers_thread &= std::this_thread::get_id() == producer;
     take(delivered, batch);
   });
@@ -116,9 +118,12 @@ TEST(RecordPipe, AConsumerGetsTheReadersBatchesOnTheProducersThreadAsTheyAreMade
   expect_container_batches(delivered);
 
   Delivered early;
-  RecordPipe second("second", nlohmann::json::object(), options, [&](const RecordBatch& batch) { take(early, batch); });
+  RecordPipe second("second", nlohmann::json::object(), options);
+  second.feed_to([&](const RecordBatch& batch) { take(early, batch); });
   second.write(numbered_records(10, 0));
   EXPECT_EQ(early.records.size(), 10u);  // before write returns, not at the end
+  // Batches already made went nowhere else: a consumer comes before them.
+  EXPECT_THROW(second.feed_to([](const RecordBatch&) {}), std::logic_error);
 }
 
 TEST(RecordPipe, EachFormReadsBackAsItsContainerGivesIt) {
@@ -129,9 +134,8 @@ TEST(RecordPipe, EachFormReadsBackAsItsContainerGivesIt) {
     WriterOptions options;
     options.form = form;
     Delivered delivered;
-    RecordPipe pipe("pipe", nlohmann::json::object(), options, [&](const RecordBatch& batch) {
-      take(delivered, batch);
-    });
+    RecordPipe pipe("pipe", nlohmann::json::object(), options);
+    pipe.feed_to([&](const RecordBatch& batch) { take(delivered, batch); });
     pipe.write(records);
     pipe.finish(nlohmann::json::object());
     std::vector<Record> expected;

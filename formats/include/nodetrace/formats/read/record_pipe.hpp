@@ -38,14 +38,16 @@ class RecordPipe {
   // the reader waits for half of them (or the end) before it reads on.
   RecordPipe(std::string name, const nlohmann::json& header, const WriterOptions& options,
              std::size_t batches_ahead = 8);
-  // Each batch goes to `consume` on the producer's thread as it is made,
-  // with no thread, queue or wake-up between (its exceptions reach the
-  // producer's call); reader() then serves only the header and form.
-  using BatchConsumer = std::function<void(const RecordBatch&)>;
-  RecordPipe(std::string name, const nlohmann::json& header, const WriterOptions& options, BatchConsumer consume);
   ~RecordPipe();
   RecordPipe(const RecordPipe&) = delete;
   RecordPipe& operator=(const RecordPipe&) = delete;
+
+  // From now on (before the first write) each batch goes to `consume` on
+  // the producer's thread as it is made, with no thread, queue or wake-up
+  // between (its exceptions reach the producer's call); reader() then
+  // serves only the header and form.
+  using BatchConsumer = std::function<void(const RecordBatch&)>;
+  void feed_to(BatchConsumer consume);
 
   // The producer's side, in trace order, from one thread.
   void begin_animation_frame(const AnimationFrameMarker& marker);
