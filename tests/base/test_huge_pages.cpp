@@ -95,9 +95,25 @@ TEST(HugePages, AnUntouchedReservationIsNotInMemoryYet) {
 }
 
 TEST(HugePages, TouchingWithOneThreadOrASmallRangeLeavesItToTheFiller) {
-  std::vector<std::uint32_t> values;
-  reserve_touched_on_huge_pages(values, 24u << 20, 1);
-  EXPECT_LT(resident_pages(values.data(), (24u << 20) * sizeof(std::uint32_t)), (24u << 20) * 4 / 4096 / 2);
+  // Fresh anonymous mappings: none of their pages is in memory before a touch.
+  const auto fresh = [](std::size_t size) {
+    void* const start = ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    EXPECT_NE(start, MAP_FAILED);
+    return start;
+  };
+  constexpr std::size_t kMiB = std::size_t{1} << 20;
+  const std::size_t pages_of_16 = 16 * kMiB / static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  void* const one_thread = fresh(16 * kMiB);
+  touch_pages_in_parallel(one_thread, 16 * kMiB, 1);
+  EXPECT_EQ(resident_pages(one_thread, 16 * kMiB), 0u);
+  void* const small = fresh(6 * kMiB);  // under two shares of 4 MiB
+  touch_pages_in_parallel(small, 6 * kMiB, 2);
+  EXPECT_EQ(resident_pages(small, 6 * kMiB), 0u);
+  void* const large = fresh(16 * kMiB);  // two shares: touched
+  touch_pages_in_parallel(large, 16 * kMiB, 2);
+  EXPECT_EQ(resident_pages(large, 16 * kMiB), pages_of_16);
+  for (void* start : {one_thread, large}) ::munmap(start, 16 * kMiB);
+  ::munmap(small, 6 * kMiB);
 }
 
 }  // namespace
