@@ -52,7 +52,33 @@ class PackedPolicyCache {
     narrow_ = {};
   }
 
-  // The misses of `count` references in order (`kInvalidates`: some may be
+  std::uint64_t misses() const { return misses_; }
+
+  // One demand fetch of `block` (`refetched`: a Refetched reference, see
+  // run()); returns whether it missed. Inline, for callers that run
+  // several caches over the same references in one loop (packed_cache_bundle.hpp).
+  template <typename Tag>
+  bool access(std::uint64_t block, bool refetched) {
+    const std::uint64_t set = block & set_mask_;
+    Tag* const ways = tags<Tag>() + set * kWays;
+    const auto tag = static_cast<Tag>(block);
+    Word* const word = state_.words() + set;
+    const std::uint32_t found = match_ways<kWays>(ways, tag);
+    if (found != 0) [[likely]] {
+      *word = State::hit(*word, static_cast<std::uint32_t>(std::countr_zero(found)));
+      return false;
+    }
+    // A miss: the lowest invalid way, else the victim.
+    ++misses_;
+    const std::uint32_t invalid = match_ways<kWays>(ways, static_cast<Tag>(~Tag{0}));
+    const bool evicted = invalid == 0;
+    const std::uint32_t way = evicted ? State::victim(*word) : static_cast<std::uint32_t>(std::countr_zero(invalid));
+    ways[way] = tag;
+    *word = state_.fill(*word, way, set, evicted, refetched);
+    return true;
+  }
+
+  // `count` references in order (`kInvalidates`: some may be
   // invalidations). A Refetched fetch stands for itself and the fetches of
   // its block that follow it before any other fetch of its set: those hit,
   // and a hit's update is idempotent (PLRU points the same bits away again,
@@ -61,40 +87,24 @@ class PackedPolicyCache {
   // again; after a fill it is not (RRIP: 0, not the insertion value), so it
   // is applied once.
   template <typename Tag, bool kInvalidates>
-  std::uint64_t run(const std::uint64_t* blocks, const PackedReference* kinds, std::size_t count) {
-    // Locals, not members: the words may be bytes, whose stores the
-    // compiler must otherwise assume change any member.
-    Tag* const tags = this->tags<Tag>();
-    Word* const words = state_.words();
-    const std::uint64_t set_mask = set_mask_;
-    std::uint64_t misses = 0;
+  void run(const std::uint64_t* blocks, const PackedReference* kinds, std::size_t count) {
     for (std::size_t r = 0; r < count; ++r) {
-      const std::uint64_t block = blocks[r];
-      const std::uint64_t set = block & set_mask;
-      Tag* const ways = tags + set * kWays;
-      const auto tag = static_cast<Tag>(block);
       if constexpr (kInvalidates) {
         if (kinds[r] == PackedReference::Invalidate) [[unlikely]] {
-          const std::uint32_t found = match_ways<kWays>(ways, tag);
-          if (found != 0) ways[std::countr_zero(found)] = static_cast<Tag>(~Tag{0});  // the state stays
+          invalidate<Tag>(blocks[r]);
           continue;
         }
       }
-      const Word word = words[set];
-      const std::uint32_t found = match_ways<kWays>(ways, tag);
-      if (found != 0) [[likely]] {
-        words[set] = State::hit(word, static_cast<std::uint32_t>(std::countr_zero(found)));
-        continue;
-      }
-      // A miss: the lowest invalid way, else the victim.
-      ++misses;
-      const std::uint32_t invalid = match_ways<kWays>(ways, static_cast<Tag>(~Tag{0}));
-      const bool evicted = invalid == 0;
-      const std::uint32_t way = evicted ? State::victim(word) : static_cast<std::uint32_t>(std::countr_zero(invalid));
-      ways[way] = tag;
-      words[set] = state_.fill(word, way, set, evicted, kinds[r] == PackedReference::Refetched);
+      access<Tag>(blocks[r], kinds[r] == PackedReference::Refetched);
     }
-    return misses;
+  }
+
+  // Leaves `block`'s way invalid, if it holds it; the policy state stays.
+  template <typename Tag>
+  void invalidate(std::uint64_t block) {
+    Tag* const ways = tags<Tag>() + (block & set_mask_) * kWays;
+    const std::uint32_t found = match_ways<kWays>(ways, static_cast<Tag>(block));
+    if (found != 0) ways[std::countr_zero(found)] = static_cast<Tag>(~Tag{0});
   }
 
  private:
@@ -113,6 +123,7 @@ class PackedPolicyCache {
   std::vector<std::uint32_t> narrow_;  // sets * kWays tags, until widen()
   std::vector<std::uint64_t> wide_;    // after widen()
   State state_;
+  std::uint64_t misses_ = 0;
 };
 
 }  // namespace nodetrace::cachesim

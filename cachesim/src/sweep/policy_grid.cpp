@@ -1,6 +1,6 @@
 // The policy grid: a chunk's references collected once, then, for each
 // set count of its members (fewest sets first), filtered by that set
-// count's filter and run through those members' packed caches.
+// count's filter and run through those members' packed caches together.
 #include "sweep/policy_grid.hpp"
 
 #include <fmt/format.h>
@@ -9,7 +9,7 @@
 #include <bit>
 #include <map>
 
-#include "models/packed_policy_cache.hpp"
+#include "models/packed_cache_bundle.hpp"
 #include "models/record_blocks.hpp"
 
 namespace nodetrace::cachesim {
@@ -36,59 +36,11 @@ struct References {
   }
 };
 
-// One member's cache behind a virtual call per chunk.
-class GridCache {
- public:
-  virtual ~GridCache() = default;
-  // `beyond_narrow`: a block number of the chunk needs a 64-bit tag.
-  virtual void run(const References& references, bool beyond_narrow) = 0;
-  std::uint64_t misses() const { return misses_; }
-
- protected:
-  std::uint64_t misses_ = 0;
-};
-
-template <typename State, unsigned kWays>
-class GridCacheOf final : public GridCache {
- public:
-  explicit GridCacheOf(const CacheGeometry& geometry) : cache_(geometry) {}
-
-  void run(const References& references, bool beyond_narrow) override {
-    if (beyond_narrow && !cache_.wide()) cache_.widen();
-    if (cache_.wide()) {
-      run_with<std::uint64_t>(references);
-    } else {
-      run_with<std::uint32_t>(references);
-    }
-  }
-
- private:
-  template <typename Tag>
-  void run_with(const References& references) {
-    const std::uint64_t* const blocks = references.blocks.data();
-    const PackedReference* const kinds = references.kinds.data();
-    misses_ += references.invalidates ? cache_.template run<Tag, true>(blocks, kinds, references.count)
-                                      : cache_.template run<Tag, false>(blocks, kinds, references.count);
-  }
-
-  PackedPolicyCache<State, kWays> cache_;
-};
-
-template <template <unsigned> class State>
-std::unique_ptr<GridCache> grid_cache_of(const CacheGeometry& geometry) {
-  switch (geometry.assoc) {
-    case 2: return std::make_unique<GridCacheOf<State<2>, 2>>(geometry);
-    case 4: return std::make_unique<GridCacheOf<State<4>, 4>>(geometry);
-    case 8: return std::make_unique<GridCacheOf<State<8>, 8>>(geometry);
-    default: return std::make_unique<GridCacheOf<State<16>, 16>>(geometry);
-  }
-}
-
-std::unique_ptr<GridCache> grid_cache(const Configuration& config) {
+// The caches' geometry, checked.
+CacheGeometry grid_geometry(const Configuration& config) {
   const CacheGeometry geometry{config.size, config.block, config.assoc, config.policy};
   validate_geometry(geometry, "cache");
-  if (config.policy == ReplacementPolicy::Plru) return grid_cache_of<PackedPlru>(geometry);
-  return grid_cache_of<PackedRrip>(geometry);
+  return geometry;
 }
 
 // The filter of one set count: per set, the block its last fetch fetched
@@ -175,10 +127,13 @@ class PolicyGrid {
     std::map<unsigned, std::vector<std::size_t>> by_sets;
     for (std::size_t m = 0; m < configs.size(); ++m) {
       const Configuration& config = configs[m];
-      caches_.push_back(grid_cache(config));
       by_sets[static_cast<unsigned>(std::countr_zero(config.size / config.block / config.assoc))].push_back(m);
     }
-    for (auto& [log2_sets, members] : by_sets) levels_.push_back(Level{SetFilter(log2_sets), std::move(members), {}});
+    where_.resize(configs.size());
+    for (auto& [log2_sets, members] : by_sets) {
+      Level& level = levels_.emplace_back(Level{SetFilter(log2_sets), {}, {}});
+      for (const std::size_t m : members) where_[m] = {levels_.size() - 1, level.caches.add(grid_geometry(configs[m]))};
+    }
   }
 
   void feed(const Record* records, std::size_t count, const PreparedBatch& prepared) {
@@ -190,7 +145,8 @@ class PolicyGrid {
     const References* in = &chunk_;
     for (Level& level : levels_) {
       level.filter.filter(*in, level.kept);
-      for (const std::size_t m : level.members) caches_[m]->run(level.kept, beyond_narrow_);
+      level.caches.run(level.kept.blocks.data(), level.kept.kinds.data(), level.kept.count, level.kept.invalidates,
+                       beyond_narrow_);
       in = &level.kept;
     }
   }
@@ -201,15 +157,15 @@ class PolicyGrid {
     row.config = configs_[m];
     row.refs = refs_;
     row.fetches = fetches_;
-    row.misses = caches_[m]->misses();
+    row.misses = levels_[where_[m].first].caches.misses(where_[m].second);
     return row;
   }
 
  private:
-  // One set count: its filter, its members, and the references it kept.
+  // One set count: its filter, its members' caches, and the references it kept.
   struct Level {
     SetFilter filter;
-    std::vector<std::size_t> members;
+    PackedCacheBundle caches;
     References kept;
   };
 
@@ -270,8 +226,8 @@ class PolicyGrid {
   std::vector<Configuration> configs_;
   unsigned shift_;
   bool aligned_din_;
-  std::vector<std::unique_ptr<GridCache>> caches_;
-  std::vector<Level> levels_;  // fewest sets first
+  std::vector<Level> levels_;                                 // fewest sets first
+  std::vector<std::pair<std::size_t, std::size_t>> where_;  // per member: its level and index there
   References chunk_;           // the chunk's references, reused
   bool beyond_narrow_ = false;
   std::uint64_t refs_ = 0;

@@ -5,11 +5,11 @@
 // chunk of records once into references; then, for each set count of its
 // members, fewest sets first, a filter leaves out every fetch of the block
 // its set fetched last (a hit in every cache of that set count, whose
-// update changes nothing: see SetFilter), and each of those members runs
-// over what is left, so its sets stay in the processor's cache for the
-// whole chunk. On a rendered kd-tree trace with 8-byte blocks no fetch
-// repeats the one before it, but a set of 64 sets leaves out 40 % of them
-// and one of 512 sets 83 %.
+// update changes nothing: see SetFilter), and that set count's members run
+// together over what is left (packed_cache_bundle.hpp), their sets staying
+// in the processor's cache for the whole chunk. On a rendered kd-tree trace
+// with 8-byte blocks no fetch repeats the one before it, but a set of 64
+// sets leaves out 40 % of them and one of 512 sets 80 %.
 #pragma once
 
 #include <memory>
