@@ -20,6 +20,10 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define NODETRACE_NARROW_STACKS_AVX2 1
+#endif
 
 namespace nodetrace::cachesim {
 
@@ -99,6 +103,22 @@ inline unsigned narrow_access(std::uint32_t* stack, std::uint32_t block) {
   }
 }
 
+// Fetches counted by the place they were found at, in four histograms in
+// turn: with one, a fetch's count waits for the last fetch found at the
+// same place (an add to memory each).
+template <unsigned kDepth>
+struct PlaceHistograms {
+  std::uint64_t found_at[4][kDepth + 1] = {};
+
+  void count(std::size_t fetch, unsigned place) { ++found_at[fetch % 4][place]; }
+  // Adds places 1..kDepth to deeper[] (place 0 is never counted there).
+  void add_to(std::uint64_t* deeper) const {
+    for (unsigned place = 1; place <= kDepth; ++place) {
+      for (const auto& histogram : found_at) deeper[place] += histogram[place];
+    }
+  }
+};
+
 // Runs `count` fetches (`in`, every one fitting narrow stacks) through the
 // narrow stacks of one set count (set = block & mask), adding to deeper[p]
 // the fetches found at place p (p = depth: not kept). Writes the fetches
@@ -117,21 +137,63 @@ std::size_t run_narrow_set_stacks(std::uint32_t* stacks, std::uint64_t mask, con
     deeper[1] += passed;
     return passed;
   }
-  // Four histograms in turn: with one, a fetch's count waits for the last
-  // fetch found at the same place (an add to memory each).
-  std::uint64_t found_at[4][kDepth + 1] = {};
+  PlaceHistograms<kDepth> found;
   for (std::size_t i = 0; i < count; ++i) {
     const std::uint64_t block = in[i];
     const unsigned place =
         narrow_access<kDepth>(stacks + (block & mask) * kDepth, static_cast<std::uint32_t>(block));
-    ++found_at[i % 4][place];
+    found.count(i, place);
     out[passed] = block;
     passed += place != 0;
   }
-  for (unsigned place = 1; place <= kDepth; ++place) {
-    for (const auto& histogram : found_at) deeper[place] += histogram[place];
-  }
+  found.add_to(deeper);
   return passed;
+}
+
+#if defined(NODETRACE_NARROW_STACKS_AVX2)
+// run_narrow_set_stacks<8> on a processor with AVX2 (the same counts and
+// stacks): a stack's 8 places are one 32-byte vector, compared, moved down
+// (a lane permutation) and blended at once, about half the instructions of
+// two 16-byte vectors.
+__attribute__((target("avx2"))) inline std::size_t run_narrow_set_stacks_avx2(std::uint32_t* stacks,
+                                                                              std::uint64_t mask,
+                                                                              const std::uint64_t* in,
+                                                                              std::size_t count, std::uint64_t* out,
+                                                                              std::uint64_t* deeper) {
+  constexpr unsigned kDepth = 8;
+  const __m256i one_down = _mm256_setr_epi32(0, 0, 1, 2, 3, 4, 5, 6);
+  const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  PlaceHistograms<kDepth> found;
+  std::size_t passed = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::uint64_t block = in[i];
+    std::uint32_t* const stack = stacks + (block & mask) * kDepth;
+    const __m256i wanted = _mm256_set1_epi32(static_cast<int>(block));
+    const __m256i places = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(stack));
+    const auto matched = static_cast<unsigned>(
+        _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(places, wanted))));
+    const auto place = static_cast<unsigned>(std::countr_zero(matched | (1u << kDepth)));
+    // Places 0..place take the one above them, the block coming in on top.
+    const __m256i pushed = _mm256_blend_epi32(_mm256_permutevar8x32_epi32(places, one_down), wanted, 1);
+    const __m256i moved = _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(place) + 1), lanes);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(stack), _mm256_blendv_epi8(places, pushed, moved));
+    found.count(i, place);
+    out[passed] = block;
+    passed += place != 0;
+  }
+  found.add_to(deeper);
+  return passed;
+}
+#endif
+
+// run_narrow_set_stacks<8> in the widest form this processor runs.
+inline std::size_t run_narrow_set_stacks_of_8(std::uint32_t* stacks, std::uint64_t mask, const std::uint64_t* in,
+                                              std::size_t count, std::uint64_t* out, std::uint64_t* deeper) {
+#if defined(NODETRACE_NARROW_STACKS_AVX2)
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2) return run_narrow_set_stacks_avx2(stacks, mask, in, count, out, deeper);
+#endif
+  return run_narrow_set_stacks<8>(stacks, mask, in, count, out, deeper);
 }
 
 }  // namespace nodetrace::cachesim

@@ -117,7 +117,7 @@ void SetStacks::access_blocks(const std::uint64_t* blocks, std::size_t count) {
         case 1: count = run_narrow_set_stacks<1>(stacks, level.mask, in, count, passed, level.deeper); break;
         case 2: count = run_narrow_set_stacks<2>(stacks, level.mask, in, count, passed, level.deeper); break;
         case 4: count = run_narrow_set_stacks<4>(stacks, level.mask, in, count, passed, level.deeper); break;
-        default: count = run_narrow_set_stacks<8>(stacks, level.mask, in, count, passed, level.deeper);
+        default: count = run_narrow_set_stacks_of_8(stacks, level.mask, in, count, passed, level.deeper);
       }
       in = passed;
       continue;
