@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -106,10 +107,21 @@ class PackedCacheBundle {
       for_each_cache([&](auto& cache) { cache.template run<Tag, true>(blocks, kinds, count); });
       return;
     }
+    // The groups' caches as spans held in locals: read through the
+    // vectors, their bounds would be loaded again for every reference
+    // (the caches' byte-sized words may alias anything).
+    const auto spans = std::apply(
+        [](auto&... group) { return std::make_tuple(std::span(group.plru)..., std::span(group.rrip)...); }, groups_);
     for (std::size_t r = 0; r < count; ++r) {
       const std::uint64_t block = blocks[r];
       const bool refetched = kinds[r] == PackedReference::Refetched;
-      for_each_cache([&](auto& cache) { cache.template access<Tag>(block, refetched); });
+      std::apply(
+          [&](const auto&... caches) {
+            ((std::for_each(caches.begin(), caches.end(),
+                            [&](auto& cache) { cache.template access<Tag>(block, refetched); })),
+             ...);
+          },
+          spans);
     }
   }
 
