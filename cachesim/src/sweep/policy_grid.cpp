@@ -60,11 +60,22 @@ class SetFilter {
   void filter(const References& in, References& out) {
     out.make_room(in.count);
     out.invalidates = in.invalidates;
+    const auto block_at = [&](std::size_t r) { return in.blocks[r]; };
+    const auto kind_at = [&](std::size_t r) { return in.kinds[r]; };
     if (in.invalidates) {
-      out.count = filter_with<true>(in, out);
+      out.count = filter_with<true>(in.count, block_at, kind_at, out);
     } else {
-      out.count = filter_with<false>(in, out);
+      out.count = filter_with<false>(in.count, block_at, kind_at, out);
     }
+    first_position_ += out.count;
+  }
+  // Filters `count` records, each one demand fetch of the block its
+  // address shifted right by `shift` gives, into `out`.
+  void filter_fetches(const Record* records, std::size_t count, unsigned shift, References& out) {
+    out.make_room(count);
+    const auto block_at = [=](std::size_t r) { return records[r].address >> shift; };
+    const auto kind_at = [](std::size_t) { return PackedReference::Fetch; };
+    out.count = filter_with<false>(count, block_at, kind_at, out);
     first_position_ += out.count;
   }
 
@@ -76,17 +87,17 @@ class SetFilter {
 
   // Without a branch on the filter's answer: a fetch left out rewrites the
   // kept one as Refetched, another starts a new one.
-  template <bool kInvalidates>
-  std::size_t filter_with(const References& in, References& out) {
+  template <bool kInvalidates, typename BlockAt, typename KindAt>
+  std::size_t filter_with(std::size_t count, BlockAt block_at, KindAt kind_at, References& out) {
     Slot* const slots = slots_.data();
     const std::uint64_t mask = mask_;
     const std::uint64_t first = first_position_;
     std::uint64_t* const blocks = out.blocks.data();
     PackedReference* const kinds = out.kinds.data();
     std::size_t kept = 0;
-    for (std::size_t r = 0; r < in.count; ++r) {
-      const std::uint64_t block = in.blocks[r];
-      const PackedReference kind = in.kinds[r];
+    for (std::size_t r = 0; r < count; ++r) {
+      const std::uint64_t block = block_at(r);
+      const PackedReference kind = kind_at(r);
       Slot& slot = slots[block & mask];
       if constexpr (kInvalidates) {
         if (kind == PackedReference::Invalidate) {
@@ -137,14 +148,28 @@ class PolicyGrid {
   }
 
   void feed(const Record* records, std::size_t count, const PreparedBatch& prepared) {
-    if (prepared.demand_only && prepared.span_bits < configs_.front().block) {
-      collect_blocks(records, count);
+    // Every record one demand fetch of one block (din addresses need no
+    // rounding: blocks are at least 4 bytes): the first set count filters
+    // the records themselves.
+    const bool fetches_only = prepared.demand_only && prepared.span_bits < configs_.front().block;
+    if (fetches_only) {
+      refs_ += count;
+      fetches_ += count;
+      const unsigned shift = shift_;
+      // A block of kNarrowBlocks or more reaches bit 32 when 1 is added.
+      std::uint64_t any = 0;
+      for (std::size_t i = 0; i < count; ++i) any |= (records[i].address >> shift) + 1;
+      beyond_narrow_ |= (any >> 32) != 0;
     } else {
       collect_generic(records, count);
     }
     const References* in = &chunk_;
     for (Level& level : levels_) {
-      level.filter.filter(*in, level.kept);
+      if (fetches_only && in == &chunk_) {
+        level.filter.filter_fetches(records, count, shift_, level.kept);
+      } else {
+        level.filter.filter(*in, level.kept);
+      }
       level.caches.run(level.kept.blocks.data(), level.kept.kinds.data(), level.kept.count, level.kept.invalidates,
                        beyond_narrow_);
       in = &level.kept;
@@ -168,26 +193,6 @@ class PolicyGrid {
     PackedCacheBundle caches;
     References kept;
   };
-
-  // Every record one demand fetch of one block (din addresses need no
-  // rounding: blocks are at least 4 bytes).
-  void collect_blocks(const Record* records, std::size_t count) {
-    chunk_.make_room(count);
-    refs_ += count;
-    fetches_ += count;
-    std::uint64_t* const blocks = chunk_.blocks.data();
-    PackedReference* const kinds = chunk_.kinds.data();
-    const unsigned shift = shift_;
-    bool beyond_narrow = false;
-    for (std::size_t i = 0; i < count; ++i) {
-      const std::uint64_t block = records[i].address >> shift;
-      blocks[i] = block;
-      kinds[i] = PackedReference::Fetch;
-      beyond_narrow |= block >= kNarrowBlocks;
-    }
-    chunk_.count = count;
-    beyond_narrow_ |= beyond_narrow;
-  }
 
   // Any record: types, spans, other streams.
   void collect_generic(const Record* records, std::size_t count) {
