@@ -1,5 +1,6 @@
 #include "nodetrace/tracer/accel/traversal.hpp"
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -46,7 +47,7 @@ Traversal::Traversal(const std::vector<Triangle>& triangles, const KdTree& tree,
   }
 }
 
-template <bool AnyHit, bool Recording>
+template <bool AnyHit, bool Recording, unsigned Octant>
 bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records,
                          RenderStats* stats) const {
   if (compact_.empty() || tree_.bounds().empty()) return false;
@@ -76,14 +77,13 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
   const float inverse_direction[3] = {inverse.x, inverse.y, inverse.z};
   const bool direction_not_positive[3] = {ray.direction.x <= 0, ray.direction.y <= 0, ray.direction.z <= 0};
   // Bit a set when the direction's sign bit on axis a is: a ray crossing a
-  // split on that axis meets the right (upper) child first. Fixed per ray,
-  // so the near child no longer waits on an origin-vs-split compare: GCC
-  // branches on this bit, well predicted, and the next node's load is
-  // issued speculatively. (A mask select instead, no branch, measured 15-20%
-  // slower on primary and shadow rays: the load then waits on the select.)
-  const std::uint32_t right_first = (std::signbit(ray.direction.x) ? 1u : 0u) |
-                                    (std::signbit(ray.direction.y) ? 2u : 0u) |
-                                    (std::signbit(ray.direction.z) ? 4u : 0u);
+  // split on that axis meets the right (upper) child first. A template
+  // constant: the near child no longer waits on an origin-vs-split compare,
+  // and where it depends on the node's axis GCC branches on the bit, well
+  // predicted, so the next node's load is issued speculatively (a mask
+  // select instead, no branch, measured 15-20% slower on primary and shadow
+  // rays: the load waits on the select).
+  constexpr std::uint32_t right_first = Octant;
   std::uint32_t node_index = 0;
   float best = t_max;
   bool found = false;
@@ -159,16 +159,26 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
   return found;
 }
 
+template <bool AnyHit, bool Recording>
+bool Traversal::walk(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records, RenderStats* stats) const {
+  static constexpr auto kWalks = []<unsigned... Octants>(std::integer_sequence<unsigned, Octants...>) {
+    return std::array{&Traversal::traverse<AnyHit, Recording, Octants>...};
+  }(std::make_integer_sequence<unsigned, 8>{});
+  const Vec3& d = ray.direction;
+  const unsigned octant = (std::signbit(d.x) ? 1u : 0u) | (std::signbit(d.y) ? 2u : 0u) | (std::signbit(d.z) ? 4u : 0u);
+  return (this->*kWalks[octant])(ray, t_max, hit, records, stats);
+}
+
 bool Traversal::closest_hit(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records,
                             RenderStats* stats) const {
-  return records ? traverse<false, true>(ray, t_max, hit, records, stats)
-                 : traverse<false, false>(ray, t_max, hit, nullptr, stats);
+  return records ? walk<false, true>(ray, t_max, hit, records, stats)
+                 : walk<false, false>(ray, t_max, hit, nullptr, stats);
 }
 
 bool Traversal::any_hit(const Ray& ray, float t_max, std::vector<Record>* records, RenderStats* stats) const {
   Hit hit;
-  return records ? traverse<true, true>(ray, t_max, hit, records, stats)
-                 : traverse<true, false>(ray, t_max, hit, nullptr, stats);
+  return records ? walk<true, true>(ray, t_max, hit, records, stats)
+                 : walk<true, false>(ray, t_max, hit, nullptr, stats);
 }
 
 }  // namespace nodetrace::tracer
