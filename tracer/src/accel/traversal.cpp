@@ -1,5 +1,6 @@
 #include "nodetrace/tracer/accel/traversal.hpp"
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -46,7 +47,7 @@ Traversal::Traversal(const std::vector<Triangle>& triangles, const KdTree& tree,
   }
 }
 
-template <bool AnyHit, bool Recording>
+template <bool AnyHit, bool Recording, unsigned Octant>
 bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records,
                          RenderStats* stats) const {
   if (compact_.empty() || tree_.bounds().empty()) return false;
@@ -75,6 +76,14 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
   const float origin[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
   const float inverse_direction[3] = {inverse.x, inverse.y, inverse.z};
   const bool direction_not_positive[3] = {ray.direction.x <= 0, ray.direction.y <= 0, ray.direction.z <= 0};
+  // Bit a set when the direction's sign bit on axis a is: a ray crossing a
+  // split on that axis meets the right (upper) child first. A template
+  // constant: the near child no longer waits on an origin-vs-split compare,
+  // and where it depends on the node's axis GCC branches on the bit, well
+  // predicted, so the next node's load is issued speculatively (a mask
+  // select instead, no branch, measured 15-20% slower on primary and shadow
+  // rays: the load waits on the select).
+  constexpr std::uint32_t right_first = Octant;
   std::uint32_t node_index = 0;
   float best = t_max;
   bool found = false;
@@ -88,18 +97,42 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
     if (axis != KdNode::kLeafAxis) {
       const float o = origin[axis];
       const float t_split = (node.split - o) * inverse_direction[axis];
-      const bool below_first = o < node.split || (o == node.split && direction_not_positive[axis]);
       const std::uint32_t left = node_index + 1, right = node.bits >> 2;
-      const std::uint32_t first = below_first ? left : right;
-      const std::uint32_t second = below_first ? right : left;
-      if (t_split > t_far || t_split <= 0) {
-        node_index = first;
-      } else if (t_split < t_min) {
-        node_index = second;
-      } else {
-        stack[top++] = {second, t_split, t_far};
-        node_index = first;
-        t_far = t_split;
+      const bool right_near = (right_first >> axis) & 1u;
+      const std::uint32_t near = right_near ? right : left;
+      const std::uint32_t far = right_near ? left : right;
+      // The steps are those of the origin-side rule (the ray's first child is
+      // the one holding its origin, the origin on the plane going with the
+      // direction): a nonzero t_split has the sign of (split - origin) times
+      // the direction's sign, so t_split > 0 puts the origin on the near
+      // side and t_split < 0 on the far side (the ray leaves the plane
+      // behind). Only 0 and NaN (origin on the plane, or a zero or tiny
+      // direction component) need the origin compare.
+      if (t_split > 0) {
+        if (t_split > t_far) {
+          node_index = near;
+        } else if (t_split < t_min) {
+          node_index = far;
+        } else {
+          stack[top++] = {far, t_split, t_far};
+          node_index = near;
+          t_far = t_split;
+        }
+      } else if (t_split < 0) {
+        node_index = far;
+      } else [[unlikely]] {
+        const bool below_first = o < node.split || (o == node.split && direction_not_positive[axis]);
+        const std::uint32_t first = below_first ? left : right;
+        const std::uint32_t second = below_first ? right : left;
+        if (t_split <= 0) {  // 0: the origin's side; NaN goes on
+          node_index = first;
+        } else {
+          // NaN: no compare holds, both children are walked and t_far
+          // becomes NaN, as the origin-side rule has always done.
+          stack[top++] = {second, t_split, t_far};
+          node_index = first;
+          t_far = t_split;
+        }
       }
       continue;
     }
@@ -126,16 +159,26 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
   return found;
 }
 
+template <bool AnyHit, bool Recording>
+bool Traversal::walk(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records, RenderStats* stats) const {
+  static constexpr auto kWalks = []<unsigned... Octants>(std::integer_sequence<unsigned, Octants...>) {
+    return std::array{&Traversal::traverse<AnyHit, Recording, Octants>...};
+  }(std::make_integer_sequence<unsigned, 8>{});
+  const Vec3& d = ray.direction;
+  const unsigned octant = (std::signbit(d.x) ? 1u : 0u) | (std::signbit(d.y) ? 2u : 0u) | (std::signbit(d.z) ? 4u : 0u);
+  return (this->*kWalks[octant])(ray, t_max, hit, records, stats);
+}
+
 bool Traversal::closest_hit(const Ray& ray, float t_max, Hit& hit, std::vector<Record>* records,
                             RenderStats* stats) const {
-  return records ? traverse<false, true>(ray, t_max, hit, records, stats)
-                 : traverse<false, false>(ray, t_max, hit, nullptr, stats);
+  return records ? walk<false, true>(ray, t_max, hit, records, stats)
+                 : walk<false, false>(ray, t_max, hit, nullptr, stats);
 }
 
 bool Traversal::any_hit(const Ray& ray, float t_max, std::vector<Record>* records, RenderStats* stats) const {
   Hit hit;
-  return records ? traverse<true, true>(ray, t_max, hit, records, stats)
-                 : traverse<true, false>(ray, t_max, hit, nullptr, stats);
+  return records ? walk<true, true>(ray, t_max, hit, records, stats)
+                 : walk<true, false>(ray, t_max, hit, nullptr, stats);
 }
 
 }  // namespace nodetrace::tracer

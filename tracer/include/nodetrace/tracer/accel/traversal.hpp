@@ -49,10 +49,16 @@ class Traversal : public RayTraversal {
 
  private:
   // Recording: records is not null (a walk that records nothing is compiled
-  // without the recording, for speed).
-  template <bool AnyHit, bool Recording>
+  // without the recording, for speed). Octant: the ray direction's sign bits
+  // (bit a set: negative on axis a, -0 included), a compile-time constant so
+  // each interior step knows its near child without a compare; `walk` picks
+  // the instance for the ray.
+  template <bool AnyHit, bool Recording, unsigned Octant>
   bool traverse(const Ray& ray, float t_max, Hit& hit, std::vector<formats::Record>* records,
                 RenderStats* stats) const;
+  template <bool AnyHit, bool Recording>
+  bool walk(const Ray& ray, float t_max, Hit& hit, std::vector<formats::Record>* records,
+            RenderStats* stats) const;
 
   std::vector<Triangle> listed_triangles_;  // in leaf-list order, for the leaf visits
   const KdTree& tree_;
