@@ -55,10 +55,10 @@ class PackedPolicyCache {
   std::uint64_t misses() const { return misses_; }
 
   // One demand fetch of `block` (`refetched`: a Refetched reference, see
-  // run()); returns whether it missed. Inline, for callers that run
-  // several caches over the same references in one loop (packed_cache_bundle.hpp).
+  // run()). Inline, for callers that run several caches over the same
+  // references in one loop (packed_cache_bundle.hpp).
   template <typename Tag>
-  bool access(std::uint64_t block, bool refetched) {
+  void access(std::uint64_t block, bool refetched) {
     const std::uint64_t set = block & set_mask_;
     Tag* const ways = tags<Tag>() + set * kWays;
     const auto tag = static_cast<Tag>(block);
@@ -66,7 +66,7 @@ class PackedPolicyCache {
     const std::uint32_t found = match_ways<kWays>(ways, tag);
     if (found != 0) [[likely]] {
       *word = State::hit(*word, static_cast<std::uint32_t>(std::countr_zero(found)));
-      return false;
+      return;
     }
     // A miss: the lowest invalid way, else the victim.
     ++misses_;
@@ -75,7 +75,6 @@ class PackedPolicyCache {
     const std::uint32_t way = evicted ? State::victim(*word) : static_cast<std::uint32_t>(std::countr_zero(invalid));
     ways[way] = tag;
     *word = state_.fill(*word, way, set, evicted, refetched);
-    return true;
   }
 
   // `count` references in order (`kInvalidates`: some may be
