@@ -52,6 +52,10 @@ template <typename Buffer>
 class Recycler {
  public:
   explicit Recycler(std::size_t keep) : keep_(keep) {}
+  void keep_at_most(std::size_t keep) {
+    std::lock_guard lock(mutex_);
+    keep_ = keep;
+  }
   Buffer take() {
     std::lock_guard lock(mutex_);
     if (spare_.empty()) return Buffer{};

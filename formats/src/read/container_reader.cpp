@@ -30,7 +30,6 @@ namespace {
 // that trace took 1.2-1.3x the CPU of `zstd -t` and 1.1-1.2x its wall time,
 // with 32 1.45-1.6x and 0.85-0.9x (medians of runs on a loaded machine).
 constexpr std::size_t kPieceRecords = 1u << 14;
-constexpr std::size_t kPiecesWaiting = 32;
 constexpr std::size_t kPiecesWaitingHashed = 8;
 // Frames whose zstd window is larger than this (archives) are decoded one
 // at a time, so only one such window is held.

@@ -54,6 +54,9 @@ void PieceStream::wait_closed() {
 PipelinedReader::PipelinedReader(OpenedInput opened, const ReaderOptions& options)
     : name_(std::move(opened.name)), input_(std::move(opened.input)), options_(options) {
   threads_ = base::threads_or_cores(options_.threads);
+  // Frames decoded at once: the pipeline's (fill_pipeline) and the one read.
+  const std::size_t frames = std::size_t{threads_} + 2;
+  stock_->records.keep_at_most(frames * (kPiecesWaiting + 1) + kBatchesHeld);
   settings_.tags_are_levels = options_.tags_are_levels;
 }
 
