@@ -119,13 +119,15 @@ struct PlaceHistograms {
   }
 };
 
-// Runs `count` fetches (`in`, every one fitting narrow stacks) through the
-// narrow stacks of one set count (set = block & mask), adding to deeper[p]
-// the fetches found at place p (p = depth: not kept). Writes the fetches
-// not found on top to `out` (which may be `in`) and returns how many.
-template <unsigned kDepth>
-std::size_t run_narrow_set_stacks(std::uint32_t* stacks, std::uint64_t mask, const std::uint64_t* in,
-                                  std::size_t count, std::uint64_t* out, std::uint64_t* deeper) {
+// Runs `count` fetches (`in[i]`, every one fitting narrow stacks: a
+// pointer to blocks, or any view with operator[] that gives them) through
+// the narrow stacks of one set count (set = block & mask), adding to
+// deeper[p] the fetches found at place p (p = depth: not kept). Writes the
+// fetches not found on top to `out` (which may be `in`) and returns how
+// many.
+template <unsigned kDepth, typename In>
+std::size_t run_narrow_set_stacks(std::uint32_t* stacks, std::uint64_t mask, In in, std::size_t count,
+                                  std::uint64_t* out, std::uint64_t* deeper) {
   std::size_t passed = 0;
   if constexpr (kDepth == 1) {
     // Every fetch passed on is one not kept: no histogram.
@@ -155,11 +157,10 @@ std::size_t run_narrow_set_stacks(std::uint32_t* stacks, std::uint64_t mask, con
 // stacks): a stack's 8 places are one 32-byte vector, compared, moved down
 // (a lane permutation) and blended at once, about half the instructions of
 // two 16-byte vectors.
-__attribute__((target("avx2"))) inline std::size_t run_narrow_set_stacks_avx2(std::uint32_t* stacks,
-                                                                              std::uint64_t mask,
-                                                                              const std::uint64_t* in,
-                                                                              std::size_t count, std::uint64_t* out,
-                                                                              std::uint64_t* deeper) {
+template <typename In>
+__attribute__((target("avx2"))) std::size_t run_narrow_set_stacks_avx2(std::uint32_t* stacks, std::uint64_t mask,
+                                                                       In in, std::size_t count, std::uint64_t* out,
+                                                                       std::uint64_t* deeper) {
   constexpr unsigned kDepth = 8;
   const __m256i one_down = _mm256_setr_epi32(0, 0, 1, 2, 3, 4, 5, 6);
   const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
@@ -187,13 +188,14 @@ __attribute__((target("avx2"))) inline std::size_t run_narrow_set_stacks_avx2(st
 #endif
 
 // run_narrow_set_stacks<8> in the widest form this processor runs.
-inline std::size_t run_narrow_set_stacks_of_8(std::uint32_t* stacks, std::uint64_t mask, const std::uint64_t* in,
-                                              std::size_t count, std::uint64_t* out, std::uint64_t* deeper) {
+template <typename In>
+std::size_t run_narrow_set_stacks_of_8(std::uint32_t* stacks, std::uint64_t mask, In in, std::size_t count,
+                                       std::uint64_t* out, std::uint64_t* deeper) {
 #if defined(NODETRACE_NARROW_STACKS_AVX2)
   static const bool avx2 = __builtin_cpu_supports("avx2");
   if (avx2) return run_narrow_set_stacks_avx2(stacks, mask, in, count, out, deeper);
 #endif
-  return run_narrow_set_stacks<8>(stacks, mask, in, count, out, deeper);
+  return run_narrow_set_stacks<8, In>(stacks, mask, in, count, out, deeper);
 }
 
 }  // namespace nodetrace::cachesim

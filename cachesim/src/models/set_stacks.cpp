@@ -108,10 +108,53 @@ void SetStacks::access_blocks(const std::uint64_t* blocks, std::size_t count) {
   }
   fetches_ += count;
   if (passed_.size() < count) passed_.resize(count);
+  run_levels(0, blocks, count);
+}
+
+namespace {
+
+// The blocks of records, each one block: a view for the stacks' runs.
+struct RecordBlocks {
+  const formats::Record* records;
+  unsigned shift;
+  std::uint64_t operator[](std::size_t i) const { return records[i].address >> shift; }
+};
+
+}  // namespace
+
+void SetStacks::access_records(const formats::Record* records, std::size_t count, unsigned shift) {
+  if (narrow_) {
+    // fits_narrow() of every block (all_fit_narrow's OR).
+    std::uint64_t any = 0;
+    for (std::size_t i = 0; i < count; ++i) any |= (records[i].address >> shift) + 1;
+    if ((any >> 32) != 0) widen();
+  }
+  fetches_ += count;
+  if (levels_.empty()) return;
+  if (passed_.size() < count) passed_.resize(count);
+  const RecordBlocks blocks{records, shift};
+  LevelState& first = levels_.front();
+  if (std::uint32_t* const stacks = first.narrow_stacks) {
+    std::uint64_t* const passed = passed_.data();
+    switch (first.depth) {
+      case 1: count = run_narrow_set_stacks<1>(stacks, first.mask, blocks, count, passed, first.deeper); break;
+      case 2: count = run_narrow_set_stacks<2>(stacks, first.mask, blocks, count, passed, first.deeper); break;
+      case 4: count = run_narrow_set_stacks<4>(stacks, first.mask, blocks, count, passed, first.deeper); break;
+      default: count = run_narrow_set_stacks_of_8(stacks, first.mask, blocks, count, passed, first.deeper);
+    }
+    run_levels(1, passed, count);
+    return;
+  }
+  // A wide first set count: its runs read blocks.
+  for (std::size_t i = 0; i < count; ++i) passed_[i] = blocks[i];
+  run_levels(0, passed_.data(), count);
+}
+
+void SetStacks::run_levels(std::size_t from, const std::uint64_t* in, std::size_t count) {
   // Each set count passes on what it did not find on top, in place.
-  const std::uint64_t* in = blocks;
   std::uint64_t* const passed = passed_.data();
-  for (LevelState& level : levels_) {
+  for (std::size_t l = from; l < levels_.size(); ++l) {
+    LevelState& level = levels_[l];
     if (std::uint32_t* const stacks = level.narrow_stacks) {
       switch (level.depth) {
         case 1: count = run_narrow_set_stacks<1>(stacks, level.mask, in, count, passed, level.deeper); break;

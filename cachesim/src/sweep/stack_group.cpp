@@ -222,12 +222,7 @@ class StackGroup {
       // Each side's blocks in order, then its stacks run over them set
       // count by set count (the two sides' stacks are independent).
       if constexpr (!kSplit) {
-        // Sized once and written in place: a push_back a record costs
-        // more than the shift (this group, and each piece of it, does it).
-        low_blocks_.resize(count);
-        std::uint64_t* const blocks = low_blocks_.data();
-        for (std::size_t i = 0; i < count; ++i) blocks[i] = records[i].address >> shift;
-        low_.access_blocks(blocks, count);
+        low_.access_records(records, count, shift);
         refs_ += count;
         fetches_ += count;
         return;

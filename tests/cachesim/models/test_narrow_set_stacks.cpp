@@ -79,7 +79,7 @@ TEST(NarrowSetStacks, SixteenByteFormEqualsAMoveToFrontList) {
     const std::vector<std::uint64_t> blocks = repeating_blocks(seed);
     for (const std::uint64_t mask : {0ull, 3ull, 15ull}) {
       SCOPED_TRACE(::testing::Message() << "seed " << seed << " sets " << mask + 1);
-      expect_same(vector_run(blocks, mask, run_narrow_set_stacks<kDepth>), plain_run(blocks, mask));
+      expect_same(vector_run(blocks, mask, run_narrow_set_stacks<kDepth, const std::uint64_t*>), plain_run(blocks, mask));
     }
   }
 }
@@ -91,7 +91,7 @@ TEST(NarrowSetStacks, Avx2FormEqualsAMoveToFrontList) {
     const std::vector<std::uint64_t> blocks = repeating_blocks(seed);
     for (const std::uint64_t mask : {0ull, 3ull, 15ull}) {
       SCOPED_TRACE(::testing::Message() << "seed " << seed << " sets " << mask + 1);
-      expect_same(vector_run(blocks, mask, run_narrow_set_stacks_avx2), plain_run(blocks, mask));
+      expect_same(vector_run(blocks, mask, run_narrow_set_stacks_avx2<const std::uint64_t*>), plain_run(blocks, mask));
     }
   }
 #else

@@ -86,6 +86,19 @@ TEST(SetStacks, WaysOfAreTheCacheContents) {
   }
 }
 
+// access_records() of records of 8-byte blocks whose addresses give
+// `blocks` (anywhere in the block), in batches of uneven length.
+void access_records_in_uneven_batches(SetStacks& stacks, const std::vector<std::uint64_t>& blocks,
+                                      std::size_t longest) {
+  std::vector<Record> records;
+  for (std::size_t i = 0; i < blocks.size(); ++i) records.push_back({.address = (blocks[i] << 3) + i % 8});
+  for (std::size_t begin = 0; begin < records.size();) {
+    const std::size_t count = std::min<std::size_t>(1 + begin % longest, records.size() - begin);
+    stacks.access_records(records.data() + begin, count, 3);
+    begin += count;
+  }
+}
+
 TEST(SetStacks, BlocksSetCountBySetCountEqualTheWalk) {
   // Every depth with a vector path (1, 2, 4, 8, 16) and others (3, 32).
   const std::vector<SetStacks::Level> levels{{0, 32}, {1, 16}, {2, 8}, {3, 3}, {4, 4}, {5, 2}, {6, 1}, {8, 1}};
@@ -93,13 +106,18 @@ TEST(SetStacks, BlocksSetCountBySetCountEqualTheWalk) {
     const auto blocks = random_blocks(30000, seed);
     SetStacks walked(levels);
     SetStacks by_set_count(levels);
+    SetStacks from_records(levels);  // the first set count a wide one
     for (const std::uint64_t block : blocks) walked.access(block);
     access_in_uneven_batches(by_set_count, blocks, 4099);
+    access_records_in_uneven_batches(from_records, blocks, 4099);
     EXPECT_EQ(by_set_count.fetches(), walked.fetches());
+    EXPECT_EQ(from_records.fetches(), walked.fetches());
     for (const SetStacks::Level& level : levels) {
       for (std::uint32_t ways = 1; ways <= level.depth; ++ways) {
         EXPECT_EQ(by_set_count.misses(level.log2_sets, ways), walked.misses(level.log2_sets, ways))
             << "seed " << seed << ", 2^" << level.log2_sets << " sets, " << ways << " ways";
+        EXPECT_EQ(from_records.misses(level.log2_sets, ways), walked.misses(level.log2_sets, ways))
+            << "records, seed " << seed << ", 2^" << level.log2_sets << " sets, " << ways << " ways";
       }
       const std::uint64_t sets = std::uint64_t{1} << level.log2_sets;
       for (std::uint64_t set = 0; set < sets; ++set) {
@@ -116,8 +134,9 @@ TEST(SetStacks, BlocksSetCountBySetCountEqualTheWalk) {
 // block that needs more (set_stacks.hpp). Blocks that agree in their low
 // 32 bits (b and b + 2^32, in the same set of every set count) and the
 // block 2^32 - 1 (the narrow stacks' free place) come after the widening,
-// so a truncating or early narrow path miscounts them; both ways of feeding
-// (one block, a batch) against LRU caches, and the contents after.
+// so a truncating or early narrow path miscounts them; every way of feeding
+// (one block, a batch of blocks, a batch of records) against LRU caches,
+// and the contents after.
 TEST(SetStacks, WideningPartwayKeepsEveryCountExact) {
   const std::vector<SetStacks::Level> levels{{0, 8}, {2, 8}, {3, 4}, {4, 2}, {5, 1}, {6, 16}, {7, 3}};
   constexpr std::uint64_t kHigh = std::uint64_t{1} << 32;
@@ -134,9 +153,11 @@ TEST(SetStacks, WideningPartwayKeepsEveryCountExact) {
     }
     SetStacks walked(levels);
     SetStacks batched(levels);
+    SetStacks from_records(levels);
     for (const std::uint64_t block : blocks) walked.access(block);
     // The widening falls inside one of the batches.
     access_in_uneven_batches(batched, blocks, 3001);
+    access_records_in_uneven_batches(from_records, blocks, 3001);
     for (const SetStacks::Level& level : levels) {
       const std::uint64_t sets = std::uint64_t{1} << level.log2_sets;
       for (std::uint32_t ways = 1; ways <= level.depth; ways *= 2) {
@@ -146,9 +167,12 @@ TEST(SetStacks, WideningPartwayKeepsEveryCountExact) {
         const std::string what = fmt::format("seed {}, {} sets, {} ways", seed, sets, ways);
         EXPECT_EQ(walked.misses(level.log2_sets, ways), misses) << what;
         EXPECT_EQ(batched.misses(level.log2_sets, ways), misses) << what;
+        EXPECT_EQ(from_records.misses(level.log2_sets, ways), misses) << what;
       }
       for (std::uint64_t set = 0; set < sets; ++set) {
         EXPECT_EQ(batched.ways_of(level.log2_sets, set, level.depth),
+                  walked.ways_of(level.log2_sets, set, level.depth));
+        EXPECT_EQ(from_records.ways_of(level.log2_sets, set, level.depth),
                   walked.ways_of(level.log2_sets, set, level.depth));
       }
     }

@@ -22,8 +22,11 @@
 // stacks giving each cache's contents (ways_of).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
+
+#include "nodetrace/formats/record/record.hpp"
 
 namespace nodetrace::cachesim {
 
@@ -50,6 +53,10 @@ class SetStacks {
   // not find on top, so its stacks stay in the processor's cache for all
   // of them and no branch depends on where a block was found.
   void access_blocks(const std::uint64_t* blocks, std::size_t count);
+  // access_blocks() of the blocks of `count` records, each one demand
+  // fetch of the block its address shifted right by `shift` gives: the
+  // first set count reads the records themselves (no copy of the blocks).
+  void access_records(const formats::Record* records, std::size_t count, unsigned shift);
 
   std::uint64_t fetches() const { return fetches_; }
   // Misses of the cache with 2^log2_sets sets and `ways` ways (ways <= its
@@ -88,6 +95,9 @@ class SetStacks {
   static void count_tag(LevelState& level, unsigned tag, std::uint32_t position);
   // Every narrow level to wide stacks, keeping each set's order.
   void widen();
+  // The levels from `from` on over `count` fetches, `in` the first one's
+  // blocks (which may be passed_) and passed_ the others'.
+  void run_levels(std::size_t from, const std::uint64_t* in, std::size_t count);
 
   std::vector<LevelState> levels_;
   std::vector<std::uint64_t> storage_;  // the wide levels' stacks
