@@ -68,9 +68,15 @@ class PackedPolicyCache {
       *word = State::hit(*word, static_cast<std::uint32_t>(std::countr_zero(found)));
       return;
     }
-    // A miss: the lowest invalid way, else the victim.
+    // A miss: the lowest invalid way, else the victim. Once every way
+    // holds a block (unless invalidations free some) no set is searched
+    // for a free one.
     ++misses_;
-    const std::uint32_t invalid = match_ways<kWays>(ways, static_cast<Tag>(~Tag{0}));
+    std::uint32_t invalid = 0;
+    if (invalid_ways_ != 0) [[unlikely]] {
+      invalid = match_ways<kWays>(ways, static_cast<Tag>(~Tag{0}));
+      invalid_ways_ -= invalid != 0;
+    }
     const bool evicted = invalid == 0;
     const std::uint32_t way = evicted ? State::victim(*word) : static_cast<std::uint32_t>(std::countr_zero(invalid));
     ways[way] = tag;
@@ -103,7 +109,10 @@ class PackedPolicyCache {
   void invalidate(std::uint64_t block) {
     Tag* const ways = tags<Tag>() + (block & set_mask_) * kWays;
     const std::uint32_t found = match_ways<kWays>(ways, static_cast<Tag>(block));
-    if (found != 0) ways[std::countr_zero(found)] = static_cast<Tag>(~Tag{0});
+    if (found != 0) {
+      ways[std::countr_zero(found)] = static_cast<Tag>(~Tag{0});
+      ++invalid_ways_;
+    }
   }
 
  private:
@@ -122,6 +131,7 @@ class PackedPolicyCache {
   std::vector<std::uint32_t> narrow_;  // sets * kWays tags, until widen()
   std::vector<std::uint64_t> wide_;    // after widen()
   State state_;
+  std::uint64_t invalid_ways_ = (set_mask_ + 1) * kWays;  // ways holding no block, in all sets
   std::uint64_t misses_ = 0;
 };
 
