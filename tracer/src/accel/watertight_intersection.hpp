@@ -72,7 +72,13 @@ inline bool intersect_sheared(const ShearedRay& r, const Triangle& triangle, flo
   const double e0 = c.x * b.y - c.y * b.x;
   const double e1 = a.x * c.y - a.y * c.x;
   const double e2 = b.x * a.y - b.y * a.x;
-  if ((e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0)) return false;
+  // One branch on the combined signs: whether a ray misses is data, badly
+  // predicted, and a chain of short-circuit branches mispredicts once per
+  // link (| evaluates every compare without a branch; the shift keeps GCC
+  // from splitting `neg & pos` back into two branches).
+  const bool some_negative = (e0 < 0) | (e1 < 0) | (e2 < 0);
+  const bool some_positive = (e0 > 0) | (e1 > 0) | (e2 > 0);
+  if ((unsigned{some_negative} << 1 | unsigned{some_positive}) == 3u) return false;
   const double det = e0 + e1 + e2;
   if (det == 0) return false;
   if (e0 == 0 || e1 == 0 || e2 == 0) {
@@ -83,9 +89,11 @@ inline bool intersect_sheared(const ShearedRay& r, const Triangle& triangle, flo
   }
   const double t_scaled = e0 * a.z + e1 * b.z + e2 * c.z;
   const double t_limit = double(t_max) * det;
-  if (det > 0 ? (t_scaled <= 0 || t_scaled >= t_limit) : (t_scaled >= 0 || t_scaled <= t_limit)) {
-    return false;
-  }
+  // One branch, as above, on whether t lies outside (0, t_max).
+  const bool positive = det > 0;
+  const bool outside_positive = (t_scaled <= 0) | (t_scaled >= t_limit);
+  const bool outside_negative = (t_scaled >= 0) | (t_scaled <= t_limit);
+  if ((positive & outside_positive) | (!positive & outside_negative)) return false;
   const double inverse = 1.0 / det;
   const double t = t_scaled * inverse;
   // Reject t within its own rounding error: the bound of PBR 4th ed.,
