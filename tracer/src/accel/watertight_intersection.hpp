@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <utility>
 
@@ -62,7 +63,12 @@ inline bool intersect_sheared(const ShearedRay& r, const Triangle& triangle, flo
   struct Sheared {
     double x, y, z, distance_z;
   };
-  auto shear = [&r](const Vec3& v) {
+  // Coordinates read by index from the vertex's bytes: Vec3's operator[]
+  // branches on the axis, and the axes change from ray to ray.
+  auto shear = [&r](const Vec3& vertex) {
+    static_assert(sizeof(Vec3) == 3 * sizeof(float));
+    float v[3];
+    std::memcpy(v, &vertex, sizeof v);
     const double z = v[r.kz] - r.oz;
     return Sheared{(v[r.kx] - r.ox) - r.sx * z, (v[r.ky] - r.oy) - r.sy * z, r.sz * z, z};
   };
