@@ -94,7 +94,11 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
     ++fetches;
     if (record_nodes) records->push_back(node_records[node_index]);
     const std::uint32_t axis = node.bits & 3u;
-    if (axis != KdNode::kLeafAxis) {
+    if (node.bits == KdNode::kLeafAxis) {
+      // A leaf without triangles (most leaves a ray meets): one branch,
+      // not a leaf branch and then a count branch.
+      ++leaves;
+    } else if (axis != KdNode::kLeafAxis) {
       const float o = origin[axis];
       const float t_split = (node.split - o) * inverse_direction[axis];
       const std::uint32_t left = node_index + 1, right = node.bits >> 2;
@@ -139,9 +143,10 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
         }
       }
       continue;
+    } else {
+      ++leaves;
+      if (leaf.visit<AnyHit>(node.first, node.bits >> 2, best, hit, tests)) found = true;
     }
-    ++leaves;
-    if (leaf.visit<AnyHit>(node.first, node.bits >> 2, best, hit, tests)) found = true;
     if constexpr (AnyHit) {
       if (found) break;
     }
