@@ -154,7 +154,9 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
     // a hit found past the span is kept (clipping rounding), not discarded.
     if (found && best <= t_far) break;
     if (top == 0) break;
-    const Pending next = stack[--top];
+    // Read field by field: a copy of the whole entry went through a stack
+    // temporary, a store and a reload before the next node's load.
+    const Pending& next = stack[--top];
     if (found && best < next.t_min) break;
     node_index = next.node;
     t_min = next.t_min;
