@@ -37,17 +37,26 @@ struct ShearedRay {
   double ox, oy, oz;  // origin on the kx, ky, kz axes
   int kx, ky, kz;
   double sx, sy, sz;
+  // Without branches: the axes differ from ray to ray, so each branch
+  // choosing them was a likely misprediction on every ray.
   explicit ShearedRay(const Ray& ray) {
-    const Vec3& d = ray.direction;
-    const Vec3 ad{std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)};
-    kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
-    kx = (kz + 1) % 3;
-    ky = (kx + 1) % 3;
-    if (d[kz] < 0) std::swap(kx, ky);  // keep the winding
+    float d[3], o[3];
+    std::memcpy(d, &ray.direction, sizeof d);
+    std::memcpy(o, &ray.origin, sizeof o);
+    const bool x_over_y = std::fabs(d[0]) > std::fabs(d[1]);
+    const bool x_over_z = std::fabs(d[0]) > std::fabs(d[2]);
+    const bool y_over_z = std::fabs(d[1]) > std::fabs(d[2]);
+    // x_over_y ? (x_over_z ? 0 : 2) : (y_over_z ? 1 : 2)
+    kz = 2 - 2 * int(x_over_y & x_over_z) - int(!x_over_y & y_over_z);
+    // (kz + 1) % 3 and (kz + 2) % 3 as 2-bit tables {1, 2, 0} and {2, 0, 1}.
+    const int after_kz = (0x9 >> (2 * kz)) & 3, after_that = (0x12 >> (2 * kz)) & 3;
+    const int keep_winding = -int(d[kz] < 0);  // all ones: swap kx and ky
+    kx = after_kz ^ ((after_kz ^ after_that) & keep_winding);
+    ky = after_that ^ ((after_kz ^ after_that) & keep_winding);
     sx = double(d[kx]) / d[kz];
     sy = double(d[ky]) / d[kz];
     sz = 1.0 / d[kz];
-    ox = ray.origin[kx], oy = ray.origin[ky], oz = ray.origin[kz];
+    ox = o[kx], oy = o[ky], oz = o[kz];
   }
 };
 
