@@ -94,7 +94,11 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
     ++fetches;
     if (record_nodes) records->push_back(node_records[node_index]);
     const std::uint32_t axis = node.bits & 3u;
-    if (axis != KdNode::kLeafAxis) {
+    if (node.bits == KdNode::kLeafAxis) {
+      // A leaf without triangles (most leaves a ray meets): one branch,
+      // not a leaf branch and then a count branch.
+      ++leaves;
+    } else if (axis != KdNode::kLeafAxis) {
       const float o = origin[axis];
       const float t_split = (node.split - o) * inverse_direction[axis];
       const std::uint32_t left = node_index + 1, right = node.bits >> 2;
@@ -108,16 +112,20 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
       // side and t_split < 0 on the far side (the ray leaves the plane
       // behind). Only 0 and NaN (origin on the plane, or a zero or tiny
       // direction component) need the origin compare.
-      if (t_split > 0) {
-        if (t_split > t_far) {
-          node_index = near;
-        } else if (t_split < t_min) {
-          node_index = far;
-        } else {
-          stack[top++] = {far, t_split, t_far};
-          node_index = near;
-          t_far = t_split;
-        }
+      // The cases are tested commonest first (Kitchen's path-traced rays:
+      // near only 35%, far only 42%, both 22% of interior steps), one or two
+      // compares where there were two or three. The same steps: t_min and
+      // t_far are >= 0 (-0 included) or NaN, so t_split > t_far implies
+      // t_split > 0, and a negative t_split is caught by t_split < t_min
+      // unless t_min is NaN, when the t_split < 0 test below takes it.
+      if (t_split > t_far) {
+        node_index = near;
+      } else if (t_split < t_min) {
+        node_index = far;
+      } else if (t_split > 0) {
+        stack[top++] = {far, t_split, t_far};
+        node_index = near;
+        t_far = t_split;
       } else if (t_split < 0) {
         node_index = far;
       } else [[unlikely]] {
@@ -135,9 +143,10 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
         }
       }
       continue;
+    } else {
+      ++leaves;
+      if (leaf.visit<AnyHit>(node.first, node.bits >> 2, best, hit, tests)) found = true;
     }
-    ++leaves;
-    if (leaf.visit<AnyHit>(node.first, node.bits >> 2, best, hit, tests)) found = true;
     if constexpr (AnyHit) {
       if (found) break;
     }
@@ -145,7 +154,9 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
     // a hit found past the span is kept (clipping rounding), not discarded.
     if (found && best <= t_far) break;
     if (top == 0) break;
-    const Pending next = stack[--top];
+    // Read field by field: a copy of the whole entry went through a stack
+    // temporary, a store and a reload before the next node's load.
+    const Pending& next = stack[--top];
     if (found && best < next.t_min) break;
     node_index = next.node;
     t_min = next.t_min;

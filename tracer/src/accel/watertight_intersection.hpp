@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <utility>
 
@@ -36,17 +37,26 @@ struct ShearedRay {
   double ox, oy, oz;  // origin on the kx, ky, kz axes
   int kx, ky, kz;
   double sx, sy, sz;
+  // Without branches: the axes differ from ray to ray, so each branch
+  // choosing them was a likely misprediction on every ray.
   explicit ShearedRay(const Ray& ray) {
-    const Vec3& d = ray.direction;
-    const Vec3 ad{std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)};
-    kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
-    kx = (kz + 1) % 3;
-    ky = (kx + 1) % 3;
-    if (d[kz] < 0) std::swap(kx, ky);  // keep the winding
+    float d[3], o[3];
+    std::memcpy(d, &ray.direction, sizeof d);
+    std::memcpy(o, &ray.origin, sizeof o);
+    const bool x_over_y = std::fabs(d[0]) > std::fabs(d[1]);
+    const bool x_over_z = std::fabs(d[0]) > std::fabs(d[2]);
+    const bool y_over_z = std::fabs(d[1]) > std::fabs(d[2]);
+    // x_over_y ? (x_over_z ? 0 : 2) : (y_over_z ? 1 : 2)
+    kz = 2 - 2 * int(x_over_y & x_over_z) - int(!x_over_y & y_over_z);
+    // (kz + 1) % 3 and (kz + 2) % 3 as 2-bit tables {1, 2, 0} and {2, 0, 1}.
+    const int after_kz = (0x9 >> (2 * kz)) & 3, after_that = (0x12 >> (2 * kz)) & 3;
+    const int keep_winding = -int(d[kz] < 0);  // all ones: swap kx and ky
+    kx = after_kz ^ ((after_kz ^ after_that) & keep_winding);
+    ky = after_that ^ ((after_kz ^ after_that) & keep_winding);
     sx = double(d[kx]) / d[kz];
     sy = double(d[ky]) / d[kz];
     sz = 1.0 / d[kz];
-    ox = ray.origin[kx], oy = ray.origin[ky], oz = ray.origin[kz];
+    ox = o[kx], oy = o[ky], oz = o[kz];
   }
 };
 
@@ -62,7 +72,12 @@ inline bool intersect_sheared(const ShearedRay& r, const Triangle& triangle, flo
   struct Sheared {
     double x, y, z, distance_z;
   };
-  auto shear = [&r](const Vec3& v) {
+  // Coordinates read by index from the vertex's bytes: Vec3's operator[]
+  // branches on the axis, and the axes change from ray to ray.
+  auto shear = [&r](const Vec3& vertex) {
+    static_assert(sizeof(Vec3) == 3 * sizeof(float));
+    float v[3];
+    std::memcpy(v, &vertex, sizeof v);
     const double z = v[r.kz] - r.oz;
     return Sheared{(v[r.kx] - r.ox) - r.sx * z, (v[r.ky] - r.oy) - r.sy * z, r.sz * z, z};
   };
@@ -72,7 +87,13 @@ inline bool intersect_sheared(const ShearedRay& r, const Triangle& triangle, flo
   const double e0 = c.x * b.y - c.y * b.x;
   const double e1 = a.x * c.y - a.y * c.x;
   const double e2 = b.x * a.y - b.y * a.x;
-  if ((e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0)) return false;
+  // One branch on the combined signs: whether a ray misses is data, badly
+  // predicted, and a chain of short-circuit branches mispredicts once per
+  // link (| evaluates every compare without a branch; the shift keeps GCC
+  // from splitting `neg & pos` back into two branches).
+  const bool some_negative = (e0 < 0) | (e1 < 0) | (e2 < 0);
+  const bool some_positive = (e0 > 0) | (e1 > 0) | (e2 > 0);
+  if ((unsigned{some_negative} << 1 | unsigned{some_positive}) == 3u) return false;
   const double det = e0 + e1 + e2;
   if (det == 0) return false;
   if (e0 == 0 || e1 == 0 || e2 == 0) {
@@ -83,9 +104,11 @@ inline bool intersect_sheared(const ShearedRay& r, const Triangle& triangle, flo
   }
   const double t_scaled = e0 * a.z + e1 * b.z + e2 * c.z;
   const double t_limit = double(t_max) * det;
-  if (det > 0 ? (t_scaled <= 0 || t_scaled >= t_limit) : (t_scaled >= 0 || t_scaled <= t_limit)) {
-    return false;
-  }
+  // One branch, as above, on whether t lies outside (0, t_max).
+  const bool positive = det > 0;
+  const bool outside_positive = (t_scaled <= 0) | (t_scaled >= t_limit);
+  const bool outside_negative = (t_scaled >= 0) | (t_scaled <= t_limit);
+  if ((positive & outside_positive) | (!positive & outside_negative)) return false;
   const double inverse = 1.0 / det;
   const double t = t_scaled * inverse;
   // Reject t within its own rounding error: the bound of PBR 4th ed.,
