@@ -117,7 +117,15 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
       // compares where there were two or three. The same steps: t_min and
       // t_far are >= 0 (-0 included) or NaN, so t_split > t_far implies
       // t_split > 0, and a negative t_split is caught by t_split < t_min
-      // unless t_min is NaN, when the t_split < 0 test below takes it.
+      // unless t_min is NaN, when the t_split < 0 test below takes it. A
+      // t_split of 0 with t_min > 0 now takes the far child, which holds
+      // the segment, where the origin compare took the origin's side; the
+      // two agree when the origin is on the plane (the far child is the
+      // side the direction leaves to), and t_split is 0 only then unless
+      // (split - origin) / direction underflows: |split - origin| below
+      // 1.4e-45 times the direction component (bounce rays are unit
+      // vectors; a shadow ray's direction is scene-sized, so a split and
+      // an origin both within about 1e-40 of 0, and unequal).
       if (t_split > t_far) {
         node_index = near;
       } else if (t_split < t_min) {
