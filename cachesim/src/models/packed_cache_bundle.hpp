@@ -104,7 +104,7 @@ class PackedCacheBundle {
   void run_with(const std::uint64_t* blocks, const PackedReference* kinds, std::size_t count, bool invalidates) {
     if (invalidates) {
       // Rare (only traces with invalidations): a cache at a time.
-      for_each_cache([&](auto& cache) { cache.template run<Tag, true>(blocks, kinds, count); });
+      for_each_cache([&](auto& cache) { cache.template run<Tag>(blocks, kinds, count); });
       return;
     }
     // The groups' caches as spans held in locals: read through the

@@ -42,7 +42,6 @@ class PackedPolicyCache {
         narrow_((set_mask_ + 1) * kWays, ~std::uint32_t{0}),
         state_(set_mask_ + 1, geometry) {}
 
-  bool wide() const { return !wide_.empty(); }
   // From now on tags are 64 bits (a block number of 2^32 - 1 or more came).
   void widen() {
     wide_.resize(narrow_.size());
@@ -83,22 +82,21 @@ class PackedPolicyCache {
     *word = state_.fill(*word, way, set, evicted, refetched);
   }
 
-  // `count` references in order (`kInvalidates`: some may be
-  // invalidations). A Refetched fetch stands for itself and the fetches of
-  // its block that follow it before any other fetch of its set: those hit,
+  // `count` references in order, some of them invalidations (a list of
+  // fetches only goes through access() alone). A Refetched fetch stands for
+  // itself and the fetches of its block that follow it before any other
+  // fetch of its set: those hit,
   // and a hit's update is idempotent (PLRU points the same bits away again,
   // RRIP sets the same value to 0 again, neither counts hits), so they
   // change the set as one hit does. After a hit that is this fetch's update
   // again; after a fill it is not (RRIP: 0, not the insertion value), so it
   // is applied once.
-  template <typename Tag, bool kInvalidates>
+  template <typename Tag>
   void run(const std::uint64_t* blocks, const PackedReference* kinds, std::size_t count) {
     for (std::size_t r = 0; r < count; ++r) {
-      if constexpr (kInvalidates) {
-        if (kinds[r] == PackedReference::Invalidate) [[unlikely]] {
-          invalidate<Tag>(blocks[r]);
-          continue;
-        }
+      if (kinds[r] == PackedReference::Invalidate) [[unlikely]] {
+        invalidate<Tag>(blocks[r]);
+        continue;
       }
       access<Tag>(blocks[r], kinds[r] == PackedReference::Refetched);
     }

@@ -1,6 +1,7 @@
 // The blocks one record references, as Dinero IV simulates it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "nodetrace/formats/record/record.hpp"
@@ -24,6 +25,16 @@ inline BlockRange blocks_of(const formats::Record& record, formats::RecordForm f
   range.last = (view.address + span) >> shift;
   if (range.last < range.first) range.last = range.first;  // wraps past 2^64
   return range;
+}
+
+// Is every record's block (address >> shift) below 2^32 - 1, so that it
+// fits 32 bits with all ones left free (narrow tags and stack places)? One
+// OR of block + 1, which reaches bit 32 exactly when a block does not fit:
+// a loop the compiler vectorises.
+inline bool record_blocks_fit_32_bits(const formats::Record* records, std::size_t count, unsigned shift) {
+  std::uint64_t any = 0;
+  for (std::size_t i = 0; i < count; ++i) any |= (records[i].address >> shift) + 1;
+  return (any >> 32) == 0;
 }
 
 }  // namespace nodetrace::cachesim

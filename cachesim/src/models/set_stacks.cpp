@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "models/narrow_set_stack_run.hpp"
+#include "models/record_blocks.hpp"
 #include "models/set_stack_run.hpp"
 
 namespace nodetrace::cachesim {
@@ -123,12 +124,7 @@ struct RecordBlocks {
 }  // namespace
 
 void SetStacks::access_records(const formats::Record* records, std::size_t count, unsigned shift) {
-  if (narrow_) {
-    // fits_narrow() of every block (all_fit_narrow's OR).
-    std::uint64_t any = 0;
-    for (std::size_t i = 0; i < count; ++i) any |= (records[i].address >> shift) + 1;
-    if ((any >> 32) != 0) widen();
-  }
+  if (narrow_ && !record_blocks_fit_32_bits(records, count, shift)) widen();
   fetches_ += count;
   if (levels_.empty()) return;
   if (passed_.size() < count) passed_.resize(count);

@@ -1,6 +1,8 @@
-// The policy grid: a chunk's references collected once, then, for each
-// set count of its members (fewest sets first), filtered by that set
-// count's filter and run through those members' packed caches together.
+// The policy grid: a chunk's records read once (the first set count's
+// filter reads them itself when each is one demand fetch; other records
+// are collected into references first), then, for each set count of its
+// members (fewest sets first), filtered by that set count's filter and run
+// through those members' packed caches together.
 #include "sweep/policy_grid.hpp"
 
 #include <fmt/format.h>
@@ -155,11 +157,7 @@ class PolicyGrid {
     if (fetches_only) {
       refs_ += count;
       fetches_ += count;
-      const unsigned shift = shift_;
-      // A block of kNarrowBlocks or more reaches bit 32 when 1 is added.
-      std::uint64_t any = 0;
-      for (std::size_t i = 0; i < count; ++i) any |= (records[i].address >> shift) + 1;
-      beyond_narrow_ |= (any >> 32) != 0;
+      beyond_narrow_ |= !record_blocks_fit_32_bits(records, count, shift_);
     } else {
       collect_generic(records, count);
     }

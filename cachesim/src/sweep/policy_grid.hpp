@@ -1,8 +1,9 @@
 // Configurations answered together by a policy grid: the single caches of
 // one block size under a policy set stacks cannot answer (plru of more than
 // 2 ways, srrip, brrip, drrip) with 2 to 16 ways, demand fetch. Each keeps
-// its own compact cache (packed_policy_cache.hpp). The grid turns each
-// chunk of records once into references; then, for each set count of its
+// its own compact cache (packed_policy_cache.hpp). The grid reads each
+// chunk of records once (when each is one demand fetch, the first filter
+// reads the records themselves); then, for each set count of its
 // members, fewest sets first, a filter leaves out every fetch of the block
 // its set fetched last (a hit in every cache of that set count, whose
 // update changes nothing: see SetFilter), and that set count's members run
