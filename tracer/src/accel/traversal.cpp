@@ -68,7 +68,7 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
     float t_min, t_max;
   };
   Pending stack[kMaxLevelLimit + 2];
-  int top = 0;
+  Pending* top = stack;  // the next free entry
   // Locals the compiler can keep in registers: the record vector's writes
   // could otherwise alias the members.
   const CompactNode* const nodes = compact_.data();
@@ -131,7 +131,7 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
       } else if (t_split < t_min) {
         node_index = far;
       } else if (t_split > 0) {
-        stack[top++] = {far, t_split, t_far};
+        *top++ = {far, t_split, t_far};
         node_index = near;
         t_far = t_split;
       } else if (t_split < 0) {
@@ -145,7 +145,7 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
         } else {
           // NaN: no compare holds, both children are walked and t_far
           // becomes NaN, as the origin-side rule has always done.
-          stack[top++] = {second, t_split, t_far};
+          *top++ = {second, t_split, t_far};
           node_index = first;
           t_far = t_split;
         }
@@ -161,10 +161,10 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
     // The closest hit so far is final once it lies within this leaf's span;
     // a hit found past the span is kept (clipping rounding), not discarded.
     if (found && best <= t_far) break;
-    if (top == 0) break;
+    if (top == stack) break;
     // Read field by field: a copy of the whole entry went through a stack
     // temporary, a store and a reload before the next node's load.
-    const Pending& next = stack[--top];
+    const Pending& next = *--top;
     if (found && best < next.t_min) break;
     node_index = next.node;
     t_min = next.t_min;
