@@ -68,7 +68,7 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
     float t_min, t_max;
   };
   Pending stack[kMaxLevelLimit + 2];
-  int top = 0;
+  Pending* top = stack;  // the next free entry
   // Locals the compiler can keep in registers: the record vector's writes
   // could otherwise alias the members.
   const CompactNode* const nodes = compact_.data();
@@ -102,6 +102,14 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
       const float o = origin[axis];
       const float t_split = (node.split - o) * inverse_direction[axis];
       const std::uint32_t left = node_index + 1, right = node.bits >> 2;
+      // The right child's line is asked for as soon as its index is known:
+      // the left child is next in memory, the right one is far away and,
+      // when the step takes it (far-only, or a mispredicted near-only step)
+      // or pops it later, its load would otherwise start only once the
+      // compares below are resolved. Kitchen's bounce rays gain 2-7 % (in
+      // one process, paired rounds); Robot's coherent primary rays lose
+      // about 5 % across processes (the line is mostly cached).
+      __builtin_prefetch(&nodes[right]);
       const bool right_near = (right_first >> axis) & 1u;
       const std::uint32_t near = right_near ? right : left;
       const std::uint32_t far = right_near ? left : right;
@@ -131,7 +139,7 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
       } else if (t_split < t_min) {
         node_index = far;
       } else if (t_split > 0) {
-        stack[top++] = {far, t_split, t_far};
+        *top++ = {far, t_split, t_far};
         node_index = near;
         t_far = t_split;
       } else if (t_split < 0) {
@@ -145,7 +153,7 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
         } else {
           // NaN: no compare holds, both children are walked and t_far
           // becomes NaN, as the origin-side rule has always done.
-          stack[top++] = {second, t_split, t_far};
+          *top++ = {second, t_split, t_far};
           node_index = first;
           t_far = t_split;
         }
@@ -161,10 +169,10 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
     // The closest hit so far is final once it lies within this leaf's span;
     // a hit found past the span is kept (clipping rounding), not discarded.
     if (found && best <= t_far) break;
-    if (top == 0) break;
+    if (top == stack) break;
     // Read field by field: a copy of the whole entry went through a stack
     // temporary, a store and a reload before the next node's load.
-    const Pending& next = stack[--top];
+    const Pending& next = *--top;
     if (found && best < next.t_min) break;
     node_index = next.node;
     t_min = next.t_min;
