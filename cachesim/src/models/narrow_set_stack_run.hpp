@@ -33,13 +33,6 @@ inline constexpr std::uint32_t kNarrowEmpty = ~std::uint32_t{0};
 // Can the narrow stacks hold `block`? (Blocks are below 2^61: no overflow.)
 inline bool fits_narrow(std::uint64_t block) { return ((block + 1) >> 32) == 0; }
 
-// fits_narrow() of every block, as one OR of them (block + 1 reaches bit 32
-// exactly when a block does not fit): a loop the compiler vectorises.
-inline bool all_fit_narrow(const std::uint64_t* blocks, std::size_t count) {
-  std::uint64_t any = 0;
-  for (std::size_t i = 0; i < count; ++i) any |= blocks[i] + 1;
-  return (any >> 32) == 0;
-}
 
 // One fetch of `block` in a narrow stack of kDepth (1, 2, 4 or 8) places:
 // returns its 0-based place (kDepth: not kept) and puts it on top, the

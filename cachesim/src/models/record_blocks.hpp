@@ -27,13 +27,22 @@ inline BlockRange blocks_of(const formats::Record& record, formats::RecordForm f
   return range;
 }
 
-// Is every record's block (address >> shift) below 2^32 - 1, so that it
-// fits 32 bits with all ones left free (narrow tags and stack places)? One
-// OR of block + 1, which reaches bit 32 exactly when a block does not fit:
-// a loop the compiler vectorises.
-inline bool record_blocks_fit_32_bits(const formats::Record* records, std::size_t count, unsigned shift) {
+// The blocks of records that are each one block (address >> shift): a
+// view for the loops that take blocks by index.
+struct RecordBlocks {
+  const formats::Record* records;
+  unsigned shift;
+  std::uint64_t operator[](std::size_t i) const { return records[i].address >> shift; }
+};
+
+// Is every block (`blocks[i]`: a pointer or a view) below 2^32 - 1, so that
+// it fits 32 bits with all ones left free (narrow tags and stack places)?
+// One OR of block + 1, which reaches bit 32 exactly when a block does not
+// fit: a loop the compiler vectorises.
+template <typename Blocks>
+bool blocks_fit_32_bits(Blocks blocks, std::size_t count) {
   std::uint64_t any = 0;
-  for (std::size_t i = 0; i < count; ++i) any |= (records[i].address >> shift) + 1;
+  for (std::size_t i = 0; i < count; ++i) any |= blocks[i] + 1;
   return (any >> 32) == 0;
 }
 

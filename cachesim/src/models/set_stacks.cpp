@@ -101,44 +101,42 @@ void SetStacks::access(std::uint64_t block, unsigned tag) {
   }
 }
 
-void SetStacks::access_blocks(const std::uint64_t* blocks, std::size_t count) {
-  if (narrow_) {
-    // Widened before the batch when any block in it needs more than 32
-    // bits: the stacks so far saw only blocks that fit.
-    if (!all_fit_narrow(blocks, count)) widen();
+namespace {
+
+// One narrow set count's run over `count` fetches (`in`: blocks or a view
+// of them) into `out`; returns how many it passed on.
+template <typename In>
+std::size_t run_narrow_level(std::uint32_t* stacks, std::uint64_t mask, unsigned depth, In in, std::size_t count,
+                             std::uint64_t* out, std::uint64_t* deeper) {
+  switch (depth) {
+    case 1: return run_narrow_set_stacks<1>(stacks, mask, in, count, out, deeper);
+    case 2: return run_narrow_set_stacks<2>(stacks, mask, in, count, out, deeper);
+    case 4: return run_narrow_set_stacks<4>(stacks, mask, in, count, out, deeper);
+    default: return run_narrow_set_stacks_of_8(stacks, mask, in, count, out, deeper);
   }
+}
+
+}  // namespace
+
+void SetStacks::access_blocks(const std::uint64_t* blocks, std::size_t count) {
+  // Widened before the batch when any block in it needs more than 32 bits:
+  // the stacks so far saw only blocks that fit.
+  if (narrow_ && !blocks_fit_32_bits(blocks, count)) widen();
   fetches_ += count;
   if (passed_.size() < count) passed_.resize(count);
   run_levels(0, blocks, count);
 }
 
-namespace {
-
-// The blocks of records, each one block: a view for the stacks' runs.
-struct RecordBlocks {
-  const formats::Record* records;
-  unsigned shift;
-  std::uint64_t operator[](std::size_t i) const { return records[i].address >> shift; }
-};
-
-}  // namespace
-
 void SetStacks::access_records(const formats::Record* records, std::size_t count, unsigned shift) {
-  if (narrow_ && !record_blocks_fit_32_bits(records, count, shift)) widen();
+  const RecordBlocks blocks{records, shift};
+  if (narrow_ && !blocks_fit_32_bits(blocks, count)) widen();
   fetches_ += count;
   if (levels_.empty()) return;
   if (passed_.size() < count) passed_.resize(count);
-  const RecordBlocks blocks{records, shift};
   LevelState& first = levels_.front();
-  if (std::uint32_t* const stacks = first.narrow_stacks) {
-    std::uint64_t* const passed = passed_.data();
-    switch (first.depth) {
-      case 1: count = run_narrow_set_stacks<1>(stacks, first.mask, blocks, count, passed, first.deeper); break;
-      case 2: count = run_narrow_set_stacks<2>(stacks, first.mask, blocks, count, passed, first.deeper); break;
-      case 4: count = run_narrow_set_stacks<4>(stacks, first.mask, blocks, count, passed, first.deeper); break;
-      default: count = run_narrow_set_stacks_of_8(stacks, first.mask, blocks, count, passed, first.deeper);
-    }
-    run_levels(1, passed, count);
+  if (first.narrow_stacks != nullptr) {
+    count = run_narrow_level(first.narrow_stacks, first.mask, first.depth, blocks, count, passed_.data(), first.deeper);
+    run_levels(1, passed_.data(), count);
     return;
   }
   // A wide first set count: its runs read blocks.
@@ -151,13 +149,8 @@ void SetStacks::run_levels(std::size_t from, const std::uint64_t* in, std::size_
   std::uint64_t* const passed = passed_.data();
   for (std::size_t l = from; l < levels_.size(); ++l) {
     LevelState& level = levels_[l];
-    if (std::uint32_t* const stacks = level.narrow_stacks) {
-      switch (level.depth) {
-        case 1: count = run_narrow_set_stacks<1>(stacks, level.mask, in, count, passed, level.deeper); break;
-        case 2: count = run_narrow_set_stacks<2>(stacks, level.mask, in, count, passed, level.deeper); break;
-        case 4: count = run_narrow_set_stacks<4>(stacks, level.mask, in, count, passed, level.deeper); break;
-        default: count = run_narrow_set_stacks_of_8(stacks, level.mask, in, count, passed, level.deeper);
-      }
+    if (level.narrow_stacks != nullptr) {
+      count = run_narrow_level(level.narrow_stacks, level.mask, level.depth, in, count, passed, level.deeper);
       in = passed;
       continue;
     }

@@ -157,7 +157,7 @@ class PolicyGrid {
     if (fetches_only) {
       refs_ += count;
       fetches_ += count;
-      beyond_narrow_ |= !record_blocks_fit_32_bits(records, count, shift_);
+      beyond_narrow_ |= !blocks_fit_32_bits(RecordBlocks{records, shift_}, count);
     } else {
       collect_generic(records, count);
     }

@@ -44,10 +44,10 @@ inline constexpr std::size_t kBatchesHeld = 32;
 // record buffers as may be in use at once (pieces waiting in every frame
 // the workers decode, one filling in each, the batches the consumer
 // holds), so that pieces reuse memory rather than touching fresh pages
-// (with 40 kept, a sweep of 36 configurations on BART Kitchen took 24,700
-// page faults and 0.24 s of system time, with enough 18,400 and 0.16 s;
-// a buffer is kept only once it was in use, so the memory held is that of
-// the busiest moment).
+// (with 40 kept, the policy grid of 36 configurations on BART Kitchen took
+// 24,700 page faults and 0.24 s of system time, with enough 18,200 and
+// 0.16-0.22 s; a buffer is kept only once it was in use, so the memory held
+// is that of the busiest moment).
 struct Stock {
   Recycler<std::vector<Record>> records{0};  // sized by PipelinedReader
   // The ring of data frames with a large zstd window (archives): they are
