@@ -128,42 +128,67 @@ void SetStacks::access_blocks(const std::uint64_t* blocks, std::size_t count) {
 }
 
 void SetStacks::access_records(const formats::Record* records, std::size_t count, unsigned shift) {
-  const RecordBlocks blocks{records, shift};
-  if (narrow_ && !blocks_fit_32_bits(blocks, count)) widen();
+  if (narrow_ && !blocks_fit_32_bits(RecordBlocks{records, shift}, count)) widen();
   fetches_ += count;
   if (levels_.empty()) return;
   if (passed_.size() < count) passed_.resize(count);
+  run_levels(1, passed_.data(), run_first_level(records, count, shift));
+}
+
+void SetStacks::access_records_filtered(const formats::Record* records, std::size_t count, unsigned shift,
+                                        std::span<const Filtered> filtered, bool fit_32_bits) {
+  if (narrow_ && !fit_32_bits) widen();
+  fetches_ += count;
+  if (passed_.size() < count) passed_.resize(count);
+  std::size_t next = 0;    // the first of `filtered` no set count has looked at
+  std::size_t passed = 0;  // by the set count before
+  for (std::size_t l = 0; l < levels_.size(); ++l) {
+    LevelState& level = levels_[l];
+    const Filtered* nearest = nullptr;
+    while (next < filtered.size() && filtered[next].log2_sets <= level.log2_sets) nearest = &filtered[next++];
+    // A list of no more sets than the set count before is no shorter than
+    // what that one passed on.
+    if (nearest != nullptr && (l == 0 || nearest->log2_sets > levels_[l - 1].log2_sets)) {
+      passed = run_level(level, nearest->blocks, nearest->count);
+    } else if (l == 0) {
+      passed = run_first_level(records, count, shift);
+    } else {
+      passed = run_level(level, passed_.data(), passed);
+    }
+  }
+}
+
+std::size_t SetStacks::run_first_level(const formats::Record* records, std::size_t count, unsigned shift) {
+  const RecordBlocks blocks{records, shift};
   LevelState& first = levels_.front();
   if (first.narrow_stacks != nullptr) {
-    count = run_narrow_level(first.narrow_stacks, first.mask, first.depth, blocks, count, passed_.data(), first.deeper);
-    run_levels(1, passed_.data(), count);
-    return;
+    return run_narrow_level(first.narrow_stacks, first.mask, first.depth, blocks, count, passed_.data(), first.deeper);
   }
   // A wide first set count: its runs read blocks.
   for (std::size_t i = 0; i < count; ++i) passed_[i] = blocks[i];
-  run_levels(0, passed_.data(), count);
+  return run_level(first, passed_.data(), count);
 }
 
 void SetStacks::run_levels(std::size_t from, const std::uint64_t* in, std::size_t count) {
   // Each set count passes on what it did not find on top, in place.
-  std::uint64_t* const passed = passed_.data();
   for (std::size_t l = from; l < levels_.size(); ++l) {
-    LevelState& level = levels_[l];
-    if (level.narrow_stacks != nullptr) {
-      count = run_narrow_level(level.narrow_stacks, level.mask, level.depth, in, count, passed, level.deeper);
-      in = passed;
-      continue;
-    }
-    switch (level.depth) {
-      case 1: count = run_set_stacks<1>(level.stacks, level.mask, in, count, passed, level.deeper); break;
-      case 2: count = run_set_stacks<2>(level.stacks, level.mask, in, count, passed, level.deeper); break;
-      case 4: count = run_set_stacks<4>(level.stacks, level.mask, in, count, passed, level.deeper); break;
-      case 8: count = run_set_stacks<8>(level.stacks, level.mask, in, count, passed, level.deeper); break;
-      case 16: count = run_set_stacks<16>(level.stacks, level.mask, in, count, passed, level.deeper); break;
-      default:
-        count = run_set_stacks_any(level.stacks, level.mask, level.depth, in, count, passed, level.deeper);
-    }
-    in = passed;
+    count = run_level(levels_[l], in, count);
+    in = passed_.data();
+  }
+}
+
+std::size_t SetStacks::run_level(LevelState& level, const std::uint64_t* in, std::size_t count) {
+  std::uint64_t* const passed = passed_.data();
+  if (level.narrow_stacks != nullptr) {
+    return run_narrow_level(level.narrow_stacks, level.mask, level.depth, in, count, passed, level.deeper);
+  }
+  switch (level.depth) {
+    case 1: return run_set_stacks<1>(level.stacks, level.mask, in, count, passed, level.deeper);
+    case 2: return run_set_stacks<2>(level.stacks, level.mask, in, count, passed, level.deeper);
+    case 4: return run_set_stacks<4>(level.stacks, level.mask, in, count, passed, level.deeper);
+    case 8: return run_set_stacks<8>(level.stacks, level.mask, in, count, passed, level.deeper);
+    case 16: return run_set_stacks<16>(level.stacks, level.mask, in, count, passed, level.deeper);
+    default: return run_set_stacks_any(level.stacks, level.mask, level.depth, in, count, passed, level.deeper);
   }
 }
 

@@ -146,18 +146,23 @@ class PolicyGrid {
     for (auto& [log2_sets, members] : by_sets) {
       Level& level = levels_.emplace_back(Level{SetFilter(log2_sets), {}, {}});
       for (const std::size_t m : members) where_[m] = {levels_.size() - 1, level.caches.add(grid_geometry(configs[m]))};
+      filtered_->lists.push_back(SetStacks::Filtered{log2_sets, nullptr, 0});
     }
   }
+
+  std::shared_ptr<const GridFilterOutput> filtered() const { return filtered_; }
 
   void feed(const Record* records, std::size_t count, const PreparedBatch& prepared) {
     // Every record one demand fetch of one block (din addresses need no
     // rounding: blocks are at least 4 bytes): the first set count filters
     // the records themselves.
     const bool fetches_only = prepared.demand_only && prepared.span_bits < configs_.front().block;
+    filtered_->records = nullptr;
     if (fetches_only) {
       refs_ += count;
       fetches_ += count;
-      beyond_narrow_ |= !blocks_fit_32_bits(RecordBlocks{records, shift_}, count);
+      filtered_->blocks_fit_32_bits = blocks_fit_32_bits(RecordBlocks{records, shift_}, count);
+      beyond_narrow_ |= !filtered_->blocks_fit_32_bits;
     } else {
       collect_generic(records, count);
     }
@@ -171,6 +176,14 @@ class PolicyGrid {
       level.caches.run(level.kept.blocks.data(), level.kept.kinds.data(), level.kept.count, level.kept.invalidates,
                        beyond_narrow_);
       in = &level.kept;
+    }
+    if (fetches_only) {
+      for (std::size_t l = 0; l < levels_.size(); ++l) {
+        filtered_->lists[l].blocks = levels_[l].kept.blocks.data();
+        filtered_->lists[l].count = levels_[l].kept.count;
+      }
+      filtered_->records = records;
+      filtered_->count = count;
     }
   }
 
@@ -233,6 +246,7 @@ class PolicyGrid {
   std::vector<std::pair<std::size_t, std::size_t>> where_;  // per member: its level and index there
   References chunk_;           // the chunk's references, reused
   bool beyond_narrow_ = false;
+  std::shared_ptr<GridFilterOutput> filtered_ = std::make_shared<GridFilterOutput>();
   std::uint64_t refs_ = 0;
   std::uint64_t fetches_ = 0;
 };
@@ -265,12 +279,12 @@ std::string policy_grid_key(const Configuration& config, bool per_level) {
   return fmt::format("single/{}", config.block);
 }
 
-std::vector<std::unique_ptr<ConfigSimulator>> make_policy_grid(const std::vector<Configuration>& members,
-                                                               const TraceContext& context) {
+PolicyGridSimulators make_policy_grid(const std::vector<Configuration>& members, const TraceContext& context) {
   auto grid = std::make_shared<PolicyGrid>(members, context);
-  std::vector<std::unique_ptr<ConfigSimulator>> simulators;
-  for (std::size_t m = 0; m < members.size(); ++m) simulators.push_back(std::make_unique<GridMember>(grid, m));
-  return simulators;
+  PolicyGridSimulators made;
+  for (std::size_t m = 0; m < members.size(); ++m) made.members.push_back(std::make_unique<GridMember>(grid, m));
+  made.filtered = grid->filtered();
+  return made;
 }
 
 }  // namespace nodetrace::cachesim

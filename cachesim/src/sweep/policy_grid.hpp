@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "sweep/config_simulator.hpp"
+#include "sweep/grid_filter_output.hpp"
 
 namespace nodetrace::cachesim {
 
@@ -26,9 +27,12 @@ namespace nodetrace::cachesim {
 // per-level counts).
 std::string policy_grid_key(const Configuration& config, bool per_level);
 
-// One simulator per member (configurations of one key, report order). The
-// first one is the leader: only its feed() simulates (for all of them).
-std::vector<std::unique_ptr<ConfigSimulator>> make_policy_grid(const std::vector<Configuration>& members,
-                                                               const TraceContext& context);
+struct PolicyGridSimulators {
+  // One per member (configurations of one key, report order). The first
+  // one is the leader: only its feed() simulates (for all of them).
+  std::vector<std::unique_ptr<ConfigSimulator>> members;
+  std::shared_ptr<const GridFilterOutput> filtered;
+};
+PolicyGridSimulators make_policy_grid(const std::vector<Configuration>& members, const TraceContext& context);
 
 }  // namespace nodetrace::cachesim

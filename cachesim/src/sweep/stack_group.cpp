@@ -58,8 +58,10 @@ class StackGroup {
   // capacity and its error names it, so pieces fail alike.
   StackGroup(const std::vector<Configuration>& configs, std::uint32_t split_level,
              const TraceContext& context, bool per_level, const Configuration& retain_bound,
-             std::optional<unsigned> entry_log2_sets = std::nullopt)
+             std::optional<unsigned> entry_log2_sets = std::nullopt,
+             std::shared_ptr<const GridFilterOutput> grid_filtered = nullptr)
       : context_(context),
+        grid_filtered_(std::move(grid_filtered)),
         split_(configs.front().scheme == Scheme::Split),
         retain_(split_ && configs.front().high_policy == HighPolicy::Retain),
         per_level_(per_level),
@@ -222,7 +224,12 @@ class StackGroup {
       // Each side's blocks in order, then its stacks run over them set
       // count by set count (the two sides' stacks are independent).
       if constexpr (!kSplit) {
-        low_.access_records(records, count, shift);
+        const GridFilterOutput* const grid = grid_filtered_.get();
+        if (grid != nullptr && grid->records == records && grid->count == count) {
+          low_.access_records_filtered(records, count, shift, grid->lists, grid->blocks_fit_32_bits);
+        } else {
+          low_.access_records(records, count, shift);
+        }
         refs_ += count;
         fetches_ += count;
         return;
@@ -364,6 +371,8 @@ class StackGroup {
   }
 
   const TraceContext& context_;
+  // The policy grid fed each chunk just before, on this thread (or null).
+  std::shared_ptr<const GridFilterOutput> grid_filtered_;
   bool split_;
   bool retain_;
   bool per_level_;
@@ -439,9 +448,10 @@ std::size_t tightest_member(const std::vector<Configuration>& members) {
 std::vector<std::unique_ptr<ConfigSimulator>> make_stack_group(
     const std::vector<Configuration>& members, std::uint32_t split_level,
     const TraceContext& context, bool per_level, const Configuration* retain_bound,
-    std::optional<unsigned> entry_log2_sets) {
+    std::optional<unsigned> entry_log2_sets, std::shared_ptr<const GridFilterOutput> grid_filtered) {
   const Configuration& bound = retain_bound ? *retain_bound : members[tightest_member(members)];
-  auto group = std::make_shared<StackGroup>(members, split_level, context, per_level, bound, entry_log2_sets);
+  auto group = std::make_shared<StackGroup>(members, split_level, context, per_level, bound, entry_log2_sets,
+                                            std::move(grid_filtered));
   std::vector<std::unique_ptr<ConfigSimulator>> simulators;
   for (std::size_t m = 0; m < members.size(); ++m) {
     simulators.push_back(std::make_unique<StackMember>(group, m));

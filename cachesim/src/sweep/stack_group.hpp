@@ -15,6 +15,7 @@
 
 #include "nodetrace/cachesim/models/set_stacks.hpp"
 #include "sweep/config_simulator.hpp"
+#include "sweep/grid_filter_output.hpp"
 
 namespace nodetrace::cachesim {
 
@@ -51,10 +52,15 @@ void probe_stack_group(const std::vector<Configuration>& members, std::uint32_t 
 // first): the set count of the group's low caches just below this piece's,
 // kept one block deep in front of its stacks, so that only the fetches the
 // whole group's walk brings here reach them (see StackPiece).
+// `grid_filtered` (single caches): the output of the policy grid of the
+// same block size, whose leader is fed each chunk just before this group's
+// on the same thread; where it has lists of the chunk, the stacks walk
+// them.
 std::vector<std::unique_ptr<ConfigSimulator>> make_stack_group(
     const std::vector<Configuration>& members, std::uint32_t split_level,
     const TraceContext& context, bool per_level, const Configuration* retain_bound = nullptr,
-    std::optional<unsigned> entry_log2_sets = std::nullopt);
+    std::optional<unsigned> entry_log2_sets = std::nullopt,
+    std::shared_ptr<const GridFilterOutput> grid_filtered = nullptr);
 
 // Some of a stack group's members (indices into them, in order) and their
 // estimated work per record (units: a set count looked at by a fetch is

@@ -96,6 +96,7 @@ void Sweep::start(const formats::RecordBatch& first_batch) {
   // With one part nothing is balanced: no probe, every group whole.
   const bool balance = requested_parts_ > 1;
   struct Group {
+    std::string key;
     std::vector<std::size_t> members;
     std::vector<Configuration> configs;
     std::optional<StackGroupCost> cost;
@@ -107,6 +108,7 @@ void Sweep::start(const formats::RecordBatch& first_batch) {
       continue;
     }
     Group group;
+    group.key = key;
     for (const std::size_t i : members) group.configs.push_back(configs_[i]);
     if (balance) {
       group.cost.emplace(group.configs, plan_->current(members.front()), context_, per_level_,
@@ -130,6 +132,8 @@ void Sweep::start(const formats::RecordBatch& first_batch) {
       policy_grids[key].push_back(i);
     }
   }
+  // A grid's unit, which the stack group of its key joins.
+  std::map<std::string, std::pair<std::size_t, std::shared_ptr<const GridFilterOutput>>> grid_units;
   for (auto& [key, members] : policy_grids) {
     std::vector<Configuration> member_configs;
     double cost = 1.0;
@@ -137,8 +141,9 @@ void Sweep::start(const formats::RecordBatch& first_batch) {
       member_configs.push_back(configs_[i]);
       cost += kGridMemberCost;
     }
-    auto made = make_policy_grid(member_configs, context_);
-    for (std::size_t m = 0; m < members.size(); ++m) simulators_[members[m]] = std::move(made[m]);
+    PolicyGridSimulators made = make_policy_grid(member_configs, context_);
+    for (std::size_t m = 0; m < members.size(); ++m) simulators_[members[m]] = std::move(made.members[m]);
+    grid_units[key] = {units.size(), std::move(made.filtered)};
     unit_cost.push_back(cost);
     units.push_back(std::move(members));
   }
@@ -188,7 +193,25 @@ void Sweep::start(const formats::RecordBatch& first_batch) {
   for (const double cost : unit_cost) total += cost;
   for (const Group& group : groups) total += group.cost ? group.cost->cut(1).front().cost : 0;
   const double share = total / static_cast<double>(requested_parts_);
+  std::vector<std::vector<std::size_t>> leaders(units.size());
+  for (std::size_t u = 0; u < units.size(); ++u) leaders[u] = {units[u].front()};
   for (Group& group : groups) {
+    // The stack group of a policy grid's block size walks the lists the
+    // grid's filters kept, right after the grid on the same thread, so it
+    // joins the grid's unit whole (the grid of 4 policies x 3 sizes x 3
+    // ways on BART Kitchen: 3.05 s of CPU against 3.20 s with the group on
+    // a thread of its own, medians of 15 runs in turn).
+    if (const auto grid = grid_units.find(group.key); grid != grid_units.end()) {
+      const auto [unit, filtered] = grid->second;
+      auto made = make_stack_group(group.configs, plan_->current(group.members.front()), context_, per_level_,
+                                   nullptr, std::nullopt, filtered);
+      for (std::size_t m = 0; m < group.members.size(); ++m) simulators_[group.members[m]] = std::move(made[m]);
+      unit_cost[unit] += group.cost ? group.cost->cut(1).front().cost : 0;
+      leaders[unit].push_back(group.members.front());
+      units[unit].insert(units[unit].end(), group.members.begin(), group.members.end());
+      std::sort(units[unit].begin(), units[unit].end());
+      continue;
+    }
     std::vector<StackPiece> pieces;
     if (group.cost) {
       const double whole = group.cost->cut(1).front().cost;
@@ -220,13 +243,14 @@ void Sweep::start(const formats::RecordBatch& first_batch) {
                                    per_level_, &bound, piece.entry_log2_sets);
       for (std::size_t m = 0; m < members.size(); ++m) simulators_[members[m]] = std::move(made[m]);
       unit_cost.push_back(piece.cost);
+      leaders.push_back({members.front()});
       units.push_back(std::move(members));
     }
   }
   open_frames_.assign(simulators_.size(), OpenAnimationFrame{});
   animation_frame_rows_.assign(simulators_.size(), {});
   for (std::size_t u = 0; u < units.size(); ++u) {
-    units_.push_back(WorkUnit{std::move(units[u]), unit_cost[u], 0.0});
+    units_.push_back(WorkUnit{std::move(units[u]), std::move(leaders[u]), unit_cost[u], 0.0});
   }
   parts_.assign(std::max<std::size_t>(1, std::min(requested_parts_, units_.size())), Part{});
   assign_parts(unit_cost);
@@ -349,8 +373,9 @@ void Sweep::feed_part(const formats::RecordBatch& batch, std::size_t part_index)
     const bool timed = parts_.size() > 1 && (first_record / kChunk) % kTimedEvery == 0;
     double started = timed ? thread_cpu_seconds() : 0;
     for (const std::size_t u : part.units) {
-      simulators_[units_[u].simulators.front()]->feed(records + begin, chunk, first_record,
-                                                       part.prepared);
+      for (const std::size_t leader : units_[u].leaders) {
+        simulators_[leader]->feed(records + begin, chunk, first_record, part.prepared);
+      }
       if (timed) {
         const double now = thread_cpu_seconds();
         units_[u].seconds += now - started;

@@ -296,22 +296,31 @@ TEST(ReplacementPolicies, EqualTheReferenceModelOnRandomTracesAndConfigurations)
 // seeded traces, with repeats, invalidations, block numbers past 2^32 from
 // some point on and batches of any length (chunk edges inside runs), every
 // member must count as the reference model does.
+// With LRU and direct-mapped members too: their set stacks walk the lists
+// the grid's filters keep (until an invalidation hands them over to caches
+// of their own).
 TEST(ReplacementPolicies, PolicyGridEqualsTheReferenceModelOverBatchesAndInvalidates) {
   constexpr ReplacementPolicy kGridPolicies[] = {ReplacementPolicy::Plru, ReplacementPolicy::Srrip,
                                                  ReplacementPolicy::Brrip, ReplacementPolicy::Drrip};
   std::size_t members = 0;
+  std::size_t stacked = 0;
   std::size_t widened = 0;
   for (std::uint64_t seed = 1; seed <= 300; ++seed) {
     std::mt19937_64 random(seed);
     const std::uint32_t block = 4u << (random() % 4);  // 4 .. 32
     std::vector<Configuration> configs;
-    for (int c = 0; c < 8; ++c) {
+    for (int c = 0; c < 12; ++c) {
       Configuration config;
       config.block = block;
       config.policy = kGridPolicies[random() % std::size(kGridPolicies)];
-      config.assoc = 2u << (random() % 4);                                       // 2 .. 16
-      config.size = std::uint64_t{config.assoc} * block << (random() % 9);  // 1 .. 256 sets
+      config.assoc = 2u << (random() % 4);  // 2 .. 16
+      if (c >= 8) {  // answered by set stacks: LRU, or direct-mapped under any policy
+        config.assoc = 1u << (random() % 5);  // 1 .. 16
+        if (config.assoc > 1) config.policy = ReplacementPolicy::Lru;
+      }
+      config.size = std::uint64_t{config.assoc} * block << (random() % 10);  // 1 .. 512 sets
       if (std::find(configs.begin(), configs.end(), config) == configs.end()) configs.push_back(config);
+      stacked += c >= 8;
     }
     const std::uint64_t spread = 64 * (2 + random() % 12);
     std::vector<Record> records = random_records(random, 6000, spread, block, random() % 3 != 0);
@@ -358,7 +367,8 @@ TEST(ReplacementPolicies, PolicyGridEqualsTheReferenceModelOverBatchesAndInvalid
       ++members;
     }
   }
-  EXPECT_GT(members, 2000u);
+  EXPECT_GT(members, 3000u);
+  EXPECT_EQ(stacked, 1200u);
   EXPECT_EQ(widened, 60u);
 }
 

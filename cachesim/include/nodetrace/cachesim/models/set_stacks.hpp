@@ -24,6 +24,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "nodetrace/formats/record/record.hpp"
@@ -57,6 +58,24 @@ class SetStacks {
   // fetch of the block its address shifted right by `shift` gives: the
   // first set count reads the records themselves (no copy of the blocks).
   void access_records(const formats::Record* records, std::size_t count, unsigned shift);
+
+  // Some fetches of a chunk, in order: at least every one whose block was
+  // not the last one its set fetched, with 2^log2_sets sets (a policy
+  // grid's filters keep these: policy_grid.hpp).
+  struct Filtered {
+    unsigned log2_sets = 0;
+    const std::uint64_t* blocks = nullptr;
+    std::size_t count = 0;
+  };
+  // access_records(), but each set count walks the shortest list known to
+  // hold every fetch that reaches it: the records, what the set count
+  // before it passed on, or the one of `filtered` (fewest sets first) with
+  // the most sets not above its own and above the set count before's. A
+  // fetch left out is on top of its set there, so on top, and changing
+  // nothing, in every larger set count. `fit_32_bits`: every block of the
+  // records is below 2^32 - 1 (blocks_fit_32_bits), known to the caller.
+  void access_records_filtered(const formats::Record* records, std::size_t count, unsigned shift,
+                               std::span<const Filtered> filtered, bool fit_32_bits);
 
   std::uint64_t fetches() const { return fetches_; }
   // Misses of the cache with 2^log2_sets sets and `ways` ways (ways <= its
@@ -98,6 +117,11 @@ class SetStacks {
   // The levels from `from` on over `count` fetches, `in` the first one's
   // blocks (which may be passed_) and passed_ the others'.
   void run_levels(std::size_t from, const std::uint64_t* in, std::size_t count);
+  // One set count over `count` fetches into passed_ (`in` may be passed_);
+  // returns how many it passed on.
+  std::size_t run_level(LevelState& level, const std::uint64_t* in, std::size_t count);
+  // The first set count over the records' blocks into passed_.
+  std::size_t run_first_level(const formats::Record* records, std::size_t count, unsigned shift);
 
   std::vector<LevelState> levels_;
   std::vector<std::uint64_t> storage_;  // the wide levels' stacks

@@ -65,10 +65,12 @@ class Sweep {
 
  private:
   // Simulators fed by one loop: a stack group or a piece of one, or a
-  // policy grid (fed through its first member, for all of them), a set of split
-  // configurations fed together, or one configuration.
+  // policy grid (fed through its first member, for all of them) with the
+  // stack group of its block size that walks what its filters kept, a set
+  // of split configurations fed together, or one configuration.
   struct WorkUnit {
-    std::vector<std::size_t> simulators;
+    std::vector<std::size_t> simulators;  // in report order
+    std::vector<std::size_t> leaders;     // the ones fed, in this order (each feeds its group)
     double estimate = 0;   // work per record, estimated (stack_group.hpp's units)
     double seconds = 0;    // CPU time of its feeds so far (only its part's thread writes it)
   };
