@@ -53,7 +53,7 @@ CacheGeometry grid_geometry(const Configuration& config) {
 // would be left out by every larger set count too (each of their sets is
 // part of one set here), so each set count filters what the one before it
 // kept. Only fetches of the same chunk are joined (the kept one must not
-// have been run yet).
+// have been run yet): every chunk starts with no set's block known.
 class SetFilter {
  public:
   explicit SetFilter(unsigned log2_sets) : slots_(std::size_t{1} << log2_sets), mask_(slots_.size() - 1) {}
@@ -69,7 +69,6 @@ class SetFilter {
     } else {
       out.count = filter_with<false>(in.count, block_at, kind_at, out);
     }
-    first_position_ += out.count;
   }
   // Filters `count` records, each one demand fetch of the block its
   // address shifted right by `shift` gives, into `out`.
@@ -78,22 +77,23 @@ class SetFilter {
     const auto block_at = [=](std::size_t r) { return records[r].address >> shift; };
     const auto kind_at = [](std::size_t) { return PackedReference::Fetch; };
     out.count = filter_with<false>(count, block_at, kind_at, out);
-    first_position_ += out.count;
   }
 
  private:
+  // No block: a block number is at most 2^62 - 1 (blocks of 4 bytes or more).
+  static constexpr std::uint64_t kNoBlock = ~std::uint64_t{0};
   struct Slot {
-    std::uint64_t block = 0;
-    std::uint64_t position = 0;  // of the kept fetch; 0: none (positions start at 1)
+    std::uint64_t block = kNoBlock;
+    std::uint64_t at = 0;  // of the kept fetch of `block`, in this chunk's references
   };
 
   // Without a branch on the filter's answer: a fetch left out rewrites the
   // kept one as Refetched, another starts a new one.
   template <bool kInvalidates, typename BlockAt, typename KindAt>
   std::size_t filter_with(std::size_t count, BlockAt block_at, KindAt kind_at, References& out) {
+    std::fill(slots_.begin(), slots_.end(), Slot{});
     Slot* const slots = slots_.data();
     const std::uint64_t mask = mask_;
-    const std::uint64_t first = first_position_;
     std::uint64_t* const blocks = out.blocks.data();
     PackedReference* const kinds = out.kinds.data();
     std::size_t kept = 0;
@@ -103,7 +103,7 @@ class SetFilter {
       Slot& slot = slots[block & mask];
       if constexpr (kInvalidates) {
         if (kind == PackedReference::Invalidate) {
-          if (slot.block == block) slot.position = 0;
+          if (slot.block == block) slot.block = kNoBlock;
           blocks[kept] = block;
           kinds[kept] = kind;
           ++kept;
@@ -112,14 +112,13 @@ class SetFilter {
       }
       // All ones when left out; an empty asm keeps the compiler from
       // branching on it.
-      std::uint64_t again = std::uint64_t{0} - static_cast<std::uint64_t>((slot.block == block) & (slot.position >= first));
+      std::uint64_t again = std::uint64_t{0} - static_cast<std::uint64_t>(slot.block == block);
       asm("" : "+r"(again));
-      const std::uint64_t position = (first + kept) ^ (((first + kept) ^ slot.position) & again);
-      const std::size_t at = static_cast<std::size_t>(position - first);
+      const std::size_t at = kept ^ ((kept ^ slot.at) & again);
       blocks[at] = block;
       kinds[at] = static_cast<PackedReference>(static_cast<std::uint8_t>(kind) | (again & 1));  // Fetch becomes Refetched
       slot.block = block;
-      slot.position = position;
+      slot.at = at;
       kept += 1 - (again & 1);
     }
     return kept;
@@ -127,7 +126,6 @@ class SetFilter {
 
   std::vector<Slot> slots_;
   std::uint64_t mask_;
-  std::uint64_t first_position_ = 1;  // of the next chunk's first kept reference
 };
 
 class PolicyGrid {
