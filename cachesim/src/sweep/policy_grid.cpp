@@ -80,7 +80,9 @@ class SetFilter {
   }
 
  private:
-  // No block: a block number is at most 2^62 - 1 (blocks of 4 bytes or more).
+  // No block: the packed caches' mark of a free way too (and every model's:
+  // the block number 2^64 - 1, only 1-byte blocks at the last address, is
+  // not simulated apart from it).
   static constexpr std::uint64_t kNoBlock = ~std::uint64_t{0};
   struct Slot {
     std::uint64_t block = kNoBlock;
