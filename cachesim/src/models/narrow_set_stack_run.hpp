@@ -33,7 +33,6 @@ inline constexpr std::uint32_t kNarrowEmpty = ~std::uint32_t{0};
 // Can the narrow stacks hold `block`? (Blocks are below 2^61: no overflow.)
 inline bool fits_narrow(std::uint64_t block) { return ((block + 1) >> 32) == 0; }
 
-
 // One fetch of `block` in a narrow stack of kDepth (1, 2, 4 or 8) places:
 // returns its 0-based place (kDepth: not kept) and puts it on top, the
 // places above the one it left (all of them when not kept) moving down.
