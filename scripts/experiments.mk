@@ -1,7 +1,7 @@
 # Experiments around Table 1 of Nah, Heo, Park, Han, "A Split Node Cache
 # Scheme for Fast Ray Tracing" (RT'08): the table as the paper lays it out,
-# and the studies that explain it. README "Experiments" lists the targets and
-# their outputs.
+# and the studies that explain it. docs/guide/studies.md ("The experiment
+# Makefile") lists the targets and their outputs.
 #
 #   make -f scripts/experiments.mk table1            # or: make -f scripts/table1.mk
 #   make -f scripts/experiments.mk -j2 all

@@ -1,5 +1,5 @@
 # Path-tracing studies (workloads, convergence), included by experiments.mk
-# (its helpers, variables and study_rule; README "Path tracing").
+# (its helpers, variables and study_rule; docs/guide/path-tracing.md).
 #
 # workloads: Table 1's grid (SIZES, direct-mapped and WORKLOADS_ASSOCS-way,
 # single against split with K = auto, each size's trace in the hybrid

@@ -268,7 +268,7 @@ inline void print_run_report(const RunReport& report) {
 }
 
 // The format of a side table's file: a name ending in .csv or .json says
-// it (README: --per-frame frames.csv), any other name and "-" take --format.
+// it (docs/guide/caches.md: --per-frame frames.csv), any other name and "-" take --format.
 inline ReportFormat table_file_format(const std::string& path, ReportFormat format) {
   if (path.ends_with(".csv")) return ReportFormat::Csv;
   if (path.ends_with(".json")) return ReportFormat::Json;

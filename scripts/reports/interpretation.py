@@ -5,7 +5,8 @@ how close it comes (mean and largest difference, directions of the split)."""
 import common
 
 AXES = ["size", "base", "loads", "k", "depth", "tcost", "icost", "bonus", "leaf", "rays", "lights", "frame"]
-# What each axis's values mean (README "Experiments", docs/REPRODUCTION.md).
+# What each axis's values mean (docs/guide/studies.md "Reproducing Table 1",
+# docs/REPRODUCTION.md).
 AXIS_TEXT = {
     "size": "what a row's size is: half (the total, split half and half), each (each cache the row's "
             "size), highk (the high cache holds the levels < K, the low cache the row's size)",

@@ -78,7 +78,7 @@ for cell in cells:
                     "gap_closed_percent": None if closed is None else f"{closed:.1f}"})
 common.write_csv(os.path.join(args.out_dir, "policies.csv"), list(out[0]), out)
 
-# What the README asks of the numbers: does the split beat RRIP, and how far
+# What docs/FINDINGS.md asks of the numbers: does the split beat RRIP, and how far
 # are both from OPT (mean shares of the gap closed, over every cell).
 summary = []
 for column in columns:

@@ -16,7 +16,8 @@
 namespace nodetrace::testing {
 namespace {
 
-// The documented headers (docs/ARCHITECTURE.md "Report columns", README "Output shapes").
+// The documented headers (docs/ARCHITECTURE.md "Report columns", docs/guide/formats-and-outputs.md
+// "Output shapes").
 const std::vector<std::string> kConfiguration{"trace",       "scheme",    "size",     "block",      "assoc",
                                               "policy",      "high_policy", "high_size", "low_size", "split_level"};
 std::vector<std::string> main_columns() {

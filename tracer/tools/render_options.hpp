@@ -278,7 +278,7 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
       ->capture_default_str();
   app.add_option("--rays-in-flight", o.rays_in_flight,
                  "ray slots per traversal unit: each step every busy slot issues its ray's next node fetch, in "
-                 "slot order; 1 is one ray at a time (README \"Rays in flight\")")
+                 "slot order; 1 is one ray at a time (docs/guide/rays-in-flight.md)")
       ->check(CLI::Range(1u, kMaxRaysInFlight))
       ->capture_default_str();
   app.add_option("--units", o.units,

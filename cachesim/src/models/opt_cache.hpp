@@ -4,7 +4,7 @@
 // (4 bytes more each): 8 bytes per fetch at the peak, plus about 50 per
 // distinct block. No second read of the trace, standard input included.
 //
-// The rule (README "Replacement policies"): on a miss in a full set, of the
+// The rule (docs/guide/replacement-policies.md): on a miss in a full set, of the
 // resident blocks and the incoming one, the one whose next use is farthest
 // (never used again counts as farthest) is kept out; if that is the incoming
 // block, it is not placed (bypass). A miss in a set with a free way fills it.

@@ -1,7 +1,7 @@
 // Internal: the state of tree pseudo-LRU and of RRIP kept in one small
 // integer per set (a word), for PackedPolicyCache (packed_policy_cache.hpp).
 // The rules are replacement_policies.hpp's (TreePlru, Rrip) and the
-// README's ("Replacement policies"); only the storage differs: a set's
+// docs/guide/replacement-policies.md's; only the storage differs: a set's
 // state is one load and one store, and a victim is found with bit
 // operations.
 #pragma once

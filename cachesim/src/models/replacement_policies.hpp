@@ -1,7 +1,7 @@
 // Internal: the replacement policies of PolicyCache (policy_cache.hpp). Each
 // is told of hits, asked for a victim of a full set (which it forgets), told
 // of fills and invalidations; way numbers are within the set. The rules are
-// the README's ("Replacement policies"), stated again where they are kept.
+// docs/guide/replacement-policies.md's, stated again where they are kept.
 #pragma once
 
 #include <algorithm>

@@ -25,7 +25,8 @@ using formats::Record;
 constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
 
 // One cache of the reference: blocks in per-set arrays, each policy's state
-// beside them, every rule written out as the README states it.
+// beside them, every rule written out as docs/guide/replacement-policies.md
+// states it.
 class ReferenceCache {
  public:
   ReferenceCache(std::uint64_t sets, std::uint32_t ways, ReplacementPolicy policy)

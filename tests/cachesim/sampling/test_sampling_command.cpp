@@ -233,7 +233,7 @@ TEST_F(SamplingCommand, SamplingRefusesPerLevelPerFrameAndCurve) {
   }
 }
 
-// The README's command on a trace of fewer windows than K: a sample that
+// docs/guide/sampling.md's command on a trace of fewer windows than K: a sample that
 // draws none of them simulates nothing, and says so with exit 1 rather than
 // an empty miss ratio and exit 0.
 TEST_F(SamplingCommand, SampleOfNoRecordsIsExit1SayingWhy) {

@@ -50,7 +50,7 @@ TEST(RunUsageMessages, TableFileInAMissingFolderFailsBeforeTheTraceIsRead) {
   }
 }
 
-// The README's `--per-frame frames.csv`: a table file's name chooses CSV or
+// docs/guide/caches.md's `--per-frame frames.csv`: a table file's name chooses CSV or
 // JSON, whatever --format gives the main report.
 TEST(RunUsageMessages, TableFileNamedCsvOrJsonIsWrittenSo) {
   testing::TempDir dir;

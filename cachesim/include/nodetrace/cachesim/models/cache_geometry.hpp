@@ -10,7 +10,7 @@ namespace nodetrace::cachesim {
 
 // Dinero IV's -lN-Trepl l|f|r (random draws Dinero IV's sequence: glibc's
 // random() after srandom(1), one generator per cache), then the policies
-// Dinero IV does not have (cachesim run only; README "Replacement policies"):
+// Dinero IV does not have (cachesim run only; docs/guide/replacement-policies.md):
 // tree pseudo-LRU, static / bimodal / dynamic re-reference interval
 // prediction, and Belady's MIN.
 enum class ReplacementPolicy : std::uint8_t { Lru, Fifo, Random, Plru, Srrip, Brrip, Drrip, Opt };

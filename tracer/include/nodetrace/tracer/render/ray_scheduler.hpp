@@ -1,5 +1,5 @@
 // Many rays in flight: the order in which traversal units, each with several
-// ray slots, issue the node fetches of their rays (README "Rays in flight").
+// ray slots, issue the node fetches of their rays (docs/guide/rays-in-flight.md).
 //
 // Each unit has `rays_in_flight` slots. A step is: every free slot takes the
 // next ready ray of its unit (slots in order), then every busy slot issues

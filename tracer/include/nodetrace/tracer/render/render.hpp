@@ -51,7 +51,7 @@ struct RenderOptions {
   StreamSelection streams;
   AddressMap addresses;
   int pixels_per_chunk = 512;  // unit of parallel work (does not change the output)
-  // Rays in flight (README "Rays in flight", ray_scheduler.hpp): units of
+  // Rays in flight (docs/guide/rays-in-flight.md, ray_scheduler.hpp): units of
   // this many ray slots each. Pixel-sequence positions are dealt to the
   // units in runs of unit_pixels, run r to unit r mod units. One unit of one
   // slot is the sequential order.
