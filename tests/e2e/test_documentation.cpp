@@ -3,8 +3,9 @@
 // every guide page; every relative link reaches a file, and a heading when
 // it names one; every command of a shell block that calls tracer, cachesim,
 // tracetool or dinero-wrap names a subcommand and options that subcommand's
-// --help lists, a script's options are in its --help, and a make command's
-// targets and variables are in the experiment Makefile; the blocks marked
+// --help lists (Dinero IV's own for `cachesim dinero`), a script's options
+// are in its --help, and a make command's targets and variables are in the
+// experiment Makefile; the blocks marked
 // `<!-- doc-test: run -->` run, in a fresh folder; and each number the
 // README's headline table quotes is in the section its row links to.
 #include <gtest/gtest.h>
@@ -32,7 +33,9 @@ namespace fs = std::filesystem;
 const fs::path kSource = NODETRACE_SOURCE_DIR;
 const std::vector<std::string> kPrograms = {"tracer", "cachesim", "tracetool", "dinero-wrap"};
 
-std::string where(const MarkdownPage& page, int line) { return page.path.generic_string() + ":" + std::to_string(line); }
+std::string where(const MarkdownPage& page, int line) {
+  return page.path.generic_string() + ":" + std::to_string(line);
+}
 
 bool contains(const std::vector<std::string>& list, const std::string& item) {
   return std::find(list.begin(), list.end(), item) != list.end();
@@ -44,8 +47,8 @@ const std::string& help_of(const std::string& program, const std::string& subcom
   const std::string key = program + " " + subcommand;
   auto found = helps.find(key);
   if (found != helps.end()) return found->second;
-  const auto result = run_command(shell_quoted(testing::program(program)) + (subcommand.empty() ? "" : " " + subcommand) +
-                                  " --help");
+  const auto result =
+      run_command(shell_quoted(testing::program(program)) + (subcommand.empty() ? "" : " " + subcommand) + " --help");
   return helps[key] = result.out;
 }
 
@@ -92,9 +95,35 @@ std::vector<std::string> simulate_problems(std::string value) {
   return problems;
 }
 
+// Whether a one-dash word is an option `cachesim dinero --help` lists, its
+// cache options written there for any level and kind (`-lN-Tsize`: N 1 to
+// 5, T u, i or d).
+bool is_dinero_option(const std::string& word) {
+  static const std::vector<std::regex> options = [] {
+    std::vector<std::regex> made;
+    for (const auto& name : options_in_help(help_of("cachesim", "dinero")).listed) {
+      std::string pattern;
+      for (std::size_t i = 0; i < name.size(); ++i) {
+        if (name.compare(i, 3, "lN-") == 0) {
+          pattern += "l[1-5]-";
+          i += 2;
+        } else if (i > 0 && name[i] == 'T' && name[i - 1] == '-') {
+          pattern += "[uid]";
+        } else {
+          pattern += name[i] == '-' ? std::string("-") : std::string(1, name[i]);
+        }
+      }
+      made.emplace_back(pattern);
+    }
+    return made;
+  }();
+  return std::any_of(options.begin(), options.end(),
+                     [&](const std::regex& option) { return std::regex_match(word, option); });
+}
+
 // What is wrong with one call of a program: its subcommand and options
-// against its --help (`cachesim dinero` takes Dinero IV's one-dash options,
-// which are not checked; `--` ends the options).
+// against its --help (`cachesim dinero`'s, and those after `--`, are Dinero
+// IV's one-dash options).
 std::vector<std::string> program_problems(const std::string& program, const std::vector<std::string>& args) {
   if (args.empty()) return {"`" + program + "` names no subcommand"};
   if (args[0] == "--help" || args[0] == "-h" || args[0] == "--version") return {};
@@ -108,10 +137,24 @@ std::vector<std::string> program_problems(const std::string& program, const std:
   const std::vector<std::string> listed = options_in_help(help_of(program, subcommand)).listed;
   const bool dinero_options = program == "cachesim" && subcommand == "dinero";
   std::vector<std::string> problems;
+  // `dinero-wrap exec TRACE -- OPTIONS`: Dinero IV's options after `--`.
+  const auto end_of_options = std::find(args.begin() + 1, args.end(), std::string("--"));
+  static const std::regex one_dash_option("-[A-Za-z][A-Za-z0-9-]*");
+  for (auto word = end_of_options; word != args.end(); ++word) {
+    if (std::regex_match(*word, one_dash_option) && !is_dinero_option(*word)) {
+      problems.push_back("Dinero IV has no option " + *word + " (not in `cachesim dinero --help`)");
+    }
+  }
   for (std::size_t i = 1; i < args.size() && args[i] != "--"; ++i) {
     std::string name = long_option(args[i]);
     static const std::regex short_option("-[A-Za-z]");
-    if (name.empty() && !dinero_options && std::regex_match(args[i], short_option)) name = args[i];
+    if (dinero_options && name.empty() && std::regex_match(args[i], one_dash_option)) {
+      if (!is_dinero_option(args[i])) {
+        problems.push_back("`cachesim dinero` has no option " + args[i] + " (not in `cachesim dinero --help`)");
+      }
+      continue;
+    }
+    if (name.empty() && std::regex_match(args[i], short_option)) name = args[i];
     if (name.empty()) continue;
     if (!contains(listed, name)) {
       problems.push_back("`" + program + " " + subcommand + "` has no option " + name + " (not in `" + program + " " +
@@ -139,8 +182,8 @@ std::vector<std::string> script_problems(const std::vector<std::string>& words) 
   if (!helps.count(words[0])) {
     const std::string text = read_file(script);
     const std::string interpreter = text.rfind("#!", 0) == 0 ? text.substr(2, text.find('\n') - 2) : "sh";
-    helps[words[0]] = options_in(run_command("cd / && timeout 60 " + interpreter + " " + shell_quoted(script) +
-                                             " --help").out);
+    helps[words[0]] =
+        options_in(run_command("cd / && timeout 60 " + interpreter + " " + shell_quoted(script) + " --help").out);
   }
   std::vector<std::string> problems;
   for (const auto& name : options) {
@@ -164,7 +207,8 @@ const Makefiles& makefiles() {
       if (entry.path().extension() == ".mk") made.text += read_file(entry.path()) + "\n";
     }
     static const std::regex phony(R"(\.PHONY:((?:[^\n]*\\\n)*[^\n]*))");
-    for (auto it = std::sregex_iterator(made.text.begin(), made.text.end(), phony); it != std::sregex_iterator(); ++it) {
+    for (auto it = std::sregex_iterator(made.text.begin(), made.text.end(), phony); it != std::sregex_iterator();
+         ++it) {
       std::string list = (*it)[1];
       std::replace(list.begin(), list.end(), '\\', ' ');
       std::istringstream names(list);
@@ -200,8 +244,7 @@ std::vector<std::string> make_problems(const std::vector<std::string>& words) {
 }
 
 bool is_shell(const FencedBlock& block) {
-  return block.language == "sh" || block.language == "bash" || block.language == "shell" ||
-         block.language == "console";
+  return block.language == "sh" || block.language == "bash" || block.language == "shell" || block.language == "console";
 }
 
 TEST(Documentation, ReadmeIsAFrontPageOfAtMost300Lines) {
@@ -296,7 +339,8 @@ TEST(Documentation, BlocksMarkedRunRunInAFreshFolder) {
       const auto result = run_command("cd " + shell_quoted(dir.path()) + " && PATH=" + shell_quoted(NODETRACE_BIN_DIR) +
                                       ":\"$PATH\" timeout 300 bash -e -o pipefail block.sh");
       EXPECT_EQ(result.exit_code, 0) << where(page, block.first_line) << ": the block marked run failed:\n"
-                                     << script << "standard error:\n" << result.err;
+                                     << script << "standard error:\n"
+                                     << result.err;
     }
   }
   EXPECT_GE(ran, 8) << "fewer blocks marked <!-- doc-test: run --> than the guide has";
