@@ -5,7 +5,8 @@
 // tracetool or dinero-wrap names a subcommand and options that subcommand's
 // --help lists (Dinero IV's own for `cachesim dinero`), a script's options
 // are in its --help, and a make command's targets and variables are in the
-// experiment Makefile; the blocks marked
+// experiment Makefile; every long option the pages name anywhere is one that
+// some program, subcommand or script lists; the blocks marked
 // `<!-- doc-test: run -->` run, in a fresh folder; and each number the
 // README's headline table quotes is in the section its row links to.
 #include <gtest/gtest.h>
@@ -167,6 +168,17 @@ std::vector<std::string> program_problems(const std::string& program, const std:
   return problems;
 }
 
+// A script's --help (run by the interpreter its #! line names), asked once.
+const std::string& script_help(const std::string& script) {
+  static std::map<std::string, std::string> helps;
+  auto found = helps.find(script);
+  if (found != helps.end()) return found->second;
+  const fs::path path = kSource / script;
+  const std::string text = read_file(path);
+  const std::string interpreter = text.rfind("#!", 0) == 0 ? text.substr(2, text.find('\n') - 2) : "sh";
+  return helps[script] = run_command("cd / && timeout 60 " + interpreter + " " + shell_quoted(path) + " --help").out;
+}
+
 // What is wrong with a script's call: the script must exist and its --help
 // name every long option given.
 std::vector<std::string> script_problems(const std::vector<std::string>& words) {
@@ -178,16 +190,10 @@ std::vector<std::string> script_problems(const std::vector<std::string>& words) 
     if (!name.empty()) options.push_back(name);
   }
   if (options.empty()) return {};
-  static std::map<std::string, std::vector<std::string>> helps;
-  if (!helps.count(words[0])) {
-    const std::string text = read_file(script);
-    const std::string interpreter = text.rfind("#!", 0) == 0 ? text.substr(2, text.find('\n') - 2) : "sh";
-    helps[words[0]] =
-        options_in(run_command("cd / && timeout 60 " + interpreter + " " + shell_quoted(script) + " --help").out);
-  }
+  const std::vector<std::string> listed = options_in(script_help(words[0]));
   std::vector<std::string> problems;
   for (const auto& name : options) {
-    if (!contains(helps[words[0]], name)) {
+    if (!contains(listed, name)) {
       problems.push_back(words[0] + " has no option " + name + " (not in its --help)");
     }
   }
@@ -322,6 +328,48 @@ TEST(Documentation, EveryCommandNamesSubcommandsOptionsTargetsAndVariablesThatEx
   }
   EXPECT_GE(checked["scripts"], 10);
   EXPECT_GE(checked["make"], 5);
+}
+
+// Long options of other tools the pages call, which no --help here lists.
+const std::set<std::string> kOtherToolsOptions = {
+    "--install",  "--prefix",             // cmake --install build --prefix ~/.local
+    "--test-dir", "--output-on-failure",  // ctest
+    "--ntasks",   "--cpus-per-task",      // srun, in RUN= for a cluster
+    "--path",                             // primary_rays_bench, built only where Embree is
+};
+
+// Every long option any program, subcommand or script lists in its --help.
+std::set<std::string> every_listed_option() {
+  std::set<std::string> known;
+  for (const auto& program : kPrograms) {
+    for (const auto& name : options_in(help_of(program))) known.insert(name);
+    for (const auto& subcommand : subcommands_in_help(program, help_of(program))) {
+      for (const auto& name : options_in(help_of(program, subcommand))) known.insert(name);
+    }
+  }
+  for (const auto& entry : fs::directory_iterator(kSource / "scripts")) {
+    if (!entry.is_regular_file() || read_file(entry.path()).rfind("#!", 0) != 0) continue;
+    const std::string script = entry.path().lexically_relative(kSource).generic_string();
+    for (const auto& name : options_in(script_help(script))) known.insert(name);
+  }
+  return known;
+}
+
+TEST(Documentation, EveryOptionThePagesNameIsOneAProgramOrScriptHas) {
+  const std::set<std::string> known = every_listed_option();
+  static const std::regex option(R"((^|[^A-Za-z0-9-])(--[A-Za-z][A-Za-z0-9-]*))");
+  for (const auto& page : documentation_pages()) {
+    const std::vector<std::string> lines = lines_of(page.text);
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      for (auto it = std::sregex_iterator(lines[i].begin(), lines[i].end(), option); it != std::sregex_iterator();
+           ++it) {
+        const std::string name = (*it)[2];
+        EXPECT_TRUE(known.count(name) || kOtherToolsOptions.count(name))
+            << where(page, static_cast<int>(i) + 1) << " names " << name
+            << ", an option no program, subcommand or script lists in its --help";
+      }
+    }
+  }
 }
 
 TEST(Documentation, BlocksMarkedRunRunInAFreshFolder) {
