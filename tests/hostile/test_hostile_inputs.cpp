@@ -138,6 +138,12 @@ const HostileCase kCases[] = {
   {"CachesimStdinTwice", "cat t.din | $B/cachesim run - - --tags-are-levels", 2, "cachesim run: traces: standard input (-) is named more than once"},
   {"CachesimEmptyZst", ": > empty.din.zst; $B/cachesim run empty.din.zst", 1, "cachesim run: empty.din.zst: 0 bytes: not a zstd stream"},
   {"VerifyEmptyZst", ": > empty.din.zst; $B/tracetool verify empty.din.zst", 1, "tracetool verify: empty.din.zst: 0 bytes: not a zstd stream"},
+  // An input without records is an error, file or pipe (issue 52, item 2).
+  {"VerifyEmptyPipe", "$B/tracer render nosuchscene -o - 2>/dev/null | $B/tracetool verify -", 1, "tracetool verify: <stdin>: no records: an input without records is not a trace (did the command before the pipe fail?)"},
+  {"CachesimEmptyPipeSplit", "$B/tracer render nosuchscene -o - 2>/dev/null | $B/cachesim run - --scheme single,split", 1, "cachesim run: <stdin>: no records: an input without records is not a trace (did the command before the pipe fail?)"},
+  {"CachesimEmptyFile", ": > empty.din; $B/cachesim run empty.din", 1, "cachesim run: empty.din: no records: an input without records is not a trace"},
+  {"WrapEmptyPipe", ": | $B/dinero-wrap run - --dinero \"$B/cachesim dinero\"", 1, "dinero-wrap run: <stdin>: no records: an input without records is not a trace (did the command before the pipe fail?)"},
+  {"InfoEmptyFile", ": > empty.din; $B/tracetool info empty.din", 1, "tracetool info: empty.din: no records: an input without records is not a trace"},
   {"CachesimFormatXml", "$B/cachesim run t.din --format xml", 2, "cachesim run: --format: xml not in {table,csv,json}"},
   {"CachesimNoTraces", "$B/cachesim run", 2, "cachesim run: traces is required"},
   {"CachesimPolicyLfu", "$B/cachesim run t.din --policy lfu", 2, "cachesim run: --policy: 'lfu' is not one of lru, fifo, random, plru, srrip, brrip, drrip, opt"},

@@ -288,7 +288,10 @@ TraceResult wrap_run(const std::string& path, const std::vector<Configuration>& 
 
 ExecResult wrap_exec(const std::string& path, const std::vector<std::string>& arguments,
                      const WrapOptions& options) {
-  auto reader = formats::TraceReader::open(path, options.reader);
+  // Dinero IV's own run: an empty input is what Dinero IV makes of it.
+  formats::ReaderOptions reader_options = options.reader;
+  reader_options.allow_empty = true;
+  auto reader = formats::TraceReader::open(path, reader_options);
   RecordForm form = reader->form() == RecordForm::Din ? RecordForm::Din : RecordForm::ExtendedDin;
   std::vector<std::string> argv = options.dinero;
   // The records are written in the form Dinero IV is told to read (its
