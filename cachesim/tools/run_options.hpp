@@ -24,9 +24,9 @@
 namespace nodetrace::cachesim::tools {
 
 // The largest cache a run simulates (--size, --high-size, --low-size): the
-// simulator allocates its blocks' state up front, so the budget bounds the
-// memory of a run (at 8-byte blocks, about as many bytes as the cache holds,
-// per configuration) whatever the trace's length.
+// simulator allocates its blocks' state up front, so the limit bounds the
+// memory of each cache whatever the trace's length; the run's total is
+// stated and checked before it starts (RunSession::check_state_memory).
 inline constexpr std::uint64_t kMaxCacheBytes = std::uint64_t{256} << 20;
 // And the most blocks one cache holds (256m of 8-byte blocks), so small
 // blocks cannot multiply that memory.
@@ -34,7 +34,7 @@ inline constexpr std::uint64_t kMaxCacheBlocks = kMaxCacheBytes / 8;
 
 inline std::uint64_t cache_size(const std::string& text, const char* option) {
   return cli::check_at_most(base::parse_byte_size(text, option), kMaxCacheBytes, option, text, "256m",
-                                "the cache budget of a run; its state is allocated up front");
+                                "the largest cache: its state is allocated up front");
 }
 
 struct RunCommandLine {

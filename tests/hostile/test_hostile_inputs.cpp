@@ -159,6 +159,9 @@ const HostileCase kCases[] = {
   {"TracerThreadsFail", "ulimit -v 250000; $B/tracer render ok.obj --width 256 --height 256 --threads 64 -q", 1, "tracer render: cannot start 64 threads"},
   {"ConvertThreadsFail", "ulimit -v 250000; $B/tracetool convert t.din out.din.zst --tags-are-levels --threads 64", 1, "tracetool convert: cannot start 64 threads"},
   {"CachesimThreadsFail", "ulimit -v 250000; $B/cachesim run t.din --threads 64", 1, "cachesim run: cannot start 64 threads"},
+  // Caches whose state cannot fit are refused before they are allocated (issue 52, item 7).
+  {"CachesimStateTooLarge", "ulimit -v 800000; $B/cachesim run t.din --size 256m --assoc 32,full", 2, "cachesim run: the caches asked for keep about 3072 MiB of state, allocated before the first record, more than the "},
+  {"CachesimSizePerCache", "$B/cachesim run t.din --size 512m", 2, "cachesim run: --size 512m: at most 256m (the largest cache: its state is allocated up front)"},
   // Cache sizes: a stated limit instead of an allocation of the size asked.
   {"CacheSizeHuge", "$LIMIT $B/cachesim run t.din --size 1024g", 2, "cachesim run: --size 1024g: at most 256m"},
   {"CacheSize16g", "$LIMIT $B/cachesim run t.din --size 16g", 2, "cachesim run: --size 16g: at most 256m"},

@@ -91,5 +91,19 @@ TEST(RunUsageMessages, SizeThatDisagreesWithBothSplitSidesIsAUsageError) {
   EXPECT_EQ(agrees.exit_code, 0) << agrees.err;
 }
 
+// Large caches cost their memory before the first record: a run states it
+// (issue 52, item 7: 256m fully associative took 1.6 GB without a word).
+TEST(RunUsageMessages, TheStateOfLargeCachesIsStatedBeforeTheRun) {
+  testing::TempDir dir;
+  const auto trace = dir / "t.din";
+  testing::write_file(trace, "0 100\n");
+  const auto large = run_command(cachesim() + " run " + shell_quoted(trace) + " --size 64m --assoc 64 --format csv");
+  EXPECT_EQ(large.exit_code, 0) << large.err;
+  EXPECT_EQ(large.err, "note: the caches keep about 384 MiB of state, allocated before the first record\n");
+  const auto small = run_command(cachesim() + " run " + shell_quoted(trace) + " --size 64m --assoc 16 --format csv");
+  EXPECT_EQ(small.exit_code, 0) << small.err;
+  EXPECT_EQ(small.err, "");
+}
+
 }  // namespace
 }  // namespace nodetrace::cachesim
