@@ -24,9 +24,9 @@
 namespace nodetrace::cachesim::tools {
 
 // The largest cache a run simulates (--size, --high-size, --low-size): the
-// simulator allocates its blocks' state up front, so the budget bounds the
-// memory of a run (at 8-byte blocks, about as many bytes as the cache holds,
-// per configuration) whatever the trace's length.
+// simulator allocates its blocks' state up front, so the limit bounds the
+// memory of each cache whatever the trace's length; the run's total is
+// stated and checked before it starts (RunSession::check_state_memory).
 inline constexpr std::uint64_t kMaxCacheBytes = std::uint64_t{256} << 20;
 // And the most blocks one cache holds (256m of 8-byte blocks), so small
 // blocks cannot multiply that memory.
@@ -34,12 +34,13 @@ inline constexpr std::uint64_t kMaxCacheBlocks = kMaxCacheBytes / 8;
 
 inline std::uint64_t cache_size(const std::string& text, const char* option) {
   return cli::check_at_most(base::parse_byte_size(text, option), kMaxCacheBytes, option, text, "256m",
-                                "the cache budget of a run; its state is allocated up front");
+                                "the largest cache: its state is allocated up front");
 }
 
 struct RunCommandLine {
   std::vector<std::string> traces;
   std::vector<std::string> sizes{"8k"};
+  bool sizes_given = false;  // --size on the command line, not its default
   std::vector<std::string> blocks{"8"};
   std::vector<std::string> assocs{"1"};
   std::vector<std::string> policies{"lru"};
@@ -92,7 +93,8 @@ inline void add_run_options(CLI::App& app, RunCommandLine& line, bool side_table
   }
   app.add_option("--size", line.sizes, "Total cache sizes, bytes with optional k/m, at most 256m (list)")
       ->delimiter(',')
-      ->capture_default_str();
+      ->capture_default_str()
+      ->each([&line](const std::string&) { line.sizes_given = true; });
   app.add_option("--block", line.blocks, "Block sizes in bytes (list)")
       ->delimiter(',')
       ->capture_default_str();
@@ -212,6 +214,19 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
   }
   if (!line.high_size.empty()) options.high_size = cache_size(line.high_size, "--high-size");
   if (!line.low_size.empty()) options.low_size = cache_size(line.low_size, "--low-size");
+  if (options.high_size && options.low_size && line.sizes_given &&
+      std::find(options.schemes.begin(), options.schemes.end(), Scheme::Split) != options.schemes.end()) {
+    // Both sides given: the split cache's total is theirs, and a --size
+    // given, its total too, must agree rather than be overridden.
+    const std::uint64_t total = *options.high_size + *options.low_size;
+    for (std::size_t i = 0; i < options.sizes.size(); ++i) {
+      if (options.sizes[i] == total) continue;
+      throw base::UsageError(fmt::format(
+          "--size {}: --high-size {} and --low-size {} make a split cache of {} bytes in all, and --size is "
+          "that total: give --size {} (or leave it out), or only one of --high-size and --low-size",
+          line.sizes[i], line.high_size, line.low_size, total, total));
+    }
+  }
   if (!line.high_assoc.empty()) options.high_assoc = parse_assoc(line.high_assoc);
   options.count_loads = line.count_loads;
   options.fetch = parse_fetch_policy_name(line.fetch).value_or(FetchPolicy::Demand);

@@ -6,10 +6,12 @@
 #include <optional>
 #include <utility>
 
+#include "nodetrace/base/available_memory.hpp"
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/base/sample_rate.hpp"
 #include "nodetrace/cachesim/models/cache_geometry.hpp"
 #include "nodetrace/cachesim/report/report.hpp"
+#include "nodetrace/cachesim/sweep/state_memory.hpp"
 
 namespace nodetrace::cachesim::tools {
 
@@ -163,6 +165,32 @@ void RunSession::prepare(const CLI::App& app) {
       throw base::UsageError(fmt::format("--fetch {}: {} simulates demand fetch only", line_.fetch,
                                          unit_options_given(unit_options_)));
     }
+  }
+  check_state_memory();
+}
+
+namespace {
+
+std::string mebibytes(std::uint64_t bytes) { return fmt::format("{} MiB", (bytes + (1u << 20) - 1) >> 20); }
+
+}  // namespace
+
+void RunSession::check_state_memory() {
+  // Large caches cost their memory (and the time to write it) before the
+  // first record: said before the run, and refused where it cannot fit.
+  constexpr std::uint64_t kNotedBytes = std::uint64_t{256} << 20;
+  const std::uint64_t state = state_bytes(configs_, unit_options_.l2 ? &*unit_options_.l2 : nullptr);
+  const char* per_unit = unit_options_.private_units ? ", per traversal unit" : "";
+  if (const std::optional<std::uint64_t> available = base::available_memory_bytes(); available && state > *available) {
+    throw base::UsageError(fmt::format(
+        "the caches asked for keep about {} of state{}, allocated before the first record, more than the {} "
+        "this process may take: give fewer or smaller caches (sets of at most 16 ways keep about 8 bytes a block, "
+        "of more about 48)",
+        mebibytes(state), per_unit, mebibytes(*available)));
+  }
+  if (state >= kNotedBytes) {
+    configuration_notes_.push_back(fmt::format(
+        "the caches keep about {} of state{}, allocated before the first record", mebibytes(state), per_unit));
   }
 }
 

@@ -83,6 +83,9 @@ class RunSession {
   RunReport report(RunMode mode, const std::vector<TraceOutcome>& outcomes) const;
 
  private:
+  // States (a note) and checks (base::UsageError) the memory of the caches' state.
+  void check_state_memory();
+
   RunCommandLine line_;
   SamplingCommandLine sampling_line_;
   SecondLevelCommandLine l2_line_;

@@ -234,7 +234,8 @@ std::string joined_arguments(const std::vector<std::string>& args) {
 
 namespace {
 
-// Warnings without the program name that begins them.
+// Warnings without the program name that begins them, and without the notes
+// that only cachesim dinero prints (addresses wrapped at 2^32).
 std::string warnings_of(const std::string& err) {
   std::string out;
   std::size_t from = 0;
@@ -242,9 +243,10 @@ std::string warnings_of(const std::string& err) {
     auto end = err.find('\n', from);
     if (end == std::string::npos) end = err.size();
     std::string line = err.substr(from, end - from);
+    from = end + 1;
+    if (line.starts_with("cachesim dinero note: ")) continue;
     const auto at = line.find("warning: ");
     out += (at == std::string::npos ? line : line.substr(at)) + "\n";
-    from = end + 1;
   }
   return out;
 }

@@ -138,6 +138,12 @@ const HostileCase kCases[] = {
   {"CachesimStdinTwice", "cat t.din | $B/cachesim run - - --tags-are-levels", 2, "cachesim run: traces: standard input (-) is named more than once"},
   {"CachesimEmptyZst", ": > empty.din.zst; $B/cachesim run empty.din.zst", 1, "cachesim run: empty.din.zst: 0 bytes: not a zstd stream"},
   {"VerifyEmptyZst", ": > empty.din.zst; $B/tracetool verify empty.din.zst", 1, "tracetool verify: empty.din.zst: 0 bytes: not a zstd stream"},
+  // An input without records is an error, file or pipe (issue 52, item 2).
+  {"VerifyEmptyPipe", "$B/tracer render nosuchscene -o - 2>/dev/null | $B/tracetool verify -", 1, "tracetool verify: <stdin>: no records: an input without records is not a trace (did the command before the pipe fail?)"},
+  {"CachesimEmptyPipeSplit", "$B/tracer render nosuchscene -o - 2>/dev/null | $B/cachesim run - --scheme single,split", 1, "cachesim run: <stdin>: no records: an input without records is not a trace (did the command before the pipe fail?)"},
+  {"CachesimEmptyFile", ": > empty.din; $B/cachesim run empty.din", 1, "cachesim run: empty.din: no records: an input without records is not a trace"},
+  {"WrapEmptyPipe", ": | $B/dinero-wrap run - --dinero \"$B/cachesim dinero\"", 1, "dinero-wrap run: <stdin>: no records: an input without records is not a trace (did the command before the pipe fail?)"},
+  {"InfoEmptyFile", ": > empty.din; $B/tracetool info empty.din", 1, "tracetool info: empty.din: no records: an input without records is not a trace"},
   {"CachesimFormatXml", "$B/cachesim run t.din --format xml", 2, "cachesim run: --format: xml not in {table,csv,json}"},
   {"CachesimNoTraces", "$B/cachesim run", 2, "cachesim run: traces is required"},
   {"CachesimPolicyLfu", "$B/cachesim run t.din --policy lfu", 2, "cachesim run: --policy: 'lfu' is not one of lru, fifo, random, plru, srrip, brrip, drrip, opt"},
@@ -153,6 +159,9 @@ const HostileCase kCases[] = {
   {"TracerThreadsFail", "ulimit -v 250000; $B/tracer render ok.obj --width 256 --height 256 --threads 64 -q", 1, "tracer render: cannot start 64 threads"},
   {"ConvertThreadsFail", "ulimit -v 250000; $B/tracetool convert t.din out.din.zst --tags-are-levels --threads 64", 1, "tracetool convert: cannot start 64 threads"},
   {"CachesimThreadsFail", "ulimit -v 250000; $B/cachesim run t.din --threads 64", 1, "cachesim run: cannot start 64 threads"},
+  // Caches whose state cannot fit are refused before they are allocated (issue 52, item 7).
+  {"CachesimStateTooLarge", "ulimit -v 800000; $B/cachesim run t.din --size 256m --assoc 32,full", 2, "cachesim run: the caches asked for keep about 3072 MiB of state, allocated before the first record, more than the "},
+  {"CachesimSizePerCache", "$B/cachesim run t.din --size 512m", 2, "cachesim run: --size 512m: at most 256m (the largest cache: its state is allocated up front)"},
   // Cache sizes: a stated limit instead of an allocation of the size asked.
   {"CacheSizeHuge", "$LIMIT $B/cachesim run t.din --size 1024g", 2, "cachesim run: --size 1024g: at most 256m"},
   {"CacheSize16g", "$LIMIT $B/cachesim run t.din --size 16g", 2, "cachesim run: --size 16g: at most 256m"},

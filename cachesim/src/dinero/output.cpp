@@ -6,9 +6,11 @@
 #include <cstdarg>
 #include <cstdio>
 #include <ostream>
+#include <span>
 #include <string>
 
 #include "nodetrace/base/error.hpp"
+#include "nodetrace/cachesim/dinero/address_width.hpp"
 #include "nodetrace/cachesim/dinero/command_line.hpp"
 
 namespace nodetrace::cachesim {
@@ -266,9 +268,11 @@ void run_dinero(const DineroOptions& options, formats::TraceReader& reader, std:
   bool stopped = false;
   // A container's header names its record form, which decides din's rounding.
   const formats::RecordForm form = reader.form();
+  std::uint64_t beyond_32_bits = 0;
   try {
     while (!stopped && reader.next(batch)) {
       const std::size_t consumed = hierarchy.access_batch(batch.records, form);
+      beyond_32_bits += records_beyond_32_bits(std::span(batch.records).first(consumed), form);
       stopped = consumed < batch.records.size();
     }
   } catch (const base::FormatError& error) {
@@ -284,6 +288,9 @@ void run_dinero(const DineroOptions& options, formats::TraceReader& reader, std:
     } else if (!hierarchy.discarding() && options.off_trigger != 0) {
       warnings << "cachesim dinero warning: tail end of trace not discarded\n";
     }
+  }
+  if (beyond_32_bits > 0) {
+    warnings << "cachesim dinero note: " << beyond_32_bits_note(reader.source_name(), beyond_32_bits) << "\n";
   }
   hierarchy.finish();
   out << "---Simulation complete.\n";

@@ -49,7 +49,11 @@ ChunkedArray OptStream::next_uses() const {
   std::vector<std::uint32_t> following(blocks_.size(), kNever);
   for (std::uint64_t event = events_.size(); event-- > 0;) {
     if (is_invalidate(event)) {
+      // The fetches before an invalidation are never used again: the block
+      // leaves the cache first, and its next fetch is a miss whatever MIN
+      // kept.
       next[event] = kNever;
+      following[id(event)] = kNever;
       continue;
     }
     const std::uint32_t block = id(event);

@@ -3,29 +3,46 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 #include "nodetrace/formats/record/record.hpp"
 
 namespace nodetrace::cachesim {
 
+// A reference past address 2^64 - 1 continues at address 0, as Dinero IV's
+// past its 2^32 - 1 does: its blocks run from `first` up to the last block
+// number and on from block 0 to `last`. Walk them with after().
 struct BlockRange {
   std::uint64_t first = 0;
-  std::uint64_t last = 0;  // >= first; a reference spanning two blocks is two fetches
+  std::uint64_t last = 0;
+  std::uint64_t last_block = ~std::uint64_t{0};  // the largest block number: 2^(64 - shift) - 1
+
+  std::uint64_t after(std::uint64_t block) const { return (block + 1) & last_block; }
+  std::uint64_t count() const { return ((last - first) & last_block) + 1; }
 };
+
+// The bytes past its first that a reference (as Dinero IV reads it) spans:
+// its last byte is at address + span, modulo 2^64.
+inline std::uint64_t span_of(const formats::Record& view) { return view.size == 0 ? 0 : view.size - 1; }
 
 // Blocks of 2^shift bytes; `aligned_din`: din records (4 bytes at a multiple
 // of 4) with blocks of at least 4 bytes, so the record is one block.
 inline BlockRange blocks_of(const formats::Record& record, formats::RecordForm form,
                             unsigned shift, bool aligned_din) {
-  if (aligned_din) return {record.address >> shift, record.address >> shift};
+  const std::uint64_t last_block = ~std::uint64_t{0} >> shift;
+  if (aligned_din) return {record.address >> shift, record.address >> shift, last_block};
   const formats::Record view = formats::dinero_view(record, form);
-  BlockRange range;
-  range.first = view.address >> shift;
-  const std::uint64_t span = view.size == 0 ? 0 : view.size - 1;
-  range.last = (view.address + span) >> shift;
-  if (range.last < range.first) range.last = range.first;  // wraps past 2^64
-  return range;
+  return {view.address >> shift, (view.address + span_of(view)) >> shift, last_block};
 }
+
+// Block number 2^64 - 1, a 1-byte block at the last address, is the mark of
+// a free way in every cache model (with 1-byte blocks every 64-bit value is
+// a block, so no mark is free of them): a reference that fetches or
+// invalidates it is refused, naming the record, rather than miscounted.
+// Throws base::FormatError; `first_record` is the 0-based number of
+// records[0].
+void refuse_last_block(const formats::Record* records, std::size_t count, formats::RecordForm form,
+                       std::uint64_t first_record, const std::string& source_name);
 
 // The blocks of records that are each one block (address >> shift): a
 // view for the loops that take blocks by index.

@@ -102,6 +102,8 @@ std::vector<double> standardised_residuals(const std::vector<SampleUnitCounts>& 
 Estimate ratio_estimate(const std::vector<SampleUnitCounts>& units, std::uint64_t population_units,
                         SampleDesign design) {
   const Totals sum = totals(units);
+  // No fetch sampled: the ratio has no value, so no error and no interval.
+  if (sum.fetches == 0) return {};
   return with_error(sum.ratio(), standardised_residuals(units, sum), population_units, design);
 }
 
@@ -110,6 +112,7 @@ Estimate gain_estimate(const std::vector<SampleUnitCounts>& single, const std::v
   if (single.size() != split.size()) throw std::invalid_argument("gain: unequal unit counts");
   const Totals single_sum = totals(single);
   const Totals split_sum = totals(split);
+  if (single_sum.fetches == 0 || split_sum.fetches == 0) return {};
   std::vector<double> residuals = standardised_residuals(single, single_sum);
   const std::vector<double> split_residuals = standardised_residuals(split, split_sum);
   for (std::size_t i = 0; i < residuals.size(); ++i) residuals[i] -= split_residuals[i];

@@ -356,7 +356,7 @@ class Simulator final : public ConfigSimulator {
       }
       levels_.count_ref(tag);
       const AccessType type = record.type;
-      for (std::uint64_t block = blocks.first;; ++block) {
+      for (std::uint64_t block = blocks.first;; block = blocks.after(block)) {
         if (type <= AccessType::Misc) {
           ++counters_.fetches;
           bool miss;
@@ -485,6 +485,9 @@ namespace {
 
 // The stream of the opt caches that see the fetches `key` names: the first
 // to ask records it.
+// Only a cache that is opt may ask: a cache of another policy that asked
+// first would be taken for the recorder and never record, and every opt
+// cache of its stream would count MIN over no fetches.
 OptSource opt_source(OptStreams* streams, const std::string& key) {
   if (streams == nullptr) return {};
   std::shared_ptr<SharedOptStream>& shared = (*streams)[key];
@@ -505,14 +508,19 @@ std::unique_ptr<ConfigSimulator> make_simulator(const Configuration& config,
   // single, or split with the same K in every animation frame.
   const std::string k_rule = config.split_level ? std::to_string(*config.split_level)
                                                 : fmt::format("auto{}", config.high_size);
-  const OptSource high_opt = opt_source(opt_streams, fmt::format("high/{}/{}", config.block, k_rule));
+  const bool opt = config.policy == ReplacementPolicy::Opt;
+  const bool high_is_opt = opt && config.scheme == Scheme::Split && config.high_policy == HighPolicy::Cache;
+  const OptSource high_opt =
+      high_is_opt ? opt_source(opt_streams, fmt::format("high/{}/{}", config.block, k_rule)) : OptSource{};
   if (config.fetch != FetchPolicy::Demand) {
     return with_high(config, split_level, context, per_level,
                      PrefetchingCache(low, config.fetch, config.prefetch_distance), high_opt);
   }
-  const OptSource low_opt = opt_source(
-      opt_streams, config.scheme == Scheme::Single ? fmt::format("single/{}", config.block)
-                                                   : fmt::format("low/{}/{}", config.block, k_rule));
+  const OptSource low_opt =
+      !opt ? OptSource{}
+           : opt_source(opt_streams, config.scheme == Scheme::Single
+                                         ? fmt::format("single/{}", config.block)
+                                         : fmt::format("low/{}/{}", config.block, k_rule));
   return with_cache_model(low, low_opt, [&](auto model) {
     return with_high(config, split_level, context, per_level, std::move(model), high_opt);
   });

@@ -53,7 +53,7 @@ void feed_stack(Stream& stream, const Record& record, formats::RecordForm form,
   if (record.type > AccessType::Misc && !invalidate) return;  // copy-back: not a demand fetch
   const BlockRange blocks =
       blocks_of(record, form, static_cast<unsigned>(std::countr_zero(stream.block)), false);
-  for (std::uint64_t block = blocks.first;; ++block) {
+  for (std::uint64_t block = blocks.first;; block = blocks.after(block)) {
     if (stream.opt) {
       if (invalidate) {
         stream.opt->invalidate(block);

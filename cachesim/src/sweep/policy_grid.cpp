@@ -210,7 +210,7 @@ class PolicyGrid {
     std::size_t most = 0;
     for (std::size_t i = 0; i < count; ++i) {
       const BlockRange blocks = blocks_of(records[i], context_.form, shift_, aligned_din_);
-      most += blocks.last - blocks.first + 1;
+      most += blocks.count();
     }
     chunk_.make_room(most);
     for (std::size_t i = 0; i < count; ++i) {
@@ -218,7 +218,7 @@ class PolicyGrid {
       if (is_other_stream(record.tag)) continue;
       ++refs_;
       const BlockRange blocks = blocks_of(record, context_.form, shift_, aligned_din_);
-      for (std::uint64_t block = blocks.first;; ++block) {
+      for (std::uint64_t block = blocks.first;; block = blocks.after(block)) {
         if (record.type <= AccessType::Misc) {
           ++fetches_;
           add(block, PackedReference::Fetch);

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <bit>
 #include <optional>
 #include <stdexcept>
@@ -92,6 +93,11 @@ void SecondLevelSimulator::begin_animation_frame(const formats::AnimationFrameMa
 void SecondLevelSimulator::feed(const formats::RecordBatch& batch) {
   if (!started_ || batch.marker) begin_animation_frame(batch.marker ? &*batch.marker : nullptr);
   started_ = true;
+  if (l2_geometry_.block_size == 1 ||
+      std::any_of(configs_.begin(), configs_.end(), [](const Configuration& c) { return c.block == 1; })) {
+    refuse_last_block(batch.records.data(), batch.records.size(), context_.form, batch.first_record,
+                      context_.source_name);
+  }
   for (std::size_t c = 0; c < configs_.size(); ++c) {
     const Configuration& config = configs_[c];
     PerConfig& per = per_config_[c];
@@ -105,7 +111,7 @@ void SecondLevelSimulator::feed(const formats::RecordBatch& batch) {
       FirstLevel& first = per.units[units_ > 1 ? formats::unit_index(record.unit) : 0];
       const bool high = split && record.tag < split_level;
       const BlockRange blocks = blocks_of(record, context_.form, shift, aligned_din);
-      for (std::uint64_t block = blocks.first;; ++block) {
+      for (std::uint64_t block = blocks.first;; block = blocks.after(block)) {
         bool fetched;
         if (!high) {
           fetched = first.low->access(block);

@@ -330,7 +330,7 @@ class StackGroup {
       high_refs_ += high;
       if (per_level_) count_ref(tag);
       const AccessType type = record.type;
-      for (std::uint64_t block = blocks.first;; ++block) {
+      for (std::uint64_t block = blocks.first;; block = blocks.after(block)) {
         if (type <= AccessType::Misc) {
           ++fetches_;
           fetch(high, block, tag, first_record + i + 1);

@@ -13,6 +13,7 @@
 #include <map>
 #include <optional>
 
+#include "models/record_blocks.hpp"
 #include "sweep/config_simulator.hpp"
 #include "sweep/policy_grid.hpp"
 #include "sweep/stack_group.hpp"
@@ -35,6 +36,8 @@ Sweep::Sweep(std::vector<Configuration> configs, TraceContext context, bool per_
   if (needs_levels_ && !context_.tags_are_levels) {
     throw_untagged_trace(context_, split ? "the split scheme" : "--per-level");
   }
+  one_byte_blocks_ = std::any_of(configs_.begin(), configs_.end(),
+                                 [](const Configuration& config) { return config.block == 1; });
 }
 
 Sweep::~Sweep() = default;
@@ -295,6 +298,10 @@ void Sweep::set_parts(std::size_t parts) { requested_parts_ = std::max<std::size
 std::size_t Sweep::part_count() const { return parts_.size(); }
 
 void Sweep::begin_batch(const formats::RecordBatch& batch) {
+  if (one_byte_blocks_) {
+    refuse_last_block(batch.records.data(), batch.records.size(), context_.form, batch.first_record,
+                      context_.source_name);
+  }
   if (!started_) {
     start(batch);
   } else if (batch.marker) {

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "nodetrace/cachesim/wrap/wrap.hpp"
+#include "nodetrace/cachesim/dinero/address_width.hpp"
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/formats/record/record_format.hpp"
 
@@ -189,6 +190,7 @@ TraceResult wrap_run(const std::string& path, const std::vector<Configuration>& 
   const std::size_t group_size =
       path == "-" ? std::max<std::size_t>(jobs.size(), 1) : jobs_at_a_time(options);
   std::uint64_t other_stream_records = 0;
+  std::uint64_t beyond_32_bits = 0;
   for (std::size_t group_start = 0; group_start < jobs.size(); group_start += group_size) {
     const bool first_pass = group_start == 0;
     const std::size_t group_end = std::min(jobs.size(), group_start + group_size);
@@ -231,6 +233,7 @@ TraceResult wrap_run(const std::string& path, const std::vector<Configuration>& 
         if (needs_levels && !formats::is_level(tag)) {
           throw_untagged_record(context, batch.first_record + r + 1, "the split scheme routes");
         }
+        if (first_pass) beyond_32_bits += records_beyond_32_bits({&record, 1}, context.form);
         const std::size_t length = formats::format_record(record, fed_form, formats::kDineroTextLayout, line);
         for (std::size_t j = group_start; j < group_end; ++j) {
           if (jobs[j].takes(tag)) running[j - group_start]->add(line, length);
@@ -279,12 +282,16 @@ TraceResult wrap_run(const std::string& path, const std::vector<Configuration>& 
   if (other_stream_records > 0) {
     result.notes.push_back(other_streams_note(trace_column, other_stream_records));
   }
+  if (beyond_32_bits > 0) result.notes.push_back(beyond_32_bits_note(trace_column, beyond_32_bits));
   return result;
 }
 
 ExecResult wrap_exec(const std::string& path, const std::vector<std::string>& arguments,
                      const WrapOptions& options) {
-  auto reader = formats::TraceReader::open(path, options.reader);
+  // Dinero IV's own run: an empty input is what Dinero IV makes of it.
+  formats::ReaderOptions reader_options = options.reader;
+  reader_options.allow_empty = true;
+  auto reader = formats::TraceReader::open(path, reader_options);
   RecordForm form = reader->form() == RecordForm::Din ? RecordForm::Din : RecordForm::ExtendedDin;
   std::vector<std::string> argv = options.dinero;
   // The records are written in the form Dinero IV is told to read (its

@@ -9,12 +9,15 @@
 #include "container/container.hpp"
 #include "container/container_footer.hpp"
 #include "read/reader_kinds.hpp"
+#include "read/records_required.hpp"
 
 namespace nodetrace::formats {
 
 TraceReader::~TraceReader() = default;
 
-std::unique_ptr<TraceReader> TraceReader::open(const std::string& path, const ReaderOptions& given_options) {
+namespace {
+
+std::unique_ptr<TraceReader> open_input(const std::string& path, const ReaderOptions& given_options) {
   // Binary records cannot be told from text by their bytes for sure, but a
   // name says so as the writers choose it (tracer -o t.bin).
   ReaderOptions options = given_options;
@@ -31,6 +34,9 @@ std::unique_ptr<TraceReader> TraceReader::open(const std::string& path, const Re
       throw base::FormatError(fmt::format("{}: {} bytes: not a zstd stream (too short for a zstd frame)",
                                           opened.name, input.available()));
     }
+    // Said at once, before any option that needs what records hold (levels,
+    // units) is checked against an input that has none.
+    if (input.available() == 0 && !options.allow_empty) detail::fail_no_records(opened.name);
     return detail::open_plain_records_reader(std::move(opened), options);
   }
   const std::uint32_t magic = detail::load_le32(input.data());
@@ -43,6 +49,14 @@ std::unique_ptr<TraceReader> TraceReader::open(const std::string& path, const Re
     return detail::open_plain_zstd_reader(std::move(opened), options, std::move(first_bytes));
   }
   return detail::open_plain_records_reader(std::move(opened), options);
+}
+
+}  // namespace
+
+std::unique_ptr<TraceReader> TraceReader::open(const std::string& path, const ReaderOptions& options) {
+  std::unique_ptr<TraceReader> reader = open_input(path, options);
+  if (options.allow_empty) return reader;
+  return detail::records_required(std::move(reader));
 }
 
 }  // namespace nodetrace::formats

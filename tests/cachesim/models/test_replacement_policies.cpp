@@ -23,6 +23,7 @@ using formats::AccessType;
 using formats::Record;
 
 constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+constexpr std::uint64_t kInvalidated = std::uint64_t{1} << 62;  // above every block of these tests
 
 // One cache of the reference: blocks in per-set arrays, each policy's state
 // beside them, every rule written out as docs/guide/replacement-policies.md
@@ -36,7 +37,8 @@ class ReferenceCache {
         tree_(sets, std::vector<int>(ways, 0)),
         value_(sets, std::vector<int>(ways, 3)) {}
 
-  // `future`: the blocks fetched after this one, in order (opt only).
+  // `future`: the cache's stream of events, this fetch at `now`: blocks
+  // fetched, and blocks invalidated with kInvalidated added (opt only).
   bool access(std::uint64_t block, const std::vector<std::uint64_t>& future, std::size_t now) {
     const std::uint64_t set = block % sets_;
     std::vector<std::uint64_t>& blocks = block_[set];
@@ -61,6 +63,7 @@ class ReferenceCache {
         auto distance = [&](std::uint64_t candidate) {
           for (std::size_t later = now + 1; later < future.size(); ++later) {
             if (future[later] == candidate) return later;
+            if (future[later] == (candidate | kInvalidated)) break;  // gone before its next use
           }
           return future.size() + 1;  // never again: farthest
         };
@@ -175,8 +178,8 @@ Counts reference_counts(const Configuration& config, const std::vector<Record>& 
   std::vector<std::uint64_t> high_future;
   std::vector<std::uint64_t> low_future;
   for (const Record& record : records) {
-    if (record.type == AccessType::Invalidate) continue;
-    (goes_high(record) ? high_future : low_future).push_back(block_of(record, config.block));
+    const std::uint64_t invalidated = record.type == AccessType::Invalidate ? kInvalidated : 0;
+    (goes_high(record) ? high_future : low_future).push_back(block_of(record, config.block) | invalidated);
   }
   const std::uint64_t low_blocks = (split ? config.low_size : config.size) / config.block;
   ReferenceCache low(low_blocks / config.assoc, config.assoc, config.policy);
@@ -192,6 +195,7 @@ Counts reference_counts(const Configuration& config, const std::vector<Record>& 
     if (record.type == AccessType::Invalidate) {
       if (!to_high) low.invalidate(block);
       if (to_high && config.high_policy == HighPolicy::Cache) high.invalidate(block);
+      ++(to_high ? high_at : low_at);
       continue;
     }
     if (!to_high) {

@@ -75,6 +75,21 @@ TEST(SamplingEstimate, OneUnitOfSeveralHasNoErrorEstimate) {
   EXPECT_FALSE(estimate.high95);
 }
 
+// Units with no fetch at all (a sample of copy-backs, of an empty trace):
+// the ratio has no value, so neither a standard error nor an interval, even
+// where the sample is the whole population (issue 52, item 3).
+TEST(SamplingEstimate, ASampleWithoutFetchesHasNoErrorAndNoInterval) {
+  for (const std::uint64_t population : {2u, 4u}) {
+    const Estimate estimate = ratio_estimate({{0, 0}, {0, 0}}, population);
+    EXPECT_FALSE(estimate.standard_error) << population;
+    EXPECT_FALSE(estimate.low95) << population;
+    EXPECT_FALSE(estimate.high95) << population;
+    const Estimate gain = gain_estimate({{10, 1}, {20, 2}}, {{0, 0}, {0, 0}}, population);
+    EXPECT_FALSE(gain.standard_error) << population;
+    EXPECT_FALSE(gain.low95) << population;
+  }
+}
+
 TEST(SamplingEstimate, UnitsThatAllHaveTheSameRatioHaveZeroError) {
   const Estimate estimate = ratio_estimate({{100, 10}, {300, 30}, {50, 5}}, 30);
   EXPECT_DOUBLE_EQ(estimate.value, 0.1);

@@ -67,5 +67,43 @@ TEST(RunUsageMessages, TableFileNamedCsvOrJsonIsWrittenSo) {
   EXPECT_EQ(levels.rfind("{\"columns\": [", 0), 0u) << levels;
 }
 
+// --size is the split cache's total: with --high-size and --low-size both
+// given it must agree with them rather than be overridden (issue 52, item 8:
+// the split row said 3072 beside --size 4k,8k, with a note blaming a value
+// listed twice). Left out, the split total is theirs and single keeps 8k.
+TEST(RunUsageMessages, SizeThatDisagreesWithBothSplitSidesIsAUsageError) {
+  testing::TempDir dir;
+  const auto trace = dir / "t.din";
+  testing::write_file(trace, "0 100 1\n0 200 5\n");
+  const std::string run = cachesim() + " run " + shell_quoted(trace) + " --tags-are-levels --split-level 3 ";
+  const auto disagrees = run_command(run + "--size 4k,8k --high-size 1k --low-size 2k --scheme single,split");
+  EXPECT_EQ(disagrees.exit_code, 2);
+  EXPECT_EQ(disagrees.err,
+            "cachesim run: --size 4k: --high-size 1k and --low-size 2k make a split cache of 3072 bytes in all, and "
+            "--size is that total: give --size 3072 (or leave it out), or only one of --high-size and --low-size\n");
+  EXPECT_EQ(disagrees.out, "");
+  const auto left_out = run_command(run + "--high-size 1k --low-size 2k --scheme single,split --format csv");
+  EXPECT_EQ(left_out.exit_code, 0) << left_out.err;
+  EXPECT_NE(left_out.out.find("t.din,single,8192,"), std::string::npos) << left_out.out;
+  EXPECT_NE(left_out.out.find("t.din,split,3072,8,1,lru,retain,1024,2048,3,"), std::string::npos) << left_out.out;
+  EXPECT_EQ(left_out.err.find("repeated"), std::string::npos) << left_out.err;
+  const auto agrees = run_command(run + "--size 2k --high-size 1k --low-size 1k --scheme split --format csv");
+  EXPECT_EQ(agrees.exit_code, 0) << agrees.err;
+}
+
+// Large caches cost their memory before the first record: a run states it
+// (issue 52, item 7: 256m fully associative took 1.6 GB without a word).
+TEST(RunUsageMessages, TheStateOfLargeCachesIsStatedBeforeTheRun) {
+  testing::TempDir dir;
+  const auto trace = dir / "t.din";
+  testing::write_file(trace, "0 100\n");
+  const auto large = run_command(cachesim() + " run " + shell_quoted(trace) + " --size 64m --assoc 64 --format csv");
+  EXPECT_EQ(large.exit_code, 0) << large.err;
+  EXPECT_EQ(large.err, "note: the caches keep about 384 MiB of state, allocated before the first record\n");
+  const auto small = run_command(cachesim() + " run " + shell_quoted(trace) + " --size 64m --assoc 16 --format csv");
+  EXPECT_EQ(small.exit_code, 0) << small.err;
+  EXPECT_EQ(small.err, "");
+}
+
 }  // namespace
 }  // namespace nodetrace::cachesim

@@ -354,5 +354,34 @@ TEST(WrapRun, PrefetchingIsRefusedWithTheSplitScheme) {
   EXPECT_NE(result.err.find("--scheme single only"), std::string::npos) << result.err;
 }
 
+// Addresses 0 and 2^32 alternating: Dinero IV's 32 bits make them one block
+// (1 miss), cachesim run's 64 bits two (2 misses). By design, but said:
+// dinero-wrap and cachesim dinero note how many records reach 2^32.
+TEST(WrapRun, NotesTheRecordsWhoseAddressesDineroIvWrapsAt2To32) {
+  testing::TempDir dir;
+  const auto trace = dir / "hi.xdin";
+  testing::write_file(trace, "r 0 8\nr 100000000 8\nr 0 8\nr 100000000 8\nr fffffffc 8\n");
+  const std::string note =
+      trace.string() + ": 3 records reach addresses at or above 2^32; Dinero IV (d4-7) keeps addresses in 32 bits, so they "
+      "wrap at 2^32 here as in Dinero IV, where cachesim run keeps 64 bits: the two may count them differently";
+  const auto wrapped = run_command(fmt::format("{} run {} {} --size 64 --block 8 --assoc 1 --format csv",
+                                               quoted(program("dinero-wrap")), quoted(trace), stand_in()));
+  ASSERT_EQ(wrapped.exit_code, 0) << wrapped.err;
+  EXPECT_NE(wrapped.out.find(",5,6,2,"), std::string::npos) << wrapped.out;  // refs, fetches, misses
+  EXPECT_NE(wrapped.err.find("note: " + note + "\n"), std::string::npos) << wrapped.err;
+  const auto ours = run_command(fmt::format("{} run {} --size 64 --block 8 --assoc 1 --format csv",
+                                            quoted(program("cachesim")), quoted(trace)));
+  EXPECT_NE(ours.out.find(",5,6,5,"), std::string::npos) << ours.out;
+  EXPECT_EQ(ours.err.find("2^32"), std::string::npos) << ours.err;
+  const auto dinero = run_command(fmt::format("{} dinero -l1-usize 64 -l1-ubsize 8 -informat D {}",
+                                              quoted(program("cachesim")), quoted(trace)));
+  ASSERT_EQ(dinero.exit_code, 0) << dinero.err;
+  EXPECT_EQ(dinero.err, "cachesim dinero note: " + note + "\n");
+  // Below 2^32 nothing is noted.
+  testing::write_file(trace, "r 0 8\nr fffffff0 8\n");
+  EXPECT_EQ(run_command(fmt::format("{} dinero -l1-usize 64 -l1-ubsize 8 -informat D {}",
+                                    quoted(program("cachesim")), quoted(trace))).err, "");
+}
+
 }  // namespace
 }  // namespace nodetrace::cachesim::wrap

@@ -14,6 +14,8 @@ namespace {
 
 using testing_util::read_all;
 using testing_util::read_error;
+using testing_util::with_stdin_from;
+using testing_util::write_trace;
 
 std::string line(const char* format, unsigned address, int level) {
   char text[64];
@@ -57,7 +59,24 @@ TEST_F(TextParsing, LastLineWithoutNewlineIsARecord) {
   EXPECT_EQ(read_all(write("0 100\n1 200")).records.size(), 2u);
 }
 
-TEST_F(TextParsing, EmptyFileHasNoRecords) { EXPECT_TRUE(read_all(write("")).records.empty()); }
+// One rule for every input without records, file or pipe, plain, zstd or
+// container: refused (exit 1 in the programs), except where Dinero IV's
+// reading of it is followed (allow_empty: cachesim dinero, dinero-wrap exec).
+TEST_F(TextParsing, AnInputWithoutRecordsIsRefusedUnlessAllowed) {
+  const std::string empty = write("");
+  EXPECT_EQ(read_error(empty), empty + ": no records: an input without records is not a trace");
+  ReaderOptions allowed;
+  allowed.allow_empty = true;
+  EXPECT_TRUE(read_all(empty, allowed).records.empty());
+  EXPECT_EQ(with_stdin_from("", [] { read_all("-"); }),
+            "<stdin>: no records: an input without records is not a trace (did the command before the pipe fail?)");
+  const std::string container = (dir_ / "none.din.zst").string();
+  write_trace(container, {}, WriterOptions{});
+  EXPECT_EQ(read_error(container), container + ": no records: an input without records is not a trace");
+  EXPECT_TRUE(read_all(container, allowed).records.empty());
+  EXPECT_EQ(with_stdin_from(nodetrace::testing::read_file(container), [] { read_all("-"); }),
+            "<stdin>: no records: an input without records is not a trace (did the command before the pipe fail?)");
+}
 
 TEST_F(TextParsing, DinRejectionsNameTheRecordAndTheFault) {
   EXPECT_EQ(error_of("0\n"), (dir_ / "t.din").string() + ": record 1: short line");

@@ -24,6 +24,11 @@ struct ReaderOptions {
   // Binary input is never guessed from its bytes: it is named, by this
   // option or by a file name ending in .bin or .bin.zst.
   std::optional<RecordForm> form;
+  // An input with no records is an error (base::FormatError at the end of
+  // the trace, naming it), file or pipe alike: an empty trace is most often
+  // what a failed command left in a pipe. True only where Dinero IV's
+  // behaviour is followed (it reads an empty input as a trace).
+  bool allow_empty = false;
   // Decoding threads; 0 means one per core.
   unsigned threads = 0;
   // Seekable containers with an index: data frames for which this returns
