@@ -68,6 +68,7 @@ int run_subcommand(int argc, char** argv) {
     std::vector<Configuration> configs = expand_configurations(sweep);
     std::vector<ResultRow> rows;
     std::vector<std::string> notes;
+    if (const std::optional<std::string> split_size = tools::split_size_note(line, sweep)) notes.push_back(*split_size);
     if (const std::optional<std::string> repeated = merge_repeated_configurations(configs)) notes.push_back(*repeated);
     for (const std::string& trace : line.traces) {
       TraceResult result = wrap::wrap_run(trace, configs, trace, sweep.per_level, options, sweep.per_animation_frame);

@@ -214,19 +214,6 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
   }
   if (!line.high_size.empty()) options.high_size = cache_size(line.high_size, "--high-size");
   if (!line.low_size.empty()) options.low_size = cache_size(line.low_size, "--low-size");
-  if (options.high_size && options.low_size && line.sizes_given &&
-      std::find(options.schemes.begin(), options.schemes.end(), Scheme::Split) != options.schemes.end()) {
-    // Both sides given: the split cache's total is theirs, and a --size
-    // given, its total too, must agree rather than be overridden.
-    const std::uint64_t total = *options.high_size + *options.low_size;
-    for (std::size_t i = 0; i < options.sizes.size(); ++i) {
-      if (options.sizes[i] == total) continue;
-      throw base::UsageError(fmt::format(
-          "--size {}: --high-size {} and --low-size {} make a split cache of {} bytes in all, and --size is "
-          "that total: give --size {} (or leave it out), or only one of --high-size and --low-size",
-          line.sizes[i], line.high_size, line.low_size, total, total));
-    }
-  }
   if (!line.high_assoc.empty()) options.high_assoc = parse_assoc(line.high_assoc);
   options.count_loads = line.count_loads;
   options.fetch = parse_fetch_policy_name(line.fetch).value_or(FetchPolicy::Demand);
@@ -248,6 +235,25 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
     base::check_output_writable(*file);
   }
   return options;
+}
+
+// With --high-size and --low-size both given the split cache is their sum,
+// whatever --size says: --size then sizes the single cache only. The note
+// that says so where a --size given differs (nullopt: nothing to say).
+inline std::optional<std::string> split_size_note(const RunCommandLine& line, const SweepOptions& options) {
+  if (!options.high_size || !options.low_size || !line.sizes_given ||
+      std::find(options.schemes.begin(), options.schemes.end(), Scheme::Split) == options.schemes.end()) {
+    return std::nullopt;
+  }
+  const std::uint64_t total = *options.high_size + *options.low_size;
+  if (std::all_of(options.sizes.begin(), options.sizes.end(), [&](std::uint64_t size) { return size == total; })) {
+    return std::nullopt;
+  }
+  std::string sizes;
+  for (const std::string& size : line.sizes) sizes += (sizes.empty() ? "" : ",") + size;
+  return fmt::format("--size {} sizes the single cache only: the split cache is --high-size {} + --low-size {} "
+                     "= {} bytes in all",
+                     sizes, line.high_size, line.low_size, total);
 }
 
 inline formats::ReaderOptions reader_options(const RunCommandLine& line) {

@@ -134,6 +134,9 @@ void RunSession::prepare(const CLI::App& app) {
     return;
   }
   configs_ = expand_configurations(options_);
+  if (const std::optional<std::string> split_size = split_size_note(line_, options_)) {
+    configuration_notes_.push_back(*split_size);
+  }
   if (const std::optional<std::string> repeated = merge_repeated_configurations(configs_)) {
     configuration_notes_.push_back(*repeated);
   }

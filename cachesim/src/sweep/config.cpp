@@ -101,6 +101,9 @@ std::vector<Configuration> expand_configurations(const SweepOptions& options) {
               configs.push_back(base);
               continue;
             }
+            // Both sides given: the split cache is their sum whatever the
+            // size, so it is made once, with the first size.
+            if (options.high_size && options.low_size && size != options.sizes.front()) continue;
             std::uint64_t high = 0;
             if (options.high_size) {
               high = *options.high_size;
