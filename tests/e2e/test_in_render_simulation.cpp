@@ -120,6 +120,31 @@ TEST(InRenderSimulation, HardwarePoliciesAndTheOptimum) {
                                 "--curve --policy lru,opt --assoc 1,full --format csv");
 }
 
+// The test above compares two runs of one engine: both printed OPT with 0
+// misses when it was listed after other policies. Here each opt row of the
+// in-render report equals cachesim run of opt alone on the written trace.
+TEST(InRenderSimulation, TheOptimumListedAfterOtherPoliciesEqualsItsRunAlone) {
+  TempDir dir;
+  const std::string in = "cd " + testing::shell_quoted(dir.path()) + " && ";
+  const auto rendered = run_command(in + tracer() + kRender + " -q --high-size 1k -o t.din.zst --simulate "
+                                    "'--size 2k,4k --assoc 4 --policy lru,fifo,plru,srrip,drrip,opt --format csv' "
+                                    "--report r.csv");
+  ASSERT_EQ(rendered.exit_code, 0) << rendered.err;
+  const auto alone = run_command(in + cachesim() + " run t.din.zst --size 2k,4k --assoc 4 --policy opt --format csv");
+  ASSERT_EQ(alone.exit_code, 0) << alone.err;
+  const auto report = testing::csv_rows(read_file(dir / "r.csv"));
+  const auto expected = testing::csv_rows(alone.out);
+  ASSERT_EQ(expected.size(), 3u);
+  std::size_t compared = 0;
+  for (const auto& row : report) {
+    if (row.at(5) != "opt") continue;
+    const auto& opt_alone = expected.at(1 + compared++);
+    EXPECT_EQ(row, opt_alone);
+    EXPECT_GT(std::stoull(row.at(12)), 0u);
+  }
+  EXPECT_EQ(compared, 2u);
+}
+
 TEST(InRenderSimulation, WithoutATraceTheReportNamesEachLayout) {
   TempDir dir;
   const auto rendered = run_command(tracer() + kRender + " -q --layout dfl,hybrid --high-size 1k "

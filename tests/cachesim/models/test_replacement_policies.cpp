@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <random>
 #include <vector>
 
@@ -244,7 +245,11 @@ constexpr ReplacementPolicy kPolicies[] = {ReplacementPolicy::Lru,   Replacement
                                            ReplacementPolicy::Opt};
 
 TEST(ReplacementPolicies, EqualTheReferenceModelOnRandomTracesAndConfigurations) {
-  std::size_t checked = 0;
+  // What the seeds covered, counted from the configurations checked, so
+  // that a generator that stopped drawing some of them fails here.
+  std::map<ReplacementPolicy, std::size_t> by_policy;
+  std::size_t split_retained = 0;
+  std::size_t split_cached = 0;
   for (std::uint64_t seed = 1; seed <= 1200; ++seed) {
     std::mt19937_64 random(seed);
     Configuration config;
@@ -289,9 +294,12 @@ TEST(ReplacementPolicies, EqualTheReferenceModelOnRandomTracesAndConfigurations)
         EXPECT_EQ(row.high_loads.value_or(0), expected.high_loads);
       }
     }
-    ++checked;
+    ++by_policy[config.policy];
+    if (config.scheme == Scheme::Split) ++(config.high_policy == HighPolicy::Retain ? split_retained : split_cached);
   }
-  EXPECT_EQ(checked, 1200u);
+  for (const ReplacementPolicy policy : kPolicies) EXPECT_GE(by_policy[policy], 100u) << policy_name(policy);
+  EXPECT_GE(split_retained, 25u);  // fewer: a retain set that cannot hold the levels becomes a cache
+  EXPECT_GE(split_cached, 60u);
 }
 
 // The single caches of plru, srrip, brrip and drrip of 2 to 16 ways of one
@@ -325,8 +333,11 @@ TEST(ReplacementPolicies, PolicyGridEqualsTheReferenceModelOverBatchesAndInvalid
       }
       config.size = std::uint64_t{config.assoc} * block << (random() % 10);  // 1 .. 512 sets
       if (std::find(configs.begin(), configs.end(), config) == configs.end()) configs.push_back(config);
-      stacked += c >= 8;
     }
+    // Members the set stacks answer, as simulated (duplicates dropped).
+    stacked += static_cast<std::size_t>(std::count_if(configs.begin(), configs.end(), [](const Configuration& c) {
+      return c.policy == ReplacementPolicy::Lru || c.assoc == 1;
+    }));
     const std::uint64_t spread = 64 * (2 + random() % 12);
     std::vector<Record> records = random_records(random, 6000, spread, block, random() % 3 != 0);
     // Runs of one block, longer than the locality above makes them.
@@ -339,8 +350,10 @@ TEST(ReplacementPolicies, PolicyGridEqualsTheReferenceModelOverBatchesAndInvalid
     if (seed % 5 == 0) {  // block numbers of more than 32 bits after a while
       const std::size_t from = random() % records.size();
       for (std::size_t i = from; i < records.size(); ++i) records[i].address += (std::uint64_t{1} << 36) * block;
-      ++widened;
     }
+    widened += std::any_of(records.begin(), records.end(), [&](const Record& record) {
+      return record.type != AccessType::Invalidate && (record.address / block) >> 32 != 0;
+    });
     TraceContext context;
     context.trace = "t";
     context.form = formats::RecordForm::Din;
@@ -373,8 +386,8 @@ TEST(ReplacementPolicies, PolicyGridEqualsTheReferenceModelOverBatchesAndInvalid
     }
   }
   EXPECT_GT(members, 3000u);
-  EXPECT_EQ(stacked, 1200u);
-  EXPECT_EQ(widened, 60u);
+  EXPECT_GE(stacked, 900u);  // of 1,200 drawn
+  EXPECT_GE(widened, 55u);   // of 60 seeds whose block numbers grow past 32 bits
 }
 
 // Misses of a single cache of `size` bytes, `ways` ways, 8-byte blocks.

@@ -84,7 +84,8 @@ TEST(PolicyCommand, DineroWrapRefusesThePoliciesDineroIvDoesNotHave) {
 TEST(PolicyCommand, OptReadsStandardInputOnceAndEqualsTheFile) {
   testing::TempDir dir;
   const auto trace = write_trace(dir);
-  const std::string options = " --size 2k --assoc 1,4,full --policy opt,lru --scheme single,split "
+  // OPT listed after a policy: it once counted MIN over no fetches there.
+  const std::string options = " --size 2k --assoc 4,16,full --policy lru,fifo,opt --scheme single,split "
                               "--split-level 3 --high-policy cache --tags-are-levels --format csv";
   const auto from_file = run_command(quoted(program("cachesim")) + " run " + quoted(trace) + options);
   const auto from_pipe = run_command("cat " + quoted(trace) + " | " + quoted(program("cachesim")) + " run -" + options);
@@ -93,22 +94,31 @@ TEST(PolicyCommand, OptReadsStandardInputOnceAndEqualsTheFile) {
   const auto file_rows = testing::csv_rows(from_file.out);
   const auto pipe_rows = testing::csv_rows(from_pipe.out);
   ASSERT_EQ(file_rows.size(), pipe_rows.size());
-  ASSERT_EQ(file_rows.size(), 13u);  // header, 3 ways x 2 policies x 2 schemes
+  ASSERT_EQ(file_rows.size(), 19u);  // header, 3 ways x 3 policies x 2 schemes
   for (std::size_t r = 1; r < file_rows.size(); ++r) {
     // Every column but the trace's name.
     EXPECT_EQ(std::vector<std::string>(file_rows[r].begin() + 1, file_rows[r].end()),
               std::vector<std::string>(pipe_rows[r].begin() + 1, pipe_rows[r].end()));
   }
-  // Rows by ways, then policy (opt, lru), then scheme: opt misses no more
-  // than lru with the same sets.
-  for (std::size_t r = 1; r + 3 < file_rows.size(); r += 4) {
+  // Rows by ways, then policy (lru, fifo, opt), then scheme: opt misses no
+  // more than lru with the same sets, and at least once for each distinct
+  // block (a cold cache fetches each), and as many as opt run alone.
+  const std::uint64_t distinct_blocks = 1500;  // write_trace's nodes, each its own 8-byte block
+  for (std::size_t r = 1; r + 5 < file_rows.size(); r += 6) {
     for (std::size_t scheme = 0; scheme < 2; ++scheme) {
-      const auto& opt = file_rows[r + scheme];
-      const auto& lru = file_rows[r + 2 + scheme];
-      ASSERT_EQ(opt[5], "opt");
+      const auto& lru = file_rows[r + scheme];
+      const auto& opt = file_rows[r + 4 + scheme];
       ASSERT_EQ(lru[5], "lru");
+      ASSERT_EQ(opt[5], "opt");
       EXPECT_LE(std::stoull(opt[12]), std::stoull(lru[12])) << opt[1] << " " << opt[4];
       EXPECT_LT(std::stoull(opt[12]), std::stoull(lru[12])) << "no room between them: a weak test trace";
+      EXPECT_GE(std::stoull(opt[12]), distinct_blocks) << opt[1] << " " << opt[4];
+      const auto alone = run_command(fmt::format(
+          "{} run {} --size 2k --assoc {} --policy opt --scheme {} --split-level 3 --high-policy cache "
+          "--tags-are-levels --format csv",
+          quoted(program("cachesim")), quoted(trace), opt[4], opt[1]));
+      ASSERT_EQ(alone.exit_code, 0) << alone.err;
+      EXPECT_EQ(testing::csv_rows(alone.out).at(1).at(12), opt[12]) << opt[1] << " " << opt[4];
     }
   }
 }

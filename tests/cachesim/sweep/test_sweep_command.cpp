@@ -313,10 +313,18 @@ TEST(SweepCommand, PerLevelAndPerFrameCannotBothTakeStandardOutput) {
   EXPECT_NE(result.err.find("one table per output"), std::string::npos) << result.err;
 }
 
-TEST(SweepCommand, BadUsageExitsTwo) {
-  EXPECT_EQ(run_command(cachesim() + " run").exit_code, 2);
-  EXPECT_EQ(run_command(cachesim() + " run x --size 3k").exit_code, 2);
-  EXPECT_EQ(run_command(cachesim() + " run x --policy nope").exit_code, 2);
+// Exit 2 with a message that names the option given; a missing trace is
+// exit 1 naming the file.
+TEST(SweepCommand, BadUsageExitsTwoNamingTheOption) {
+  const auto bare = run_command(cachesim() + " run");
+  EXPECT_EQ(bare.exit_code, 2);
+  EXPECT_NE(bare.err.find("cachesim run: traces is required"), std::string::npos) << bare.err;
+  const auto size = run_command(cachesim() + " run x --size 3k");
+  EXPECT_EQ(size.exit_code, 2);
+  EXPECT_NE(size.err.find("--size"), std::string::npos) << size.err;
+  const auto policy = run_command(cachesim() + " run x --policy nope");
+  EXPECT_EQ(policy.exit_code, 2);
+  EXPECT_NE(policy.err.find("cachesim run: --policy: 'nope' is not one of"), std::string::npos) << policy.err;
   const auto missing = run_command(cachesim() + " run /nonexistent/t.din");
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_NE(missing.err.find("/nonexistent/t.din"), std::string::npos);

@@ -207,14 +207,23 @@ TEST_F(UnitCaches, PerUnitAndSecondLevelTablesHaveOneShape) {
   EXPECT_EQ(nodetrace::testing::one_csv_table(csv.out), "");
 }
 
-TEST_F(UnitCaches, UsageErrors) {
+// Each usage error exits 2 with the message that names its option.
+TEST_F(UnitCaches, UsageErrorsNameTheirOption) {
   const std::string run = tool("cachesim") + " run " + trace();
-  EXPECT_EQ(run_command(run + " --per-unit -").exit_code, 2);
-  EXPECT_EQ(run_command(run + " --units mine").exit_code, 2);
-  EXPECT_EQ(run_command(run + " --units private --per-level -").exit_code, 2);
-  EXPECT_EQ(run_command(run + " --l2-block 32").exit_code, 2);
-  EXPECT_EQ(run_command(run + " --l2-size 4k --policy random").exit_code, 2);
-  EXPECT_EQ(run_command(run + " --l2-size 3k").exit_code, 2);
+  const std::pair<const char*, const char*> cases[] = {
+      {" --per-unit -", "cachesim run: --per-unit: the rows of private caches need --units private"},
+      {" --units mine", "cachesim run: --units: mine not in {shared,private}"},
+      {" --units private --per-level -", "cachesim run: --units private: not with --per-level"},
+      {" --l2-block 32", "cachesim run: --l2-block, --l2-assoc and --l2-policy describe the cache --l2-size adds"},
+      {" --l2-size 4k --policy random", "cachesim run: --l2-size: the first level cannot be random"},
+      {" --l2-size 3k", "cachesim run: second-level cache (--l2-size, --l2-block, --l2-assoc): size 3072 is not a "
+                        "power of two"},
+  };
+  for (const auto& [options, message] : cases) {
+    const auto result = run_command(run + options);
+    EXPECT_EQ(result.exit_code, 2) << options;
+    EXPECT_TRUE(result.err.starts_with(message)) << options << "\n" << result.err;
+  }
 }
 
 }  // namespace
