@@ -205,9 +205,15 @@ TraceOutcome RunSession::simulate(RunMode mode, formats::TraceReader& reader, co
       outcome.curve = run_curve(reader, curve_options(options_), trace_column);
       break;
     case RunMode::UnitCaches: {
+      // One unit's private caches are the shared ones: a report labelled
+      // private would be the shared result (a trace converted to plain
+      // text reads as one unit: its header said how many there were).
       if (unit_options_.private_units && reader.units() == 1) {
-        outcome.sweep.notes.push_back(fmt::format(
-            "{}: its records carry no unit (no \"units\" above 1 in a header): one unit", reader.source_name()));
+        throw base::UsageError(fmt::format(
+            "--units private: {}: its records carry no traversal unit (no \"units\" above 1 in a header; a "
+            "plain trace has no header, so its unit fields are not read): private caches would be the shared one; "
+            "give the container the tracer wrote, or leave --units out",
+            reader.source_name()));
       }
       UnitSweepResult result = run_unit_sweep(reader, configs_, trace_column, unit_options_);
       append(outcome.sweep.rows, result.total.rows);
