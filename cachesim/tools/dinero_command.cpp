@@ -60,6 +60,7 @@ int dinero_command(int argc, char** argv) {
     }
     formats::ReaderOptions reader_options;
     reader_options.form = options.form;
+    reader_options.binary_form_option = "-informat b";
     auto reader = formats::TraceReader::open(options.trace_path, reader_options);
     match_trace_form(options, *reader);
     std::ios::sync_with_stdio(false);

@@ -24,6 +24,9 @@ struct ReaderOptions {
   // Binary input is never guessed from its bytes: it is named, by this
   // option or by a file name ending in .bin or .bin.zst.
   std::optional<RecordForm> form;
+  // How the front end names binary input, for the hint given when text
+  // records hold a NUL byte (binary read as text).
+  std::string binary_form_option = "--informat binary";
   // Decoding threads; 0 means one per core.
   unsigned threads = 0;
   // Seekable containers with an index: data frames for which this returns
