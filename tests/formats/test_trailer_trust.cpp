@@ -173,5 +173,24 @@ TEST_F(TrailerTrust, JoinedTracesAreNamedFromAFileAndFromAPipe) {
   }
 }
 
+// Issue 52 item 12: one data frame is "1 data frame" in every message.
+TEST_F(TrailerTrust, OneDataFrameIsSingularInMessages) {
+  WriterOptions options;
+  options.records_per_data_frame = 30;
+  testing_util::write_trace(path("one.din.zst"), testing_util::sample_records(20), options);
+  const std::string one = read_file(dir_ / "one.din.zst");
+  const std::size_t json = load_le32(one.data() + one.size() - detail::kFooterSize + 8);
+  const std::string cut = one.substr(0, one.size() - detail::kFooterSize - json - detail::kSkippableHeaderSize);
+  const auto truncated = tracetool("verify -", cut);
+  EXPECT_EQ(truncated.exit_code, 1);
+  EXPECT_NE(truncated.err.find("truncated: the file ends after 1 data frame without the trailer"), std::string::npos)
+      << truncated.err;
+  write_file(dir_ / "lie.din.zst", with_trailer(one, [](nlohmann::json& t) { t["totals"]["data_frames"] = 2; }));
+  const auto lie = tracetool("verify " + shell_quoted(path("lie.din.zst")));
+  EXPECT_NE(lie.err.find("the trailer's totals say data_frames 2, but the file has 1 data frame\n"),
+            std::string::npos)
+      << lie.err;
+}
+
 }  // namespace
 }  // namespace nodetrace::formats

@@ -20,6 +20,10 @@
 namespace nodetrace::formats::detail {
 namespace {
 
+std::string data_frames_text(std::uint64_t count) {
+  return fmt::format("{} data frame{}", count, count == 1 ? "" : "s");
+}
+
 // Pieces of a data frame: records per piece handed over, and pieces waiting
 // per frame. The next frame's worker decodes ahead only as far as its
 // pieces may wait: with 2 the two workers took turns (cachesim on the BART
@@ -547,7 +551,7 @@ class ContainerReader final : public PipelinedReader {
 
   void check_index_entry(const DataFrameIndexEntry& seen, std::uint64_t number, const std::string& where) const {
     const auto& index = trailer_->index;
-    if (number >= index.size()) fail(fmt::format("{}: the index lists only {} data frames", where, index.size()));
+    if (number >= index.size()) fail(fmt::format("{}: the index lists only {}", where, data_frames_text(index.size())));
     const DataFrameIndexEntry& expected = index[number];
     if (expected == seen) return;
     if (expected.checksum != seen.checksum) {
@@ -568,14 +572,14 @@ class ContainerReader final : public PipelinedReader {
   void finish_input() override {
     if (!saw_trailer_) {
       if (header_.announces_trailer()) {
-        fail(fmt::format("truncated: the file ends after {} data frames without the trailer the header announces",
-                         data_frames_));
+        fail(fmt::format("truncated: the file ends after {} without the trailer the header announces",
+                         data_frames_text(data_frames_)));
       }
       return;
     }
     const auto& index = trailer_->index;
     if (data_frames_ != index.size()) {
-      fail(fmt::format("the index lists {} data frames but the file holds {}", index.size(), data_frames_));
+      fail(fmt::format("the index lists {} but the file holds {}", data_frames_text(index.size()), data_frames_));
     }
     if (!hashes_valid_) return;
     for (std::size_t i = 0; i < seen_.size(); ++i) {

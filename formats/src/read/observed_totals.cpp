@@ -10,15 +10,22 @@ namespace nodetrace::formats {
 
 namespace {
 
-// `found` says what the reading found, with {} for its count.
+// What the reading found: "the file has" 2 "data frame"s (no noun: the
+// count alone).
+struct Found {
+  const char* verb;
+  const char* noun = "";
+};
+
 [[noreturn]] void differs(const TraceReader& reader, const std::string& key, const nlohmann::json& stated,
-                          std::uint64_t seen, const char* found) {
-  throw base::FormatError(fmt::format("{}: the trailer's totals say {} {}, but {}", reader.source_name(), key,
-                                      stated.dump(), fmt::format(fmt::runtime(found), seen)));
+                          std::uint64_t seen, Found found) {
+  const std::string noun = *found.noun == '\0' ? "" : fmt::format(" {}{}", found.noun, seen == 1 ? "" : "s");
+  throw base::FormatError(fmt::format("{}: the trailer's totals say {} {}, but {} {}{}", reader.source_name(), key,
+                                      stated.dump(), found.verb, seen, noun));
 }
 
 void check_count(const TraceReader& reader, const nlohmann::json& totals, const char* key, std::uint64_t seen,
-                 const char* found) {
+                 Found found) {
   if (!totals.contains(key)) return;
   const nlohmann::json& stated = totals[key];
   if (!stated.is_number_unsigned() || stated.get<std::uint64_t>() != seen) differs(reader, key, stated, seen, found);
@@ -39,7 +46,7 @@ void check_counts(const TraceReader& reader, const nlohmann::json& totals, const
       const nlohmann::json stated_count = count_in(stated, name);
       const std::uint64_t seen_count = count_in(seen, name).get<std::uint64_t>();
       if (!stated_count.is_number_unsigned() || stated_count.get<std::uint64_t>() != seen_count) {
-        differs(reader, std::string(key) + "." + name, stated_count, seen_count, "the records hold {}");
+        differs(reader, std::string(key) + "." + name, stated_count, seen_count, {"the records hold"});
       }
     }
   }
@@ -50,7 +57,7 @@ void check_counts(const TraceReader& reader, const nlohmann::json& totals, const
 void ObservedTotals::check_trailer(const TraceReader& reader) const {
   if (!reader.trailer()) return;
   const nlohmann::json& totals = reader.trailer()->totals;
-  check_count(reader, totals, "records", summary_.records(), "the data frames hold {}");
+  check_count(reader, totals, "records", summary_.records(), {"the data frames hold", "record"});
   // Levels counted apart only when the writer read them as the reader does
   // (--tags-are-levels on a container whose header does not say so makes
   // levels of what its writer counted as untagged).
@@ -58,13 +65,13 @@ void ObservedTotals::check_trailer(const TraceReader& reader) const {
     check_counts(reader, totals, "records_per_tag", summary_.records_per_tag());
   }
   check_counts(reader, totals, "records_per_type", summary_.records_per_type());
-  check_count(reader, totals, "animation_frames", markers_, "the file has {} animation-frame markers");
+  check_count(reader, totals, "animation_frames", markers_, {"the file has", "animation-frame marker"});
   if (totals.contains("sample_windows") || windows_ > 0) {
     check_count(reader, totals.contains("sample_windows") ? totals : nlohmann::json{{"sample_windows", 0}},
-                "sample_windows", windows_, "the file has {} window markers");
+                "sample_windows", windows_, {"the file has", "window marker"});
   }
-  check_count(reader, totals, "data_frames", reader.trailer()->index.size(), "the file has {} data frames");
-  check_count(reader, totals, "record_bytes", reader.record_bytes(), "the data frames decompress to {} bytes");
+  check_count(reader, totals, "data_frames", reader.trailer()->index.size(), {"the file has", "data frame"});
+  check_count(reader, totals, "record_bytes", reader.record_bytes(), {"the data frames decompress to", "byte"});
 }
 
 }  // namespace nodetrace::formats
