@@ -205,14 +205,21 @@ TraceOutcome RunSession::simulate(RunMode mode, formats::TraceReader& reader, co
       outcome.curve = run_curve(reader, curve_options(options_), trace_column);
       break;
     case RunMode::UnitCaches: {
-      // One unit's private caches are the shared ones: a report labelled
-      // private would be the shared result (a trace converted to plain
-      // text reads as one unit: its header said how many there were).
+      // One unit's private caches are the shared ones. A header that says
+      // one unit (a sweep over unit counts from 1) gets a plain note; a
+      // trace without a header (plain text, e.g. converted from a container
+      // of several units) cannot say, and a "private" report of it would be
+      // the shared result under another label: an error.
       if (unit_options_.private_units && reader.units() == 1) {
-        throw base::UsageError(fmt::format(
-            "--units private: {}: its records carry no traversal unit (no \"units\" above 1 in a header; a "
-            "plain trace has no header, so its unit fields are not read): private caches would be the shared one; "
-            "give the container the tracer wrote, or leave --units out",
+        if (!reader.header().present()) {
+          throw base::UsageError(fmt::format(
+              "--units private: {}: a trace without a header is one traversal unit (its records' unit fields, if "
+              "any, are not read): private caches would be the shared one; give the container the tracer wrote, "
+              "or leave --units out",
+              reader.source_name()));
+        }
+        outcome.sweep.notes.push_back(fmt::format(
+            "{}: one traversal unit (no \"units\" above 1 in its header): its private caches are the shared ones",
             reader.source_name()));
       }
       UnitSweepResult result = run_unit_sweep(reader, configs_, trace_column, unit_options_);

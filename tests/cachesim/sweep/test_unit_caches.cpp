@@ -209,7 +209,8 @@ TEST_F(UnitCaches, PerUnitAndSecondLevelTablesHaveOneShape) {
 
 // Issue 52 item 9: plain text keeps each record's unit field but no header,
 // so it reads as one unit. The conversion says so, and --units private on
-// it is an error rather than the shared result under a private label.
+// it is an error rather than the shared result under a private label (a
+// container of one unit gets that result with a note).
 TEST_F(UnitCaches, PlainConversionSaysUnitsAreLostAndPrivateCachesRefuseIt) {
   const std::string plain = shell_quoted(dir_ / "u.din");
   const auto converted = run_command(tool("tracetool") + " convert " + trace() + " " + plain);
@@ -226,9 +227,20 @@ TEST_F(UnitCaches, PlainConversionSaysUnitsAreLostAndPrivateCachesRefuseIt) {
   EXPECT_EQ(run.exit_code, 2) << run.out;
   EXPECT_EQ(run.out, "");
   EXPECT_NE(run.err.find("cachesim run: --units private: " + (dir_ / "u.din").string() +
-                         ": its records carry no traversal unit"),
+                         ": a trace without a header is one traversal unit"),
             std::string::npos)
       << run.err;
+  // A container whose header says one unit (a sweep over unit counts from
+  // 1): the shared result, with a note that says why.
+  const auto one = dir_ / "one.din.zst";
+  ASSERT_EQ(run_command(tool("tracer") + " render mountain:6 --width 8 --height 6 -q -o " + shell_quoted(one)).exit_code, 0);
+  const auto single = run_command(tool("cachesim") + " run " + shell_quoted(one) + " --units private --size 1k --format csv");
+  EXPECT_EQ(single.exit_code, 0) << single.err;
+  EXPECT_EQ(single.out, run_command(tool("cachesim") + " run " + shell_quoted(one) + " --size 1k --format csv").out);
+  EXPECT_NE(single.err.find("one traversal unit (no \"units\" above 1 in its header): its private caches are the "
+                            "shared ones"),
+            std::string::npos)
+      << single.err;
   // Shared caches read it as the one unit it is.
   EXPECT_EQ(run_command(tool("cachesim") + " run " + plain + " --size 1k").exit_code, 0);
 }
