@@ -3,6 +3,7 @@
 # and the studies that explain it. docs/guide/studies.md ("The experiment
 # Makefile") lists the targets and their outputs.
 #
+#   make -f scripts/experiments.mk                   # or help: the targets, nothing run
 #   make -f scripts/experiments.mk table1            # or: make -f scripts/table1.mk
 #   make -f scripts/experiments.mk -j2 all
 #   make -f scripts/experiments.mk table1 SCENES=robot WIDTH=64 HEIGHT=48
@@ -391,11 +392,23 @@ common_params = param;width=$(WIDTH) param;height=$(HEIGHT) param;frame=$(FRAME)
 
 # Only the targets asked for are worked out (hashes, rules): `make clean`
 # needs no build, `make table1 SCENES=forest` no ../shared.
-.DEFAULT_GOAL := $(or $(.DEFAULT_GOAL),all)
+# Without a target: help, not every study (thousands of renders and
+# simulations at the defaults); table1.mk makes table1 its default.
+.DEFAULT_GOAL := $(or $(.DEFAULT_GOAL),help)
 goals := $(or $(MAKECMDGOALS),$(.DEFAULT_GOAL))
 wanted = $(filter $1 all,$(goals))
 
-.PHONY: all table1 baselines assoc levels sensitivity calibration calibration-grid interpretations \
+# RUN's program (srun on a Slurm cluster) must exist before any recipe runs,
+# else each would fail with the shell's "srun: not found".
+ifneq ($(strip $(RUN)),)
+ifneq ($(filter-out help clean,$(goals)),)
+$(if $(shell command -v '$(firstword $(RUN))' 2>/dev/null),,$(error RUN="$(strip $(RUN))": no program \
+  '$(firstword $(RUN))' on PATH (Slurm's srun where RUN is a cluster's launcher): install it, or leave RUN \
+  empty to run here))
+endif
+endif
+
+.PHONY: help all table1 baselines assoc levels sensitivity calibration calibration-grid interpretations \
   interpretations-grid frames sampling accel inflight policies workloads convergence clean FORCE
 .DELETE_ON_ERROR:
 
@@ -403,6 +416,17 @@ wanted = $(filter $1 all,$(goals))
 ALL_TARGETS := table1 baselines assoc levels sensitivity calibration interpretations frames sampling accel inflight \
   policies workloads convergence
 all: $(ALL_TARGETS)
+
+# Each study's line is its section's "# --- NAME: ..." heading below (or in path-tracing.mk).
+help:
+	@echo 'make -f $(MK_FILE) TARGET [VARIABLE=VALUE ...]: each study writes $(OUT)/TARGET/ (README "Experiments")'
+	@echo 'Targets:'
+	@$(foreach t,$(ALL_TARGETS),printf '  %-16s %s\n' '$t' "$$(sed -n 's/^# --- $t: \(.*[^ -]\) *-*$$/\1/p' \
+	  $(MK_FILE) $(MK_DIR)/path-tracing.mk)";)
+	@printf '  %-16s %s\n' all 'every study above (a long run at the defaults)' \
+	  clean 'remove $(OUT)/traces and the studies'"'"' outputs' help 'this list (also: no target)'
+	@echo 'Variables (the comments at the top of $(MK_FILE) describe them): WIDTH HEIGHT SCENES SIZES BLOCK'
+	@echo '  BUILD SHARED OUT RUN (e.g. RUN="srun --ntasks=1 --cpus-per-task=2") KEEP_TRACES INTERPRETATION'
 
 %/.dir:
 	@mkdir -p $(@D) && touch $@

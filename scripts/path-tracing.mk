@@ -1,6 +1,7 @@
 # Path-tracing studies (workloads, convergence), included by experiments.mk
 # (its helpers, variables and study_rule; docs/guide/path-tracing.md).
 #
+# --- workloads: Table 1's grid for the Whitted and the path tracer ----------
 # workloads: Table 1's grid (SIZES, direct-mapped and WORKLOADS_ASSOCS-way,
 # single against split with K = auto, each size's trace in the hybrid
 # layout sized for its high cache) for the Whitted tracer against the path
@@ -34,6 +35,7 @@ workloads_lines := $(common_params) param;workloads_width=$(WORKLOADS_WIDTH) \
 $(eval $(call study_rule,workloads))
 endif
 
+# --- convergence: the path-traced image's error against CPU time ------------
 # convergence: the path-traced image's error against CPU time. Each scene of
 # CONV_SCENES at CONV_WIDTH x CONV_HEIGHT rendered at each of CONV_SPP
 # samples per pixel (doubling from 1) and once at CONV_REFERENCE_SPP, the

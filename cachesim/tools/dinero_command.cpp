@@ -15,8 +15,9 @@ namespace nodetrace::cachesim::tools {
 
 namespace {
 
+// Dinero IV's own table, byte for byte (its spelling "DineroIV" included).
 constexpr const char* kDineroIII =
-    "Summary of Dinero IV replacements for Dinero III options:\n\n"
+    "Summary of DineroIV replacements for DineroIII options:\n\n"
     "DineroIII    DineroIV\n"
     "-u           -l1-usize\n"
     "-i           -l1-isize\n"
@@ -26,6 +27,8 @@ constexpr const char* kDineroIII =
     "-a           -l1-uassoc, -l1-iassoc, or -l1-dassoc\n"
     "-r           -l1-urepl, -l1-irepl, or -l1-drepl\n"
     "-f           -l1-ufetch, -l1-ifetch, or -l1-dfetch\n"
+    "-p           -l1-upfdist, -l1-ipfdist, or -l1-dpfdist\n"
+    "-P           -l1-upfabort, -l1-ipfabort, or -l1-dpfabort\n"
     "-w           -l1-uwback or -l1-dwback\n"
     "-A           -l1-uwalloc or -l1-dwalloc\n"
     "-Q           -flushcount\n"
@@ -61,6 +64,7 @@ int dinero_command(int argc, char** argv) {
     formats::ReaderOptions reader_options;
     reader_options.form = options.form;
     reader_options.allow_empty = true;  // as dineroIV, which reads an empty input as a trace
+    reader_options.binary_form_option = "-informat b";
     auto reader = formats::TraceReader::open(options.trace_path, reader_options);
     match_trace_form(options, *reader);
     std::ios::sync_with_stdio(false);

@@ -236,9 +236,22 @@ TraceOutcome RunSession::simulate(RunMode mode, formats::TraceReader& reader, co
       outcome.curve = run_curve(reader, curve_options(options_), trace_column);
       break;
     case RunMode::UnitCaches: {
+      // One unit's private caches are the shared ones. A header that says
+      // one unit (a sweep over unit counts from 1) gets a plain note; a
+      // trace without a header (plain text, e.g. converted from a container
+      // of several units) cannot say, and a "private" report of it would be
+      // the shared result under another label: an error.
       if (unit_options_.private_units && reader.units() == 1) {
+        if (!reader.header().present()) {
+          throw base::UsageError(fmt::format(
+              "--units private: {}: a trace without a header is one traversal unit (its records' unit fields, if "
+              "any, are not read): private caches would be the shared one; give the container the tracer wrote, "
+              "or leave --units out",
+              reader.source_name()));
+        }
         outcome.sweep.notes.push_back(fmt::format(
-            "{}: its records carry no unit (no \"units\" above 1 in a header): one unit", reader.source_name()));
+            "{}: one traversal unit (no \"units\" above 1 in its header): its private caches are the shared ones",
+            reader.source_name()));
       }
       UnitSweepResult result = run_unit_sweep(reader, configs_, trace_column, unit_options_);
       append(outcome.sweep.rows, result.total.rows);

@@ -4,20 +4,16 @@ namespace nodetrace::cli {
 
 namespace {
 
-// A JSON pointer ("/header/layout/node_size") as dotted keys
-// ("header.layout.node_size"), its escapes (~1 for /, ~0 for ~) undone.
-std::string dotted(const std::string& pointer) {
-  std::string out;
-  for (std::size_t i = 1; i < pointer.size(); ++i) {
-    if (pointer[i] == '/') {
-      out += '.';
-    } else if (pointer[i] == '~' && i + 1 < pointer.size()) {
-      out += pointer[++i] == '1' ? '/' : '~';
-    } else {
-      out += pointer[i];
-    }
+// One row per leaf of `value`, nested keys and array indexes joined with
+// dots (`header.layout.node_size`). An empty object or array is a leaf,
+// shown as {} or [] (nlohmann's flatten() makes it null, which a reader
+// would take for a missing value).
+void add_leaves(const std::string& field, const nlohmann::json& value, std::string& out) {
+  if (value.is_structured() && !value.empty()) {
+    for (const auto& [key, child] : value.items()) add_leaves(field.empty() ? key : field + "." + key, child, out);
+    return;
   }
-  return out;
+  out += csv_line({field, value.is_string() ? value.get<std::string>() : value.dump()});
 }
 
 }  // namespace
@@ -44,10 +40,7 @@ std::string csv_line(const std::vector<std::string>& fields) {
 
 std::string field_value_csv(const nlohmann::json& object) {
   std::string out = "field,value\n";
-  const nlohmann::json flat = object.flatten();  // kept: items() refers to it
-  for (const auto& [field, value] : flat.items()) {
-    out += csv_line({dotted(field), value.is_string() ? value.get<std::string>() : value.dump()});
-  }
+  for (const auto& [key, value] : object.items()) add_leaves(key, value, out);
   return out;
 }
 

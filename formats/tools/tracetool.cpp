@@ -21,6 +21,7 @@
 #include "nodetrace/cli/option_limits.hpp"
 #include "nodetrace/cli/progress_line.hpp"
 #include "nodetrace/cli/zstd_level_option.hpp"
+#include "nodetrace/formats/read/observed_totals.hpp"
 #include "nodetrace/formats/read/trace_reader.hpp"
 #include "nodetrace/formats/record/record_summary.hpp"
 #include "nodetrace/base/standard_output.hpp"
@@ -100,17 +101,13 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
     info["decompressed_bytes"] = trailer->totals["record_bytes"];
     info["totals"] = trailer->totals;
   } else {
-    formats::RecordSummary summary;
-    std::uint64_t animation_frames = 0;
+    formats::ObservedTotals seen;
     formats::RecordBatch batch;
-    while (reader->next(batch)) {
-      if (batch.marker) ++animation_frames;
-      summary.add(batch.records);
-    }
-    info["records"] = summary.records();
-    info["records_per_tag"] = summary.records_per_tag();
-    info["records_per_type"] = summary.records_per_type();
-    info["animation_frames"] = animation_frame_count(animation_frames);
+    while (reader->next(batch)) seen.add(batch);
+    info["records"] = seen.summary().records();
+    info["records_per_tag"] = seen.summary().records_per_tag();
+    info["records_per_type"] = seen.summary().records_per_type();
+    info["animation_frames"] = animation_frame_count(seen.animation_frame_markers());
     info["data_frames"] = reader->trailer() ? reader->trailer()->index.size() : 0;
     info["decompressed_bytes"] = reader->record_bytes();
     if (reader->trailer()) info["totals"] = reader->trailer()->totals;
@@ -227,12 +224,11 @@ int run_cat(const std::string& path, const std::string& tags, const std::string&
 int run_verify(const std::string& path, bool tags_are_levels, const std::string& form) {
   auto reader = formats::TraceReader::open(path, reader_options(tags_are_levels, form_option(form)));
   formats::RecordBatch batch;
-  std::uint64_t records = 0, markers = 0;
-  while (reader->next(batch)) {
-    records += batch.records.size();
-    if (batch.marker) ++markers;
-  }
-  const std::uint64_t animation_frames = animation_frame_count(markers);
+  formats::ObservedTotals seen;
+  while (reader->next(batch)) seen.add(batch);
+  seen.check_trailer(*reader);
+  const std::uint64_t records = seen.summary().records();
+  const std::uint64_t animation_frames = animation_frame_count(seen.animation_frame_markers());
   if (reader->input_kind() == "container") {
     const std::uint64_t data_frames = reader->trailer() ? reader->trailer()->index.size() : 0;
     fmt::print("OK: {} records, {} animation frame{}, {} data frame{}\n", records, animation_frames,

@@ -95,12 +95,18 @@ for r in out:
     settings.setdefault((r["scene"], r["method"], r["rate"]), []).append(r)
 
 
+def ratio(part, whole):
+    # Times are in hundredths: a run of a few milliseconds (a tiny test
+    # render) is 0.00, and its fraction is unknown, not a division by zero.
+    return part / whole if whole > 0 else float("nan")
+
+
 def summary(cells):
     errors = [float(c["abs_error_points"]) for c in cells]
     # Time: each run counted once (three quantities share it).
     runs = {(c["size"], c["seed"]): c for c in cells}.values()
-    time_fraction = sum(float(c["wall_s"]) for c in runs) / sum(float(c["full_wall_s"]) for c in runs)
-    cpu_fraction = sum(float(c["cpu_s"]) for c in runs) / sum(float(c["full_cpu_s"]) for c in runs)
+    time_fraction = ratio(sum(float(c["wall_s"]) for c in runs), sum(float(c["full_wall_s"]) for c in runs))
+    cpu_fraction = ratio(sum(float(c["cpu_s"]) for c in runs), sum(float(c["full_cpu_s"]) for c in runs))
     return {"mean": sum(errors) / len(errors), "max": max(errors), "time": time_fraction,
             "cpu": cpu_fraction, "covered": sum(c["covered"] for c in cells), "cells": len(cells)}
 
@@ -117,7 +123,7 @@ for (scene, method, rate), cells in sorted(settings.items(),
     results[(scene, method, rate)] = s
     met = s["mean"] <= MEAN_GOAL and s["max"] <= CELL_GOAL and s["time"] <= TIME_GOAL
     body.append([common.paper_name(scene), method, rate, f"{s['mean']:.3f}", f"{s['max']:.3f}",
-                 f"{100 * s['time']:.1f}%", f"{1 / s['time']:.1f}x", f"{100 * s['cpu']:.1f}%",
+                 f"{100 * s['time']:.1f}%", f"{ratio(1, s['time']):.1f}x", f"{100 * s['cpu']:.1f}%",
                  f"{s['covered']}/{s['cells']}", "yes" if met else ""])
 
 lines = []

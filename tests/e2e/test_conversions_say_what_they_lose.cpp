@@ -145,6 +145,37 @@ TEST_F(Conversions, BinByNameIsReadAsBinary) {
   EXPECT_EQ(run.exit_code, 0) << run.err;
 }
 
+// Issue 52 item 10: binary records read as text (no .bin name, a pipe) are
+// told apart by their NUL bytes, and each program names its own option for
+// them; cachesim dinero no longer suggests -informat d (din text) for them.
+TEST_F(Conversions, BinaryReadAsTextIsToldToNameItsForm) {
+  ASSERT_EQ(tracetool("convert " + shell_quoted(kd()) + " " + shell_quoted(out("sf.bin"))).exit_code, 0);
+  const std::string bin = shell_quoted(out("sf.bin"));
+  const std::string cachesim = shell_quoted(program("cachesim"));
+  const std::string hint = "(the record holds a NUL byte, so the input is not text: for Dinero binary records give ";
+  for (const std::string& command :
+       {"cat " + bin + " | " + cachesim + " run - --size 1k", "cat " + bin + " | zstd -qc | " + cachesim + " run -",
+        "cat " + bin + " | " + shell_quoted(program("tracetool")) + " verify -"}) {
+    const auto result = run_command(command);
+    EXPECT_EQ(result.exit_code, 1) << command;
+    EXPECT_NE(result.err.find("<stdin>: record 1: non hex digit (code 0x0) in label " + hint + "--informat binary)"),
+              std::string::npos)
+        << command << ": " << result.err;
+  }
+  // Dinero's default -informat D reads a .bin name as extended din too.
+  for (const std::string& command : {cachesim + " dinero -l1-usize 1k -l1-ubsize 8 " + bin,
+                                     "cat " + bin + " | " + cachesim + " dinero -l1-usize 1k -l1-ubsize 8 -informat d"}) {
+    const auto result = run_command(command);
+    EXPECT_EQ(result.exit_code, 1) << command;
+    EXPECT_NE(result.err.find(hint + "-informat b)"), std::string::npos) << command << ": " << result.err;
+    EXPECT_EQ(result.err.find("-informat d"), std::string::npos) << command << ": " << result.err;
+  }
+  // Text that is only wrong gets no such hint.
+  const auto text = run_command(cachesim + " run - --size 1k", "0 10g\n");
+  EXPECT_EQ(text.exit_code, 1);
+  EXPECT_EQ(text.err, "cachesim run: <stdin>: record 1: non hex digit (code 0x67) in address\n");
+}
+
 TEST_F(Conversions, InfoCountsAnimationFramesAsVerifyDoes) {
   ASSERT_EQ(tracetool("cat " + shell_quoted(kd()) + " > " + shell_quoted(out("h.din"))).exit_code, 0);
   const auto verify = tracetool("verify " + shell_quoted(out("h.din")));

@@ -126,6 +126,31 @@ TEST_F(OutputRules, ReportsOnAFullStandardOutputAreExit1) {
   }
 }
 
+// Issue 52 item 12: a lost report names the subcommand as the command's
+// other errors do ("cachesim run: <stdout>: ..."), full disk or closed pipe.
+TEST_F(OutputRules, LostReportsNameTheSubcommand) {
+  const std::string t = quoted(trace_);
+  const std::vector<std::pair<std::string, std::string>> commands = {
+      {"cachesim run", bin("cachesim") + " run " + t + " --size 4k"},
+      {"cachesim dinero", bin("cachesim") + " dinero -informat d -l1-dsize 8k -l1-dbsize 8 " + t},
+      {"tracetool info", bin("tracetool") + " info " + t},
+      {"tracetool cat", bin("tracetool") + " cat " + t},
+      {"tracer scenes", bin("tracer") + " scenes"},
+  };
+  for (const auto& [name, command] : commands) {
+    const auto full = run_command(command + " >/dev/full");
+    EXPECT_EQ(full.exit_code, 1) << command;
+    EXPECT_EQ(full.err, name + ": <stdout>: cannot write: No space left on device\n") << command;
+  }
+  // A reader that stops early, with SIGPIPE ignored as some shells and
+  // pipelines leave it: the write fails with EPIPE.
+  const auto piped = run_command("trap '' PIPE; " + bin("tracetool") + " cat " + t + " | head -c 10 >/dev/null");
+  EXPECT_EQ(piped.err, "tracetool cat: <stdout>: cannot write: Broken pipe\n");
+  // Without a subcommand the program names itself.
+  EXPECT_EQ(run_command(bin("cachesim") + " --help >/dev/full").err,
+            "cachesim: <stdout>: cannot write: No space left on device\n");
+}
+
 TEST_F(OutputRules, DevNullAndFifosAreWrittenNotReplaced) {
   for (const std::string& command :
        {bin("tracer") + " render mountain --width 16 --height 12 -q -o /dev/null --image /dev/null",

@@ -40,8 +40,10 @@ void match_trace_form(DineroOptions& options, const formats::TraceReader& reader
 
 std::string with_informat_hint(const DineroOptions& options, const std::string& message) {
   // Dinero IV's own advice when extended din input has a bad type, which is
-  // what din (Dinero III) text read with the default -informat D gives.
-  if (options.informat != 'D' || message.find("unknown access type") == std::string::npos) {
+  // what din (Dinero III) text read with the default -informat D gives;
+  // not for bytes that are not text (the reader's hint names -informat b).
+  if (options.informat != 'D' || message.find("unknown access type") == std::string::npos ||
+      message.find("so the input is not text") != std::string::npos) {
     return message;
   }
   return message + " (consider -informat d for Dinero III input format)";

@@ -258,9 +258,14 @@ class SampledRun {
   [[noreturn]] void throw_nothing_simulated(std::uint64_t total_records, std::uint64_t windows) const {
     std::string why;
     if (options_.window_every != 0 && windows_simulated_ == 0) {
-      why = fmt::format("--sample-windows 1/{} drew none of its {} window{} of {} records: give a smaller K or "
-                        "shorter windows (--window-records)",
-                        options_.window_every, windows, windows == 1 ? "" : "s", options_.window_records);
+      // A trace shorter than a window is one window of all its records.
+      const std::string drawn_from =
+          windows == 1 ? fmt::format("1 window (all {} records; a window is {} records)", total_records,
+                                     options_.window_records)
+                       : fmt::format("{} windows of {} records", windows, options_.window_records);
+      why = fmt::format("--sample-windows 1/{} drew none of its {}: give a smaller K or shorter windows "
+                        "(--window-records)",
+                        options_.window_every, drawn_from);
     } else if (options_.set_every != 0) {
       why = fmt::format("--sample-sets 1/{}: no record falls in the sampled sets: give a smaller K",
                         options_.set_every);

@@ -6,14 +6,32 @@
 namespace nodetrace::formats {
 namespace detail {
 
+namespace {
+
+// The line of record `record` (0-based) in `bytes`.
+std::string_view line_of(std::string_view bytes, std::uint64_t record) {
+  std::size_t begin = 0;
+  for (std::uint64_t line = 0; line < record && begin < bytes.size(); ++line) {
+    const std::size_t newline = bytes.find('\n', begin);
+    if (newline == std::string_view::npos) return {};
+    begin = newline + 1;
+  }
+  return bytes.substr(begin, bytes.find('\n', begin) - begin);
+}
+
+}  // namespace
+
 bool parse_records(std::string_view bytes, const ParseSettings& settings, std::vector<Record>& out,
                    RecordError& error, std::uint64_t& ignored_fields) {
+  bool parsed = false;
   switch (settings.form) {
-    case RecordForm::Din: return parse_din_records(bytes, settings, out, error, ignored_fields);
-    case RecordForm::ExtendedDin: return parse_xdin_records(bytes, settings, out, error, ignored_fields);
-    case RecordForm::Binary: break;
+    case RecordForm::Din: parsed = parse_din_records(bytes, settings, out, error, ignored_fields); break;
+    case RecordForm::ExtendedDin: parsed = parse_xdin_records(bytes, settings, out, error, ignored_fields); break;
+    case RecordForm::Binary: return parse_binary_records(bytes, out, error);
   }
-  return parse_binary_records(bytes, out, error);
+  // Text never holds a NUL; Dinero binary records almost always do (the pad byte).
+  if (!parsed) error.not_text = line_of(bytes, error.record_in_chunk).find('\0') != std::string_view::npos;
+  return parsed;
 }
 
 RecordForm detect_text_form(std::string_view first_bytes) {

@@ -24,6 +24,7 @@ namespace nodetrace::formats::detail {
 struct RecordError {
   std::uint64_t record_in_chunk = 0;
   std::string message;
+  bool not_text = false;  // a text record holding a NUL byte: binary records read as text
 };
 
 struct ParseSettings {

@@ -26,6 +26,25 @@ std::uint64_t parse_hash(const nlohmann::json& json, const char* key) {
   }
   return std::stoull(text, nullptr, 16);
 }
+// The totals FORMAT.md 2.4 defines are counts: a number JSON holds but
+// uint64 does not (2^64 + 5 parses as a double) is refused, not shown as
+// whatever it converts to.
+void check_counts(const nlohmann::json& totals) {
+  const auto check = [](const nlohmann::json& value, const std::string& name) {
+    if (!value.is_number_unsigned()) {
+      throw base::FormatError(
+          fmt::format("trailer: totals.{} is {}, not a count (an integer from 0 to 2^64 - 1)", name, value.dump()));
+    }
+  };
+  for (const char* key : {"records", "animation_frames", "sample_windows", "data_frames", "record_bytes"}) {
+    if (totals.contains(key)) check(totals[key], key);
+  }
+  for (const char* key : {"records_per_tag", "records_per_type"}) {
+    if (!totals.contains(key)) continue;
+    if (!totals[key].is_object()) throw base::FormatError(fmt::format("trailer: totals.{} is not an object", key));
+    for (const auto& [name, value] : totals[key].items()) check(value, std::string(key) + "." + name);
+  }
+}
 }  // namespace
 
 std::string encode_trailer(const TraceTrailer& trailer) {
@@ -65,6 +84,7 @@ TraceTrailer decode_trailer_json(std::string_view text) {
     }
     trailer.totals = json.at("totals");
     if (!trailer.totals.is_object()) throw base::FormatError("trailer: \"totals\" is not an object");
+    check_counts(trailer.totals);
     trailer.record_hash = parse_hash(json, "record_hash");
     trailer.content_hash = parse_hash(json, "content_hash");
   } catch (const nlohmann::json::exception& error) {

@@ -20,6 +20,10 @@
 namespace nodetrace::formats::detail {
 namespace {
 
+std::string data_frames_text(std::uint64_t count) {
+  return fmt::format("{} data frame{}", count, count == 1 ? "" : "s");
+}
+
 // Pieces of a data frame: records per piece handed over, and pieces waiting
 // per frame. The next frame's worker decodes ahead only as far as its
 // pieces may wait: with 2 the two workers took turns (cachesim on the BART
@@ -312,11 +316,77 @@ class ContainerReader final : public PipelinedReader {
     }
     const std::string json = input_->read_at(start + kSkippableHeaderSize, json_size);
     if (XXH64(json.data(), json.size(), 0) != load_le64(footer.data())) missing("trailer hash mismatch");
+    TraceTrailer trailer;
     try {
-      return decode_trailer_json(json);
+      trailer = decode_trailer_json(json);
     } catch (const base::FormatError& error) {
       fail(error.what());
     }
+    check_index_fits(trailer.index, start);
+    return trailer;
+  }
+
+  // The index read from the end must describe this file (FORMAT.md 3): its
+  // data frames in order between the header and the trailer, each beginning
+  // with a zstd magic, the last ending with its checksum, and only skippable frames
+  // (markers) after the last. Readers that trust the trailer (tracetool info)
+  // would otherwise show another trace's counts under this header.
+  void check_index_fits(const std::vector<DataFrameIndexEntry>& index, std::uint64_t trailer_start) const {
+    std::uint64_t end = header_end_;
+    for (std::size_t i = 0; i < index.size(); ++i) {
+      const DataFrameIndexEntry& entry = index[i];
+      const auto misfit = [&](const char* why) {
+        fail_index_misfit(index, trailer_start,
+                          fmt::format("data frame {} at byte {} of {} bytes {}", i + 1, entry.offset,
+                                      entry.compressed_size, why));
+      };
+      if (entry.offset < end) misfit("overlaps the header or the data frame before it");
+      if (entry.compressed_size < 8 || entry.compressed_size > trailer_start - entry.offset) {
+        misfit("does not end before the trailer");
+      }
+      if (load_le32(input_->read_at(entry.offset, 4).data()) != kZstdMagic) misfit("is not a zstd frame");
+      // The last frame's checksum ties the index to these frames; earlier
+      // ones are checked as they are read, where frames out of order are
+      // told apart from damage.
+      if (i + 1 == index.size() &&
+          load_le32(input_->read_at(entry.offset + entry.compressed_size - 4, 4).data()) != entry.checksum) {
+        misfit("does not end with the index's checksum");
+      }
+      end = entry.offset + entry.compressed_size;
+    }
+    while (end < trailer_start) {  // markers of animation frames or windows without records
+      if (trailer_start - end < kSkippableHeaderSize) break;
+      const std::string frame = input_->read_at(end, kSkippableHeaderSize);
+      const std::uint32_t magic = load_le32(frame.data());
+      if ((magic & kSkippableMask) != kHeaderMagic || magic == kHeaderMagic || magic == kTrailerMagic) break;
+      end += kSkippableHeaderSize + load_le32(frame.data() + 4);
+    }
+    if (end != trailer_start) {
+      fail_index_misfit(index, trailer_start,
+                        fmt::format("the bytes from byte {} to the trailer at byte {} are not in it", end,
+                                    trailer_start));
+    }
+  }
+
+  // A misfit index: two traces joined (`cat a.din.zst b.din.zst`, the
+  // trailer at the end being b's) when a header begins where the last trace
+  // would, else damage.
+  [[noreturn]] void fail_index_misfit(const std::vector<DataFrameIndexEntry>& index, std::uint64_t trailer_start,
+                                      const std::string& what) const {
+    if (!index.empty()) {
+      const std::uint64_t last_end = index.back().offset + index.back().compressed_size;
+      if (last_end < trailer_start && trailer_start - last_end >= header_end_) {
+        const std::uint64_t other = trailer_start - last_end;
+        if (load_le32(input_->read_at(other, 4).data()) == kHeaderMagic) fail(joined_traces_message(other));
+      }
+    }
+    fail(fmt::format("damaged: the trailer's index does not fit the file: {}", what));
+  }
+
+  static std::string joined_traces_message(std::uint64_t second_header) {
+    return fmt::format("two traces joined: a second trace's header begins at byte {} (a container holds one "
+                       "trace; `cat` of two containers is not one: read or convert each on its own)",
+                       second_header);
   }
 
   void read_decode_unit() override {
@@ -380,7 +450,7 @@ class ContainerReader final : public PipelinedReader {
                                                        : "skippable frame";
     std::string payload;
     read_skippable(payload, what);
-    if (magic == kHeaderMagic) fail(fmt::format("a second header at byte {}", offset));
+    if (magic == kHeaderMagic) fail(joined_traces_message(offset));
     if (magic != kMarkerMagic && magic != kWindowMagic) return;  // someone else's skippable frame
     DecodeUnit unit;
     try {
@@ -448,7 +518,10 @@ class ContainerReader final : public PipelinedReader {
     }
     stream_content_hash_ = XXH64_digest(content_hash_.get());
     input_->consume(kSkippableHeaderSize + size);
-    if (!input_->at_end()) fail(fmt::format("unexpected bytes after the trailer at byte {}", input_->offset()));
+    if (!input_->at_end()) {
+      if (input_->ensure(4) && load_le32(input_->data()) == kHeaderMagic) fail(joined_traces_message(input_->offset()));
+      fail(fmt::format("unexpected bytes after the trailer at byte {}", input_->offset()));
+    }
     if (trailer_ && !(trailer_->index == trailer.index)) fail("the trailer read from the end differs from the stream's");
     if (!trailer_) trailer_ = std::move(trailer);
     saw_trailer_ = true;
@@ -478,7 +551,7 @@ class ContainerReader final : public PipelinedReader {
 
   void check_index_entry(const DataFrameIndexEntry& seen, std::uint64_t number, const std::string& where) const {
     const auto& index = trailer_->index;
-    if (number >= index.size()) fail(fmt::format("{}: the index lists only {} data frames", where, index.size()));
+    if (number >= index.size()) fail(fmt::format("{}: the index lists only {}", where, data_frames_text(index.size())));
     const DataFrameIndexEntry& expected = index[number];
     if (expected == seen) return;
     if (expected.checksum != seen.checksum) {
@@ -499,14 +572,14 @@ class ContainerReader final : public PipelinedReader {
   void finish_input() override {
     if (!saw_trailer_) {
       if (header_.announces_trailer()) {
-        fail(fmt::format("truncated: the file ends after {} data frames without the trailer the header announces",
-                         data_frames_));
+        fail(fmt::format("truncated: the file ends after {} without the trailer the header announces",
+                         data_frames_text(data_frames_)));
       }
       return;
     }
     const auto& index = trailer_->index;
     if (data_frames_ != index.size()) {
-      fail(fmt::format("the index lists {} data frames but the file holds {}", index.size(), data_frames_));
+      fail(fmt::format("the index lists {} but the file holds {}", data_frames_text(index.size()), data_frames_));
     }
     if (!hashes_valid_) return;
     for (std::size_t i = 0; i < seen_.size(); ++i) {

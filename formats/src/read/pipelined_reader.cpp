@@ -143,9 +143,13 @@ bool PipelinedReader::next(RecordBatch& batch) {
 bool PipelinedReader::deliver_chunk(const DecodeUnit& unit, Chunk& chunk, RecordBatch& batch) {
   check_chunk(unit, chunk);
   if (chunk.bad_record) {
-    throw base::FormatError(fmt::format("{}: record {}: {}", name_,
-                                  records_delivered_ + chunk.record_error.record_in_chunk + 1,
-                                  chunk.record_error.message));
+    throw base::FormatError(fmt::format(
+        "{}: record {}: {}{}", name_, records_delivered_ + chunk.record_error.record_in_chunk + 1,
+        chunk.record_error.message,
+        chunk.record_error.not_text
+            ? fmt::format(" (the record holds a NUL byte, so the input is not text: for Dinero binary records give {})",
+                          options_.binary_form_option)
+            : ""));
   }
   ignored_fields_ += chunk.ignored_fields;
   if (chunk.records.empty() && !pending_marker_ && !pending_window_) {

@@ -16,6 +16,7 @@ ConversionLosses::ConversionLosses(const TraceReader& input, RecordForm output_f
   if (header_lost_) {
     row_sampled_ = input.header().sampling().has_value();
     had_layout_ = input.header().json.contains("layout");
+    units_ = input.units();
   }
 }
 
@@ -59,6 +60,12 @@ std::vector<std::string> ConversionLosses::warnings() const {
     std::vector<std::string> lost;
     if (row_sampled_) lost.push_back("its row sampling (cachesim would report the records as a full run)");
     if (had_layout_) lost.push_back("its layout (K = auto needs it)");
+    // Binary output says so per record above; text keeps the field, unread.
+    if (units_ > 1 && output_form_ != RecordForm::Binary) {
+      lost.push_back(fmt::format("its {} traversal units (each line keeps its unit field, but a trace without a "
+                                 "header is read as one unit: cachesim --units private needs them)",
+                                 units_));
+    }
     if (markers_lost_ > 0) {
       lost.push_back(fmt::format("{} animation-frame marker{} (per-frame K and --per-frame need them)", markers_lost_,
                                  markers_lost_ == 1 ? "" : "s"));

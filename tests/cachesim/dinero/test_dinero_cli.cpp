@@ -2,6 +2,7 @@
 // the golden cases, and `cachesim dinero` run as a program.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -236,6 +237,39 @@ TEST(DineroProgram, UsageErrorsExitTwoAndNameTheOption) {
   EXPECT_EQ(prefetch.exit_code, 2);
   EXPECT_NE(prefetch.err.find("fetch policy unrecognized"), std::string::npos) << prefetch.err;
   EXPECT_EQ(prefetch.out, "");  // refused before any output or input
+}
+
+// Issue 52 item 11: -dineroIII prints Dinero IV's table, -p and -P rows
+// included, byte for byte where Dinero IV is built.
+TEST(DineroProgram, DineroIIITableIsDineroIVs) {
+  const auto ours = testing::run_command(cachesim() + " dinero -dineroIII");
+  ASSERT_EQ(ours.exit_code, 0) << ours.err;
+  EXPECT_EQ(ours.out.rfind("Summary of DineroIV replacements for DineroIII options:\n\n", 0), 0u) << ours.out;
+  EXPECT_NE(ours.out.find("\n-f           -l1-ufetch, -l1-ifetch, or -l1-dfetch\n"
+                          "-p           -l1-upfdist, -l1-ipfdist, or -l1-dpfdist\n"
+                          "-P           -l1-upfabort, -l1-ipfabort, or -l1-dpfabort\n"
+                          "-w           -l1-uwback or -l1-dwback\n"),
+            std::string::npos)
+      << ours.out;
+  NODETRACE_DINERO_OR_SKIP(dinero);
+  const auto theirs = testing::run_command(testing::shell_quoted(dinero) + " -dineroIII");
+  EXPECT_EQ(ours.out, theirs.out);
+}
+
+// Issue 52 item 11: an associativity Dinero IV runs (a set count that is not
+// a power of two) is refused, and the manual lists it among the differences.
+TEST(DineroProgram, AnAssociativityDineroIVRunsButWeRefuseIsListedInTheManual) {
+  const auto refused = testing::run_command(cachesim() + " dinero -informat d -l1-dsize 8k -l1-dbsize 8 -l1-dassoc 3",
+                                            "0 100\n");
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("l1-dcache: size 8192 is not a multiple of block size 8 x associativity 3"),
+            std::string::npos)
+      << refused.err;
+  const std::string manual = testing::read_file(std::filesystem::path(NODETRACE_SOURCE_DIR) / "cachesim" / "man" /
+                                                "cachesim.1");
+  const std::size_t differences = manual.find("Where it differs from\n.BR dineroIV :");
+  ASSERT_NE(differences, std::string::npos) << "cachesim.1 lists no differences from dineroIV";
+  EXPECT_NE(manual.find("\\-l1\\-dassoc 3", differences), std::string::npos);
 }
 
 TEST(DineroProgram, BadTraceDataExitsOneAndNamesTheRecord) {

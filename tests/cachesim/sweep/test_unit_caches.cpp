@@ -207,6 +207,44 @@ TEST_F(UnitCaches, PerUnitAndSecondLevelTablesHaveOneShape) {
   EXPECT_EQ(nodetrace::testing::one_csv_table(csv.out), "");
 }
 
+// Issue 52 item 9: plain text keeps each record's unit field but no header,
+// so it reads as one unit. The conversion says so, and --units private on
+// it is an error rather than the shared result under a private label (a
+// container of one unit gets that result with a note).
+TEST_F(UnitCaches, PlainConversionSaysUnitsAreLostAndPrivateCachesRefuseIt) {
+  const std::string plain = shell_quoted(dir_ / "u.din");
+  const auto converted = run_command(tool("tracetool") + " convert " + trace() + " " + plain);
+  ASSERT_EQ(converted.exit_code, 0) << converted.err;
+  EXPECT_NE(converted.err.find("lost its layout (K = auto needs it), its 4 traversal units (each line keeps its unit "
+                               "field, but a trace without a header is read as one unit: cachesim --units private "
+                               "needs them)"),
+            std::string::npos)
+      << converted.err;
+  const auto kept = run_command(tool("tracetool") + " convert " + trace() + " " + shell_quoted(dir_ / "k.xdin.zst"));
+  ASSERT_EQ(kept.exit_code, 0) << kept.err;
+  EXPECT_EQ(kept.err.find("traversal units"), std::string::npos) << kept.err;
+  const auto run = run_command(tool("cachesim") + " run " + plain + " --units private --size 1k");
+  EXPECT_EQ(run.exit_code, 2) << run.out;
+  EXPECT_EQ(run.out, "");
+  EXPECT_NE(run.err.find("cachesim run: --units private: " + (dir_ / "u.din").string() +
+                         ": a trace without a header is one traversal unit"),
+            std::string::npos)
+      << run.err;
+  // A container whose header says one unit (a sweep over unit counts from
+  // 1): the shared result, with a note that says why.
+  const auto one = dir_ / "one.din.zst";
+  ASSERT_EQ(run_command(tool("tracer") + " render mountain:6 --width 8 --height 6 -q -o " + shell_quoted(one)).exit_code, 0);
+  const auto single = run_command(tool("cachesim") + " run " + shell_quoted(one) + " --units private --size 1k --format csv");
+  EXPECT_EQ(single.exit_code, 0) << single.err;
+  EXPECT_EQ(single.out, run_command(tool("cachesim") + " run " + shell_quoted(one) + " --size 1k --format csv").out);
+  EXPECT_NE(single.err.find("one traversal unit (no \"units\" above 1 in its header): its private caches are the "
+                            "shared ones"),
+            std::string::npos)
+      << single.err;
+  // Shared caches read it as the one unit it is.
+  EXPECT_EQ(run_command(tool("cachesim") + " run " + plain + " --size 1k").exit_code, 0);
+}
+
 // Each usage error exits 2 with the message that names its option.
 TEST_F(UnitCaches, UsageErrorsNameTheirOption) {
   const std::string run = tool("cachesim") + " run " + trace();

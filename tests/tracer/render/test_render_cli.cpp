@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <map>
 #include <string>
 
 #include "nodetrace/formats/read/trace_reader.hpp"
@@ -192,6 +193,26 @@ TEST(RenderCliTest, ImageIsAPngAndRenderOnlyWritesNoTrace) {
   EXPECT_EQ(bytes.substr(1, 3), "PNG");
   EXPECT_NE(r.err.find("0 records"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "i.png.tmp"));
+}
+
+// Issue 52 item 6: the header's camera.fov is the field of view the rays
+// use, which --fov sets beside --eye and --look-at (it said 45, the default).
+TEST(RenderCliTest, HeaderCameraFovIsTheOneTheRaysUse) {
+  TempDir dir;
+  const std::string common = tracer() + " render " + kScene + " --width 16 --height 12 -q --eye 0 5 20 --look-at 0 0 0";
+  std::map<std::string, std::string> text;
+  for (const std::string fov : {"20", "45"}) {
+    const auto path = dir / ("fov" + fov + ".din.zst");
+    const auto r = run_command(common + " --fov " + fov + " -o " + path.string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    auto reader = formats::TraceReader::open(path.string());
+    const nlohmann::json& render = reader->header().json.at("render");
+    EXPECT_EQ(render.at("camera").at("fov"), std::stod(fov)) << render.dump();
+    EXPECT_EQ(render.at("fov"), std::stod(fov)) << render.dump();
+    text[fov] = run_command("zstd -dc " + path.string()).out;
+  }
+  // The two fields of view give other rays, so other records.
+  EXPECT_NE(text["20"], text["45"]);
 }
 
 TEST(RenderCliTest, InfoReportsTreeAndRayKinds) {

@@ -72,7 +72,8 @@ nlohmann::json make_trace_header(const SceneSource& source, const Scene& first_s
     render["camera"] = {{"eye", {shortest(c.eye.x), shortest(c.eye.y), shortest(c.eye.z)}},
                         {"look_at", {shortest(c.look_at.x), shortest(c.look_at.y), shortest(c.look_at.z)}},
                         {"up", {shortest(c.up.x), shortest(c.up.y), shortest(c.up.z)}},
-                        {"fov", shortest(c.fov_y_degrees)}};
+                        // The fov the rays use: --fov overrides the camera's (render.cpp camera_to_use).
+                        {"fov", shortest(r.fov_y_degrees.value_or(c.fov_y_degrees))}};
   }
   if (r.fov_y_degrees) render["fov"] = shortest(*r.fov_y_degrees);
   // Written only when narrowed, so a default render's header is as before.

@@ -18,7 +18,7 @@ std::string csv_line(const std::vector<std::string>& fields);
 
 // A JSON object as one table `field,value`: a row per leaf, nested keys
 // joined with dots (`header.layout.node_size`), values as in JSON except
-// that text is unquoted.
+// that text is unquoted and an empty object or array is {} or [].
 std::string field_value_csv(const nlohmann::json& object);
 
 }  // namespace nodetrace::cli

@@ -5,7 +5,10 @@
 
 #include <cstdio>
 #include <initializer_list>
+#include <string>
 #include <string_view>
+
+#include "nodetrace/base/standard_output.hpp"
 
 namespace nodetrace::cli {
 
@@ -32,7 +35,12 @@ inline int dispatch_subcommand(const char* program, const char* usage, int argc,
     return 0;
   }
   for (const Subcommand& subcommand : subcommands) {
-    if (name == subcommand.name) return subcommand.command(argc - 1, argv + 1);
+    if (name != subcommand.name) continue;
+    const int status = subcommand.command(argc - 1, argv + 1);
+    // A report lost to a closed pipe is the subcommand's error, named as
+    // its others are ("cachesim run: <stdout>: cannot write: Broken pipe");
+    // main's own check then finds the status failed and says nothing more.
+    return base::finish_standard_output((std::string(program) + " " + argv[1]).c_str(), status);
   }
   std::fprintf(stderr, "%s: unknown subcommand '%s'\n\n%s", program, argv[1], usage);
   return 2;

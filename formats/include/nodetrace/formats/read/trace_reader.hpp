@@ -29,6 +29,9 @@ struct ReaderOptions {
   // what a failed command left in a pipe. True only where Dinero IV's
   // behaviour is followed (it reads an empty input as a trace).
   bool allow_empty = false;
+  // How the front end names binary input, for the hint given when text
+  // records hold a NUL byte (binary read as text).
+  std::string binary_form_option = "--informat binary";
   // Decoding threads; 0 means one per core.
   unsigned threads = 0;
   // Seekable containers with an index: data frames for which this returns

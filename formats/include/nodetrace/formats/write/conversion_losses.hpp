@@ -35,6 +35,7 @@ class ConversionLosses {
   bool header_lost_ = false;
   bool row_sampled_ = false;
   bool had_layout_ = false;
+  unsigned units_ = 1;             // the traversal units a lost header said the records carry
   std::uint64_t sizes_lost_ = 0;   // din output: records of another size than din's 4
   std::uint64_t tags_lost_ = 0;    // binary output: tagged records
   std::uint64_t units_lost_ = 0;   // binary output: records of units above 0
