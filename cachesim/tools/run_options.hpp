@@ -17,6 +17,7 @@
 #include "nodetrace/base/byte_size.hpp"
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/base/output_file.hpp"
+#include "nodetrace/cli/distinct_outputs.hpp"
 #include "nodetrace/cli/format_option.hpp"
 #include "nodetrace/cli/option_limits.hpp"
 #include "nodetrace/formats/read/trace_reader.hpp"
@@ -222,11 +223,15 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
     throw base::UsageError(
         "--per-level - and --per-frame -: one table per output; write at least one of them to a file");
   }
+  cli::check_distinct_outputs({{"--per-level", line.per_level},
+                               {"--per-frame", line.per_animation_frame},
+                               {"--per-unit", line.per_unit}});
   for (const std::string* file : {&line.per_level, &line.per_animation_frame, &line.per_unit}) {
     if (file->empty() || *file == "-") continue;
     for (const std::string& trace : line.traces) {
-      if (trace == *file) {
-        throw base::UsageError(fmt::format("{}: named both as a trace and as a table to write", *file));
+      if (trace != "-" && cli::same_output_file(trace, *file)) {
+        throw base::UsageError(fmt::format("{}: named both as a trace{} and as a table to write", *file,
+                                           trace == *file ? "" : fmt::format(" ('{}')", trace)));
       }
     }
     // Before the simulation, not after it.

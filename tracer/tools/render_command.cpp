@@ -16,6 +16,7 @@
 
 #include "commands.hpp"
 #include "nodetrace/cli/command_line.hpp"
+#include "nodetrace/cli/distinct_outputs.hpp"
 #include "nodetrace/cli/exit_status.hpp"
 #include "nodetrace/cli/progress_line.hpp"
 #include "nodetrace/cli/archive_option.hpp"
@@ -196,43 +197,41 @@ void RenderCommand::write_report(const std::string& path, const cachesim::tools:
 // an output whose folder is missing or not writable would fail only after
 // the whole render: all are refused before it starts.
 void RenderCommand::check_outputs(const TraceJobOptions& options) const {
-  std::vector<std::pair<CLI::Option*, const std::string*>> outputs{{image_option, &image},
-                                                                        {pfm_option, &pfm},
-                                                                        {variance_pfm_option, &variance_pfm},
-                                                                        {trace_info_option, &trace_info},
-                                                                        {output_option, &output}};
-  for (const auto& report : reports) outputs.insert(outputs.end() - 1, {report_option, &report});
-  if (output_option->count() != 0) {
-    outputs.back().second = &options.output;
-    for (const auto& other : options.other_layouts) outputs.emplace_back(output_option, &other.output);
+  std::vector<std::pair<CLI::Option*, std::string>> outputs{
+      {image_option, image}, {pfm_option, pfm}, {variance_pfm_option, variance_pfm}};
+  if (trace_info_option->count() != 0) {
+    // Each layout's file: a pattern is checked as the names it makes.
+    const std::vector<std::string> files =
+        trace_info.empty() ? std::vector<std::string>{trace_info}
+                           : layout_files(layout_choices(render_options), trace_info, "--trace-info");
+    for (const auto& file : files) outputs.emplace_back(trace_info_option, file);
   }
-  for (std::size_t i = 0; i < outputs.size(); ++i) {
-    const auto& [option, path] = outputs[i];
+  for (const auto& report : reports) outputs.emplace_back(report_option, report);
+  if (output_option->count() != 0) {
+    outputs.emplace_back(output_option, options.output);
+    for (const auto& other : options.other_layouts) outputs.emplace_back(output_option, other.output);
+  }
+  std::vector<cli::NamedOutput> named;
+  for (const auto& [option, path] : outputs) {
     if (option->count() == 0) continue;
-    // The image and a trace in one file (or both on standard output) would
-    // interleave or overwrite each other; a device (/dev/null) takes both.
-    // (Two layouts' traces in one file: run_trace_job says so.)
-    for (std::size_t j = 0; j < i; ++j) {
-      if (outputs[j].first != option && outputs[j].first->count() != 0 && *outputs[j].second == *path &&
-          !path->empty() &&
-          base::plan_output(*path).method != base::OutputMethod::Direct) {
-        throw base::UsageError(fmt::format(
-            "{} and {} both name '{}'{}: one output each; write one of them to another file",
-            outputs[j].first->get_name(), option->get_name(), *path, *path == "-" ? " (standard output)" : ""));
-      }
-    }
-    if (path->empty()) {
+    if (path.empty()) {
       throw base::UsageError(fmt::format("{}: an empty name: give a file name{}", option->get_name(),
                                          option == output_option ? ", or - for standard output" : ""));
     }
-    if (*path == "-") continue;
-    const std::filesystem::path folder = std::filesystem::path(*path).parent_path();
+    named.push_back({option->get_name(), path});
+  }
+  // The image and a trace in one file (or both on standard output) would
+  // interleave or overwrite each other; a device (/dev/null) takes both.
+  cli::check_distinct_outputs(named);
+  for (const auto& [option, path] : named) {
+    if (path == "-") continue;
+    const std::filesystem::path folder = std::filesystem::path(path).parent_path();
     if (!folder.empty() && !std::filesystem::is_directory(folder)) {
       throw base::IoError(fmt::format("{}: cannot write: folder '{}' does not exist (checked before rendering)",
-                                      *path, folder.string()));
+                                      path, folder.string()));
     }
     try {
-      base::check_output_writable(*path);
+      base::check_output_writable(path);
     } catch (const base::IoError& error) {
       throw base::IoError(std::string(error.what()) + " (checked before rendering)");
     }
