@@ -68,8 +68,13 @@ void check_distinct_outputs(const std::vector<NamedOutput>& outputs) {
       if (outputs[j].path.empty() || !same_output_file(outputs[j].path, outputs[i].path)) continue;
       const NamedOutput& first = outputs[j];
       const NamedOutput& second = outputs[i];
+      const std::string spelled =
+          first.path == second.path ? fmt::format("'{}'", first.path)
+                                    : fmt::format("'{}' and '{}'", first.path, second.path);
       const std::string both =
-          first.path == second.path
+          first.option == second.option
+              ? fmt::format("{} names the same file twice ({}), for two outputs", first.option, spelled)
+          : first.path == second.path
               ? fmt::format("{} and {} both name '{}'{}", first.option, second.option, first.path,
                             first.path == "-" ? " (standard output)" : "")
               : fmt::format("{} '{}' and {} '{}' name one file", first.option, first.path, second.option,

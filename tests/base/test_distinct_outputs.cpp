@@ -78,6 +78,9 @@ TEST(CheckDistinctOutputs, NamesBothOptionsAndBothSpellings) {
             "-o '" + a + "' and --report '" + b + "' name one file: one output each; write one of them to another file");
   EXPECT_EQ(usage_error_of({{"--per-level", "p.csv"}, {"--per-frame", "p.csv"}}),
             "--per-level and --per-frame both name 'p.csv': one output each; write one of them to another file");
+  EXPECT_EQ(usage_error_of({{"-o", a}, {"-o", b}}),
+            "-o names the same file twice ('" + a + "' and '" + b + "'), for two outputs: one output each; write "
+            "one of them to another file");
   EXPECT_EQ(usage_error_of({{"--per-level", ""}, {"--per-frame", ""}, {"--per-unit", a}}), "");  // "" is none
 }
 

@@ -238,6 +238,18 @@ void RenderCommand::check_outputs(const TraceJobOptions& options) const {
   }
 }
 
+// Several layouts differ only in their records: a run that keeps none of
+// them (no -o, --simulate, --trace-info or --discard-records) asked for
+// something else.
+void refuse_layouts_for_nothing(const std::vector<LayoutChoice>& choices) {
+  if (choices.size() < 2) return;
+  std::string names;
+  for (const auto& choice : choices) names += (names.empty() ? "" : ", ") + choice.name;
+  throw base::UsageError(fmt::format("{} layouts ({}) and nothing takes their records: give -o with {{layout}} in "
+                                     "the file name (one trace each), --simulate or --trace-info",
+                                     choices.size(), names));
+}
+
 // Din has no size field: Dinero IV and cachesim read every din record as 4
 // bytes, so a larger node that straddles a block boundary counts one fetch,
 // not the two its bytes need.
@@ -323,7 +335,14 @@ void RenderCommand::add_options(CLI::App& app) {
 int RenderCommand::run() const {
   return cli::exit_status_of("tracer render", [&] {
     check_simulations();
-    TraceJobOptions options = make_job_options(render_options, scene_options, output, !simulations.empty());
+    // Several layouts need -o's {layout} only when -o is given: without it
+    // no trace is written, and the records go to --simulate, --trace-info or
+    // --discard-records.
+    const bool traces_optional = !simulations.empty() || output_option->count() == 0;
+    if (output_option->count() == 0 && simulations.empty() && trace_info_option->count() == 0 && !discard) {
+      refuse_layouts_for_nothing(layout_choices(render_options));
+    }
+    TraceJobOptions options = make_job_options(render_options, scene_options, output, traces_optional);
     if (options.render.integrator == Integrator::Path && max_depth_option->count() != 0) {
       throw base::UsageError("--max-depth is the Whitted tracer's ray depth: --integrator path takes --max-bounces");
     }

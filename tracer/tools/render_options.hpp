@@ -394,8 +394,9 @@ inline std::vector<std::string> layout_files(const std::vector<LayoutChoice>& ch
   const auto place = pattern.find(kPlaceholder);
   if (choices.size() > 1 && place == std::string::npos && !(optional && pattern.empty())) {
     throw base::UsageError(fmt::format("{} layouts: {} needs {{layout}} in the file name, which each layout's name "
-                                       "replaces (e.g. {} out/{{layout}}.din.zst)",
-                                       choices.size(), option, option));
+                                       "replaces (e.g. {} out/{{layout}}{})",
+                                       choices.size(), option, option,
+                                       std::string_view(option) == "-o" ? ".din.zst" : ".json"));
   }
   std::vector<std::string> files;
   for (const auto& choice : choices) {
@@ -406,8 +407,8 @@ inline std::vector<std::string> layout_files(const std::vector<LayoutChoice>& ch
 }
 
 // -o's {layout} replaced by each layout's name: one trace per layout.
-// `traces_optional`: the records go elsewhere too (--simulate), so several
-// layouts need no -o.
+// `traces_optional`: no -o was given, or the records go elsewhere too
+// (--simulate), so several layouts need no {layout} in an empty -o.
 inline void assign_outputs(TraceJobOptions& options, const std::vector<LayoutChoice>& choices, const std::string& output,
                            bool traces_optional) {
   const std::vector<std::string> files = layout_files(choices, output, "-o", traces_optional);
