@@ -31,6 +31,7 @@ struct InfoCommand {
   int max_depth = 10;
   std::string integrator = "whitted";
   std::optional<int> max_bounces;
+  CLI::Option* max_depth_option = nullptr;
   unsigned threads = 0;
   std::optional<std::uint32_t> node_size_option;  // default: the acceleration structure's
   SceneCommandOptions scene_options;
@@ -42,7 +43,7 @@ struct InfoCommand {
 void InfoCommand::add_options(CLI::App& app) {
   app.add_option("scene", scene_spec, "an .obj or .aff file, or a built-in scene's name")->required();
   cli::add_format_option(app, format, "json: one object, csv: one table field,value");
-  app.add_option("--max-depth", max_depth, "ray tree depth assumed for the ray kinds")
+  max_depth_option = app.add_option("--max-depth", max_depth, "ray tree depth assumed for the ray kinds")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
   app.add_option("--integrator", integrator, "whitted or path: whose ray kinds to show")
@@ -65,8 +66,8 @@ int InfoCommand::run() const {
     // Options first, before a scene is loaded.
     if (scene_options.time) cli::check_finite(*scene_options.time, "--time");
     KdBuildOptions build_options = make_build_options(scene_options);
+    check_depth_options(integrator, max_depth_option->count() != 0, max_bounces.has_value());
     const bool path = *parse_integrator(integrator) == Integrator::Path;
-    if (max_bounces && !path) throw base::UsageError("--max-bounces needs --integrator path (Whitted: --max-depth)");
     build_options.threads = cli::check_thread_count(threads, "--threads");
     const auto source = open_scene(scene_spec, {.threads = build_options.threads});
     for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer info: warning: %s\n", warning.c_str());

@@ -335,6 +335,8 @@ void RenderCommand::add_options(CLI::App& app) {
 int RenderCommand::run() const {
   return cli::exit_status_of("tracer render", [&] {
     check_simulations();
+    check_depth_options(render_options.integrator, max_depth_option->count() != 0,
+                        render_options.max_bounces.has_value());
     // Several layouts need -o's {layout} only when -o is given: without it
     // no trace is written, and the records go to --simulate, --trace-info or
     // --discard-records.
@@ -343,9 +345,6 @@ int RenderCommand::run() const {
       refuse_layouts_for_nothing(layout_choices(render_options));
     }
     TraceJobOptions options = make_job_options(render_options, scene_options, output, traces_optional);
-    if (options.render.integrator == Integrator::Path && max_depth_option->count() != 0) {
-      throw base::UsageError("--max-depth is the Whitted tracer's ray depth: --integrator path takes --max-bounces");
-    }
     check_outputs(options);
     options.image = image;
     options.pfm = pfm;

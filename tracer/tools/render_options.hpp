@@ -198,12 +198,25 @@ inline void add_path_options(CLI::App& app, RenderCommandOptions& o) {
       ->check(CLI::Range(0, kMaxBounces));
 }
 
-// The path tracer's settings; its options without --integrator path are refused.
+// One rule for tracer render and tracer info: --max-depth is the Whitted
+// tracer's ray depth, --max-bounces the path tracer's; each is refused with
+// the other integrator rather than ignored.
+inline void check_depth_options(const std::string& integrator, bool max_depth_given, bool max_bounces_given) {
+  const bool path = *parse_integrator(integrator) == Integrator::Path;
+  if (path && max_depth_given) {
+    throw base::UsageError("--max-depth is the Whitted tracer's ray depth: --integrator path takes --max-bounces");
+  }
+  if (!path && max_bounces_given) {
+    throw base::UsageError("--max-bounces needs --integrator path (Whitted: --max-depth)");
+  }
+}
+
+// The path tracer's settings; its options without --integrator path are
+// refused (--max-bounces by check_depth_options).
 inline void apply_integrator(const RenderCommandOptions& r, RenderOptions& render) {
   render.integrator = *parse_integrator(r.integrator);
   if (render.integrator != Integrator::Path) {
     if (r.spp) throw base::UsageError("--spp needs --integrator path (the Whitted tracer casts one ray per pixel)");
-    if (r.max_bounces) throw base::UsageError("--max-bounces needs --integrator path (Whitted: --max-depth)");
     return;
   }
   render.path.samples_per_pixel = r.spp.value_or(kDefaultSamplesPerPixel);
