@@ -671,12 +671,13 @@ policies_lines := $(common_params) param;policy_width=$(POLICY_WIDTH) param;poli
 $(eval $(call study_rule,policies))
 endif
 
-# The renders this make runs (progress: which of them this one is): the
-# leaders of the groups with a trace missing, one render each.
-to_render := $(foreach g,$(all_groups),$(if $(filter-out $(wildcard $(group_files_$g)),$(group_files_$g)),$(group_leader_$g)))
-
 # The path-tracing studies (workloads, convergence).
 include $(MK_DIR)/path-tracing.mk
+
+# The renders this make runs (progress: which of them this one is): the
+# leaders of the groups with a trace missing, one render each. After every
+# study's file is included, path-tracing.mk's too: its groups count.
+to_render := $(foreach g,$(all_groups),$(if $(filter-out $(wildcard $(group_files_$g)),$(group_files_$g)),$(group_leader_$g)))
 
 clean:
 	rm -rf $(OUT)/traces $(addprefix $(OUT)/,$(ALL_TARGETS) calibration-grid interpretations-grid)

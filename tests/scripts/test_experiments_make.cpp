@@ -347,6 +347,12 @@ TEST_F(ExperimentsMakeTest, WorkloadsTargetCoversEveryIntegratorStructureRaysInF
   // CSV=LAYOUT=OPTIONS, spaces as ^): one simulation per trace, none written.
   EXPECT_EQ(count_lines_with(log, "render-layouts.sh"), 8) << log;
   EXPECT_EQ(count_lines_with(log, "cachesim run"), 0) << log;
+  // The progress counts this study's renders (path-tracing.mk's groups),
+  // one to eight, never "of 0".
+  for (int k = 1; k <= 8; ++k) {
+    EXPECT_EQ(count_lines_with(output_, "render [" + std::to_string(k) + " of 8] "), 1) << output_;
+  }
+  EXPECT_EQ(output_.find(" of 0]"), std::string::npos) << output_;
   std::size_t simulations = 0;
   for (std::size_t at = log.find("=--size^"); at != std::string::npos; at = log.find("=--size^", at + 1)) {
     ++simulations;
