@@ -54,8 +54,23 @@ void print_rays_per_core(const RenderStats& t, const RayKindPlan& plan) {
   }
 }
 
+// "built in 0.72 s", or what the tree cache gave: the time is then the
+// loading's.
+std::string tree_origin(const TraceJobResult& result) {
+  double seconds = 0;
+  std::size_t loaded = 0;
+  for (const auto& f : result.frames) {
+    seconds += f.tree.build_seconds;
+    loaded += f.tree.loaded;
+  }
+  if (loaded == 0) return fmt::format("built in {:.2f} s", seconds);
+  if (loaded == result.frames.size()) return fmt::format("loaded from the tree cache in {:.2f} s", seconds);
+  return fmt::format("built or loaded in {:.2f} s ({} of {} frames' trees from the tree cache)", seconds, loaded,
+                     result.frames.size());
+}
+
 void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
-                   const std::string& scene_name, double build_seconds) {
+                   const std::string& scene_name) {
   const RenderStats& t = result.total;
   const auto& first = result.frames.front();
   const auto describe = [](LayoutKind kind, std::uint32_t split_level) {
@@ -75,12 +90,12 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
                integrator.c_str(), result.frames.size(), options.other_layouts.empty() ? "" : "s", layout.c_str());
   const std::string accel = options.accel == AccelKind::KdTree ? "kd-tree" : std::string(accel_name(options.accel));
   std::fprintf(stderr,
-               "  %s: %llu triangles, %llu nodes, %llu leaves (%llu empty), depth %u, built in %.2f s\n",
+               "  %s: %llu triangles, %llu nodes, %llu leaves (%llu empty), depth %u, %s\n",
                accel.c_str(), static_cast<unsigned long long>(first.triangles),
                static_cast<unsigned long long>(first.tree.nodes),
                static_cast<unsigned long long>(first.tree.leaves),
                static_cast<unsigned long long>(first.tree.empty_leaves), first.tree.depth,
-               build_seconds);
+               tree_origin(result).c_str());
   std::string kinds;
   for (const RayKind kind : result.plan.kinds) {
     const int k = static_cast<int>(kind);
@@ -392,11 +407,7 @@ int RenderCommand::run() const {
     progress_line.clear();
     for (const auto& note : result.notes) std::fprintf(stderr, "tracer render: note: %s\n", note.c_str());
     for (std::size_t i = 0; i < simulated.size(); ++i) write_report(reports[i], simulated[i]->report());
-    if (!quiet) {
-      double build_seconds = 0;
-      for (const auto& f : result.frames) build_seconds += f.tree.build_seconds;
-      print_summary(result, options, source->name(), build_seconds);
-    }
+    if (!quiet) print_summary(result, options, source->name());
     return 0;
   }, "the scene or image is");
 }

@@ -4,6 +4,8 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "test_support.hpp"
 
@@ -38,6 +40,26 @@ TEST(RunUsageMessages, UnitsPrivateWithPerLevelNamesWhatWasGiven) {
   EXPECT_EQ(l2.exit_code, 2);
   EXPECT_NE(l2.err.find("--l2-size: not with --per-frame"), std::string::npos) << l2.err;
   EXPECT_EQ(l2.err.find("--units private"), std::string::npos) << l2.err;
+}
+
+// Issue 47: --size 7k and --assoc 0 did not name the option.
+TEST(RunUsageMessages, SizeBlockAndAssociativityErrorsNameTheOption) {
+  testing::TempDir dir;
+  const std::string trace = trace_of_units(dir);
+  for (const auto& [options, says] : std::vector<std::pair<std::string, std::string>>{
+           {"--size 7k", "cachesim run: --size 7k: 7168 bytes is not a power of two"},
+           {"--size 7k --scheme split", "cachesim run: --size 7k: 7168 bytes is not a power of two"},
+           {"--block 24", "cachesim run: --block 24: 24 bytes is not a power of two"},
+           {"--assoc 0", "cachesim run: --assoc: '0' is not an associativity"},
+           {"--scheme split --high-policy cache --high-assoc 0", "cachesim run: --high-assoc: '0' is not an "},
+           {"--l2-size 64k --l2-assoc 0", "cachesim run: --l2-assoc: '0' is not an associativity"}}) {
+    const auto result = run_command(cachesim() + " run " + shell_quoted(trace) + " " + options);
+    EXPECT_EQ(result.exit_code, 2) << options;
+    EXPECT_NE(result.err.find(says), std::string::npos) << options << ": " << result.err;
+  }
+  // A split of --high-size and the rest: only the caches need be powers of two.
+  const auto split = run_command(cachesim() + " run " + shell_quoted(trace) + " --size 12k --scheme split --high-size 4k");
+  EXPECT_EQ(split.exit_code, 0) << split.err;
 }
 
 // Issue 47: two side tables in one file kept only the last one written.

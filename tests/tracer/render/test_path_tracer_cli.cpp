@@ -148,6 +148,15 @@ TEST(PathTracerCli, HostileMaterialsRenderAndTheTrailerCountsTheDroppedSamples) 
   EXPECT_EQ(run_command(program("tracetool").string() + " verify " + trace.string()).exit_code, 0);
 }
 
+// Issue 47: --spp abc said "Value abc not in range 1 to 65536".
+TEST(PathTracerCli, ASppThatIsNotANumberSaysSo) {
+  const auto result = run_command(tracer_render("mountain:6") + "--integrator path --spp abc");
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("tracer render: --spp: 'abc' is not a whole number: expected 1 to 65536"),
+            std::string::npos)
+      << result.err;
+}
+
 // Issue 47: tracer info took --integrator path --max-depth 1 and ignored
 // it. One rule for both commands, in the same words.
 TEST(PathTracerCli, InfoAndRenderRefuseTheOtherIntegratorsDepthAlike) {
