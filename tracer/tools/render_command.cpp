@@ -157,7 +157,7 @@ struct RenderCommand {
   int run() const;
 
  private:
-  void check_outputs(const TraceJobOptions& options) const;
+  void check_outputs(const TraceJobOptions& options, const std::vector<cli::NamedOutput>& tables) const;
   std::vector<std::string> trace_names(const TraceJobOptions& options) const;
   void check_simulations() const;
   void write_report(const std::string& path, const cachesim::tools::RunReport& text) const;
@@ -211,7 +211,9 @@ void RenderCommand::write_report(const std::string& path, const cachesim::tools:
 // An empty name is no output, two outputs into one file spoil each other, and
 // an output whose folder is missing or not writable would fail only after
 // the whole render: all are refused before it starts.
-void RenderCommand::check_outputs(const TraceJobOptions& options) const {
+// `tables`: the files of the --simulate options' own tables (--per-level ...).
+void RenderCommand::check_outputs(const TraceJobOptions& options,
+                                  const std::vector<cli::NamedOutput>& tables) const {
   std::vector<std::pair<CLI::Option*, std::string>> outputs{
       {image_option, image}, {pfm_option, pfm}, {variance_pfm_option, variance_pfm}};
   if (trace_info_option->count() != 0) {
@@ -237,7 +239,10 @@ void RenderCommand::check_outputs(const TraceJobOptions& options) const {
   }
   // The image and a trace in one file (or both on standard output) would
   // interleave or overwrite each other; a device (/dev/null) takes both.
-  cli::check_distinct_outputs(named);
+  // (The tables' files are checked by cachesim's own code, as to be written.)
+  std::vector<cli::NamedOutput> all = named;
+  all.insert(all.end(), tables.begin(), tables.end());
+  cli::check_distinct_outputs(all);
   for (const auto& [option, path] : named) {
     if (path == "-") continue;
     const std::filesystem::path folder = std::filesystem::path(path).parent_path();
@@ -360,7 +365,21 @@ int RenderCommand::run() const {
       refuse_layouts_for_nothing(layout_choices(render_options));
     }
     TraceJobOptions options = make_job_options(render_options, scene_options, output, traces_optional);
-    check_outputs(options);
+    std::vector<std::unique_ptr<InRenderSimulation>> simulated;
+    const std::vector<LayoutChoice> choices = layout_choices(render_options);
+    std::vector<std::string> layout_names;
+    for (const auto& choice : choices) layout_names.push_back(choice.name);
+    for (const auto& text : simulations) {
+      simulated.push_back(std::make_unique<InRenderSimulation>());
+      if (const std::optional<int> status = simulated.back()->parse(text, layout_names)) return *status;
+      options.sink_makers.push_back(simulated.back()->sink_maker(trace_names(options)));
+    }
+    std::vector<cli::NamedOutput> tables;
+    for (const auto& simulation : simulated) {
+      const std::vector<cli::NamedOutput> files = simulation->table_files();
+      tables.insert(tables.end(), files.begin(), files.end());
+    }
+    check_outputs(options, tables);
     options.image = image;
     options.pfm = pfm;
     options.variance_pfm = variance_pfm;
@@ -374,15 +393,6 @@ int RenderCommand::run() const {
     options.render.streams = parse_streams(streams);
     base::refuse_binary_on_terminal(output, "a trace");
     warn_of_din_node_size(options);
-    std::vector<std::unique_ptr<InRenderSimulation>> simulated;
-    const std::vector<LayoutChoice> choices = layout_choices(render_options);
-    std::vector<std::string> layout_names;
-    for (const auto& choice : choices) layout_names.push_back(choice.name);
-    for (const auto& text : simulations) {
-      simulated.push_back(std::make_unique<InRenderSimulation>());
-      if (const std::optional<int> status = simulated.back()->parse(text, layout_names)) return *status;
-      options.sink_makers.push_back(simulated.back()->sink_maker(trace_names(options)));
-    }
     if (!trace_info.empty()) {
       options.sink_makers.push_back(trace_info_maker(layout_files(choices, trace_info, "--trace-info")));
     }

@@ -49,6 +49,8 @@ TEST(RenderOutputs, OneFileByTwoSpellingsIsAUsageErrorNamingBothOptions) {
                              "--output 's.din'"},
                         Case{"--image same.x --pfm ./same.x", "--image 'same.x'", "--pfm './same.x'"},
                         Case{"-o s.din --trace-info ./s.din", "--trace-info './s.din'", "--output 's.din'"},
+                        Case{"-o s.din --simulate '--size 1k --per-level ./s.din' --report r.txt",
+                             "--output 's.din'", "--simulate's --per-level './s.din'"},
                         Case{"-o s.din --image ../" + dir.path().filename().string() + "/s.din",
                              "--image '../" + dir.path().filename().string() + "/s.din'", "--output 's.din'"}}) {
     for (const bool exists : {false, true}) {
