@@ -40,8 +40,14 @@ for size in 4 8 16; do
 done
 "$tracer" render -o "out/demo-{layout}.din.zst" --width 800 --height 600 --max-depth 10 \
   --layout hybrid --high-size 2k,4k,8k --quiet --image out/demo.png "${simulations[@]}"
+# Each trace renamed for its cache size, and its report's trace column with
+# it (the render names the file it wrote).
 for size in 4 8 16; do
-  mv "out/demo-hybrid-$((size / 2))k.din.zst" "out/demo-${size}k.din.zst"
+  layout_file="out/demo-hybrid-$((size / 2))k.din.zst" size_file="out/demo-${size}k.din.zst"
+  mv "$layout_file" "$size_file"
+  awk -F, -v OFS=, -v from="$layout_file" -v to="$size_file" 'NR > 1 && $1 == from {$1 = to} {print}' \
+    "out/demo-${size}k.csv" > "out/demo-${size}k.csv.tmp"
+  mv "out/demo-${size}k.csv.tmp" "out/demo-${size}k.csv"
 done
 
 # One table: our miss ratios without (single) and with (split) the split

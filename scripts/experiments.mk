@@ -419,7 +419,7 @@ all: $(ALL_TARGETS)
 
 # Each study's line is its section's "# --- NAME: ..." heading below (or in path-tracing.mk).
 help:
-	@echo 'make -f $(MK_FILE) TARGET [VARIABLE=VALUE ...]: each study writes $(OUT)/TARGET/ (README "Experiments")'
+	@echo 'make -f $(MK_FILE) TARGET [VARIABLE=VALUE ...]: each study writes $(OUT)/TARGET/ (docs/guide/studies.md)'
 	@echo 'Targets:'
 	@$(foreach t,$(ALL_TARGETS),printf '  %-16s %s\n' '$t' "$$(sed -n 's/^# --- $t: \(.*[^ -]\) *-*$$/\1/p' \
 	  $(MK_FILE) $(MK_DIR)/path-tracing.mk)";)
@@ -695,12 +695,13 @@ policies_lines := $(common_params) param;policy_width=$(POLICY_WIDTH) param;poli
 $(eval $(call study_rule,policies))
 endif
 
-# The renders this make runs (progress: which of them this one is): the
-# leaders of the groups with a trace missing, one render each.
-to_render := $(foreach g,$(all_groups),$(if $(filter-out $(wildcard $(group_files_$g)),$(group_files_$g)),$(group_leader_$g)))
-
 # The path-tracing studies (workloads, convergence).
 include $(MK_DIR)/path-tracing.mk
+
+# The renders this make runs (progress: which of them this one is): the
+# leaders of the groups with a trace missing, one render each. After every
+# study's file is included, path-tracing.mk's too: its groups count.
+to_render := $(foreach g,$(all_groups),$(if $(filter-out $(wildcard $(group_files_$g)),$(group_files_$g)),$(group_leader_$g)))
 
 clean:
 	rm -rf $(OUT)/traces $(addprefix $(OUT)/,$(ALL_TARGETS) calibration-grid interpretations-grid)

@@ -42,7 +42,11 @@ endif
 # reference; RMSE and relative MSE over every pixel and channel of the PFM
 # images against the reference, beside the CPU time (user + sys) of each
 # whole `tracer render` (no trace written), and the slope of log RMSE
-# against log spp beside the expected -0.5.
+# against log spp beside the expected -0.5. Each render builds its own tree
+# (no tree cache), so every CPU time includes the build, not only the first
+# of each scene's. The reference must be above every CONV_SPP: a run shares
+# its samples with the reference's first ones (the same random numbers), so
+# a reference of no more samples is one of the runs (RMSE 0).
 CONV_SCENES ?= robot kitchen
 CONV_WIDTH ?= 64
 CONV_HEIGHT ?= 48
@@ -51,6 +55,9 @@ CONV_REFERENCE_SPP ?= 1024
 
 convergence_figures := convergence.png
 ifneq ($(call wanted,convergence),)
+conv_not_below := $(shell for n in $(CONV_SPP); do [ "$$n" -lt "$(CONV_REFERENCE_SPP)" ] 2>/dev/null || echo "$$n"; done)
+$(if $(conv_not_below),$(error CONV_REFERENCE_SPP=$(CONV_REFERENCE_SPP) is not above CONV_SPP $(conv_not_below): \
+  the reference must have more samples per pixel than every measured render, whose samples are its first ones))
 conv_runs := $(OUT)/convergence/runs
 conv_render = $(call scene_arg,$1) -q --width $(CONV_WIDTH) --height $(CONV_HEIGHT) --frame $(FRAME) $(kd_default) \
   --integrator path --spp $2
@@ -61,7 +68,7 @@ define_conv = $(if $(defined_$1),,$(eval $(call conv_rule,$1,$2,$3))$(eval defin
 define conv_rule
 $1: | $(conv_runs)/.dir
 	@echo "convergence: render $3" >&2
-	@$(RUN) /usr/bin/time -f 'wall,user,sys\n%e,%U,%S' -o $$@.tmp$$$$$$$$ $(TRACER) render $2 $(tree_cache_option) --pfm $(1:.csv=.pfm) \
+	@$(RUN) /usr/bin/time -f 'wall,user,sys\n%e,%U,%S' -o $$@.tmp$$$$$$$$ $(TRACER) render $2 --tree-cache '' --pfm $(1:.csv=.pfm) \
 	  && mv $$@.tmp$$$$$$$$ $$@ || { rm -f $$@.tmp$$$$$$$$; exit 1; }
 endef
 convergence_lines := $(common_params) param;conv_width=$(CONV_WIDTH) param;conv_height=$(CONV_HEIGHT) \

@@ -38,13 +38,27 @@ struct Slot {
   char path[kSlotPathBytes];
 };
 Slot g_slots[kSlots];
+// Set by the first cleanup signal: a temporary created from then on (by a
+// thread the signal did not stop) is removed by its creator.
+std::atomic<bool> g_dying{false};
 
+// Every thread that takes a cleanup signal removes the temporaries before it
+// restores the default action: had the first one reset it on delivery
+// (SA_RESETHAND), a second signal (`timeout` sends two, a user may press
+// Ctrl-C twice) would kill the process on another thread while the first
+// was still removing them. The handler stays installed, so each signal
+// runs it; removing a removed file again is harmless.
 extern "C" void remove_temporaries_and_die(int signal_number) {
+  g_dying.store(true);
   for (Slot& slot : g_slots) {
-    if (slot.live.load(std::memory_order_acquire)) ::unlink(slot.path);
+    if (slot.live.load()) ::unlink(slot.path);
   }
-  // SA_RESETHAND restored the default action; the signal is blocked while
-  // this handler runs, so it takes effect as soon as the handler returns.
+  struct sigaction action {};
+  action.sa_handler = SIG_DFL;
+  sigemptyset(&action.sa_mask);
+  ::sigaction(signal_number, &action, nullptr);
+  // The signal is blocked while this handler runs, so it takes effect as
+  // soon as the handler returns.
   ::raise(signal_number);
 }
 
@@ -59,7 +73,6 @@ void install_cleanup_handler() {
       if ((old.sa_flags & SA_SIGINFO) != 0 || old.sa_handler != SIG_DFL) continue;
       struct sigaction action {};
       action.sa_handler = remove_temporaries_and_die;
-      action.sa_flags = SA_RESETHAND;
       sigemptyset(&action.sa_mask);
       for (const int other : kCleanupSignals) sigaddset(&action.sa_mask, other);
       ::sigaction(signal_number, &action, nullptr);
@@ -73,7 +86,7 @@ int claim_slot(const std::string& path) {
     bool expected = false;
     if (g_slots[i].claimed.compare_exchange_strong(expected, true)) {
       std::memcpy(g_slots[i].path, path.c_str(), path.size() + 1);
-      g_slots[i].live.store(true, std::memory_order_release);
+      g_slots[i].live.store(true);
       return i;
     }
   }
@@ -232,6 +245,11 @@ OutputFile::OutputFile(const std::string& path) : name_(path == "-" ? "<stdout>"
     // this pid that remove_stale_temporaries would remove anyway.
     const int slot = claim_slot(candidate);
     fd_ = ::open(candidate.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);  // the umask applies
+    // A cleanup signal taken on another thread that did not see this slot
+    // live (it is marked before g_dying is read here, and the handler sets
+    // g_dying before it reads the slots) leaves this file to us: the process
+    // is about to end.
+    if (fd_ >= 0 && g_dying.load()) ::unlink(candidate.c_str());
     if (fd_ >= 0) {
       temporary_ = candidate;
       slot_ = slot;

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <charconv>
 #include <string_view>
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include "nodetrace/base/byte_size.hpp"
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/base/output_file.hpp"
+#include "nodetrace/cli/distinct_outputs.hpp"
 #include "nodetrace/cli/format_option.hpp"
 #include "nodetrace/cli/option_limits.hpp"
 #include "nodetrace/formats/read/trace_reader.hpp"
@@ -35,6 +37,25 @@ inline constexpr std::uint64_t kMaxCacheBlocks = kMaxCacheBytes / 8;
 inline std::uint64_t cache_size(const std::string& text, const char* option) {
   return cli::check_at_most(base::parse_byte_size(text, option), kMaxCacheBytes, option, text, "256m",
                                 "the largest cache: its state is allocated up front");
+}
+
+// parse_assoc's value, its message naming `option` (--assoc 0 is a usage
+// error of --assoc, not of some associativity).
+inline std::uint32_t assoc_option(const std::string& text, const char* option) {
+  try {
+    return parse_assoc(text);
+  } catch (const base::UsageError& error) {
+    throw base::UsageError(fmt::format("{}: {}", option, error.what()));
+  }
+}
+
+// Sizes and blocks are powers of two (a cache's sets, ways and blocks are):
+// refused naming the option and the value as typed.
+inline void check_power_of_two(std::uint64_t value, const std::string& text, const char* option) {
+  if (!std::has_single_bit(value)) {
+    throw base::UsageError(fmt::format("{} {}: {} bytes is not a power of two (a cache's size and blocks are)",
+                                       option, text, value));
+  }
 }
 
 struct RunCommandLine {
@@ -179,6 +200,7 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
   for (const auto& text : line.blocks) {
     const std::uint64_t block = base::parse_byte_size(text, "--block");
     if (block > (1u << 30)) throw base::UsageError(fmt::format("--block {} is too large", text));
+    check_power_of_two(block, text, "--block");
     options.blocks.push_back(static_cast<std::uint32_t>(block));
   }
   for (std::size_t i = 0; i < options.sizes.size(); ++i) {
@@ -192,10 +214,19 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
     }
   }
   options.assocs.clear();
-  for (const auto& text : line.assocs) options.assocs.push_back(parse_assoc(text));
+  for (const auto& text : line.assocs) options.assocs.push_back(assoc_option(text, "--assoc"));
   options.policies =
       parse_list<ReplacementPolicy>(line.policies, "--policy", parse_policy_name, kPolicyNames.data());
   options.schemes = parse_list<Scheme>(line.schemes, "--scheme", parse_scheme_name, "single, split");
+  // A single cache is --size, and the split's halves are powers of two only
+  // if --size is; with --high-size or --low-size the split's caches are
+  // checked as such.
+  const bool size_is_a_cache = std::find(options.schemes.begin(), options.schemes.end(), Scheme::Single) !=
+                                   options.schemes.end() ||
+                               (line.high_size.empty() && line.low_size.empty());
+  for (std::size_t i = 0; i < options.sizes.size() && size_is_a_cache; ++i) {
+    check_power_of_two(options.sizes[i], line.sizes[i], "--size");
+  }
   options.high_policies =
       parse_list<HighPolicy>(line.high_policies, "--high-policy", parse_high_policy_name, "retain, cache");
   options.split_levels.clear();
@@ -214,7 +245,7 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
   }
   if (!line.high_size.empty()) options.high_size = cache_size(line.high_size, "--high-size");
   if (!line.low_size.empty()) options.low_size = cache_size(line.low_size, "--low-size");
-  if (!line.high_assoc.empty()) options.high_assoc = parse_assoc(line.high_assoc);
+  if (!line.high_assoc.empty()) options.high_assoc = assoc_option(line.high_assoc, "--high-assoc");
   options.count_loads = line.count_loads;
   options.fetch = parse_fetch_policy_name(line.fetch).value_or(FetchPolicy::Demand);
   options.prefetch_distance = line.prefetch_distance;
@@ -224,11 +255,15 @@ inline SweepOptions sweep_options(const RunCommandLine& line) {
     throw base::UsageError(
         "--per-level - and --per-frame -: one table per output; write at least one of them to a file");
   }
+  cli::check_distinct_outputs({{"--per-level", line.per_level},
+                               {"--per-frame", line.per_animation_frame},
+                               {"--per-unit", line.per_unit}});
   for (const std::string* file : {&line.per_level, &line.per_animation_frame, &line.per_unit}) {
     if (file->empty() || *file == "-") continue;
     for (const std::string& trace : line.traces) {
-      if (trace == *file) {
-        throw base::UsageError(fmt::format("{}: named both as a trace and as a table to write", *file));
+      if (trace != "-" && cli::same_output_file(trace, *file)) {
+        throw base::UsageError(fmt::format("{}: named both as a trace{} and as a table to write", *file,
+                                           trace == *file ? "" : fmt::format(" ('{}')", trace)));
       }
     }
     // Before the simulation, not after it.

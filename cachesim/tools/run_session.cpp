@@ -148,7 +148,7 @@ void RunSession::prepare(const CLI::App& app) {
     CacheGeometry l2;
     l2.size = cache_size(l2_line_.size, "--l2-size");
     l2.block_size = l2_line_.block;
-    l2.assoc = parse_assoc(l2_line_.assoc);  // 0: full
+    l2.assoc = assoc_option(l2_line_.assoc, "--l2-assoc");  // 0: full
     if (l2.assoc == 0) l2.assoc = static_cast<std::uint32_t>(l2.size / std::max(1u, l2.block_size));
     l2.replacement = parse_policy_name(l2_line_.policy).value_or(ReplacementPolicy::Lru);
     unit_options_.l2 = l2;

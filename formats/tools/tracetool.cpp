@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "nodetrace/cli/archive_option.hpp"
+#include "nodetrace/cli/number_range.hpp"
 #include "nodetrace/cli/command_line.hpp"
 #include "nodetrace/cli/csv_text.hpp"
 #include "nodetrace/cli/format_option.hpp"
@@ -407,7 +408,7 @@ struct ConvertCommand {
     // data frame's text, up to a few hundred MB at that size.
     auto* frame_records =
         app.add_option("--frame-records", options.frame_records, "Records per data frame (1 to 16777216)")
-            ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 24));
+            ->check(cli::NumberRange(std::uint64_t{1}, std::uint64_t{1} << 24));
     cli::add_archive_flag(app, options.archive, level, frame_records);
     app.add_flag("--address16", options.address16, "Write 16 hex address digits instead of 8");
     add_informat_option(app, options.form);

@@ -76,8 +76,9 @@ text = ["# Convergence: image error against CPU time\n\n",
         f"{params['conv_width']}x{params['conv_height']}, frame {params['frame']}, spp doubling from 1, against a "
         f"reference of {params['reference_spp']} spp of the same scene. RMSE over every pixel and channel of the "
         "mean radiance (PFM); relative MSE = mean of (x - ref)^2 / (ref^2 + 0.01); CPU = user + sys of the whole "
-        "command (scene loading and the tree build included). The reference's own noise is 1/"
-        f"{params['reference_spp']} of one sample's variance, so it adds little to the largest spp's error.\n"]
+        "command (scene loading and the tree build included: every render builds its own tree). A render of N spp "
+        "takes the same random numbers as the reference's first N samples, so its expected squared error against "
+        f"the reference is (1/N - 1/{params['reference_spp']}) times one sample's variance, not 1/N.\n"]
 for scene, entries in runs.items():
     text.append(f"\n## {common.paper_name(scene)}\n\n")
     body = [[str(e["spp"]), f"{e['cpu']:.2f}", f"{e['rmse']:.5f}", f"{e['relmse']:.5f}"] for e in entries]

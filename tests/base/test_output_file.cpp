@@ -9,6 +9,8 @@
 #include <sys/stat.h>
 #include <sys/un.h>
 #include <sys/wait.h>
+#include <pthread.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -289,6 +291,52 @@ TEST(OutputFile, StaleTemporariesOfDeadRunsAreRemoved) {
   EXPECT_TRUE(fs::exists(dir / alive));  // its writer may still be running
   EXPECT_TRUE(fs::exists(dir / other));  // another output's
   EXPECT_EQ(read_file(dir / "t.din.zst"), "whole");
+}
+
+// Run on top of the first SIGINT's handler, before its first line (see
+// below): a second SIGINT to the process, which the thread that does not
+// block it takes.
+extern "C" void send_second_interrupt(int) {
+  ::kill(::getpid(), SIGINT);
+  ::sleep(10);  // the process ends meanwhile
+}
+
+// `timeout` sends SIGINT twice and users press Ctrl-C twice: a second signal
+// taken on another thread while the first is being handled must not end the
+// process before the temporary is removed. To put the second signal in that
+// moment every time, SIGINT and SIGUSR1 are made pending together on a
+// thread that blocks both, then unblocked at once: the kernel delivers the
+// lower-numbered SIGINT first and runs SIGUSR1's handler on top of it,
+// before the cleanup handler's first line.
+TEST(OutputFile, ASecondSignalDuringCleanupStillRemovesTheTemporary) {
+  TempDir dir;
+  const pid_t child = ::fork();
+  if (child == 0) {
+    OutputFile out((dir / "t.din.zst").string());
+    out.write("partial");
+    std::thread other([] {
+      for (;;) ::pause();
+    });
+    struct sigaction action {};
+    action.sa_handler = send_second_interrupt;
+    sigemptyset(&action.sa_mask);
+    ::sigaction(SIGUSR1, &action, nullptr);
+    sigset_t both;
+    sigemptyset(&both);
+    sigaddset(&both, SIGINT);
+    sigaddset(&both, SIGUSR1);
+    ::pthread_sigmask(SIG_BLOCK, &both, nullptr);
+    ::pthread_kill(::pthread_self(), SIGINT);
+    ::pthread_kill(::pthread_self(), SIGUSR1);
+    ::pthread_sigmask(SIG_UNBLOCK, &both, nullptr);
+    ::_exit(3);  // not reached: the SIGINT ends the process
+  }
+  ASSERT_GT(child, 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) << "status " << status;
+  EXPECT_EQ(temporaries(dir.path()), std::vector<std::string>{});
+  EXPECT_FALSE(fs::exists(dir / "t.din.zst"));
 }
 
 TEST(StandardOutput, FlushOfAWorkingOutputIsNoError) {

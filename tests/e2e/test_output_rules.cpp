@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <future>
+#include <random>
 #include <thread>
 #include <vector>
 
@@ -204,6 +205,35 @@ TEST_F(OutputRules, InterruptedRunsLeaveNoOutputAndNoTemporary) {
       EXPECT_FALSE(fs::exists(out)) << what;
       EXPECT_TRUE(temporaries(dir.path()).empty()) << what;
     }
+  }
+}
+
+// As `timeout -s INT` does (the process, then its group: two signals) at
+// random moments of a run, from before its output is opened to the middle
+// of the writing: no run leaves a temporary. (The moment that used to leave
+// one, a second signal during the first one's cleanup, is rare here; the
+// base test ASecondSignalDuringCleanupStillRemovesTheTemporary makes it.)
+TEST_F(OutputRules, InterruptsAtRandomMomentsLeaveNoTemporary) {
+  const unsigned seed = std::random_device{}();
+  std::mt19937 random(seed);
+  for (int run = 0; run < 20; ++run) {
+    TempDir dir;
+    const fs::path out = dir / "t.din.zst";
+    const pid_t pid = spawn(slow_convert(out));
+    ASSERT_GT(pid, 0);
+    const auto delay = std::chrono::microseconds(std::uniform_int_distribution<int>(0, 300000)(random));
+    const auto gap = std::chrono::microseconds(std::uniform_int_distribution<int>(0, 100)(random));
+    std::this_thread::sleep_for(delay);
+    ::kill(pid, SIGINT);
+    std::this_thread::sleep_for(gap);
+    ::kill(pid, SIGINT);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    const std::string what = "seed " + std::to_string(seed) + ", run " + std::to_string(run) + ": SIGINT after " +
+                             std::to_string(delay.count()) + " us, again " + std::to_string(gap.count()) + " us later";
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) << what << ": status " << status;
+    EXPECT_EQ(temporaries(dir.path()), std::vector<std::string>{}) << what;
+    EXPECT_FALSE(fs::exists(out)) << what;
   }
 }
 

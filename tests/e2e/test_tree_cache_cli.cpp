@@ -126,6 +126,25 @@ TEST(TreeCacheCliTest, FolderThatCannotBeUsedIsAWarning) {
   EXPECT_TRUE(r.trace("none.zst") == r.trace("missing.zst"));
 }
 
+// Issue 47: a tree loaded from the cache was reported as "built in 0.01 s".
+TEST(TreeCacheCliTest, ALoadedTreeIsReportedAsLoadedNotBuilt) {
+  TreeCacheRender r;
+  const std::string cache = "--tree-cache " + shell_quoted(r.dir / "cache");
+  const auto tree_line = [](const std::string& err) {
+    const auto at = err.find("  kd-tree: ");
+    return at == std::string::npos ? err : err.substr(at, err.find('\n', at) - at);
+  };
+  // Not -q: the summary.
+  const std::string cold = run_command(r.command("kdtree", "cold.zst", cache) + " --quiet=false").err;
+  const std::string warm = run_command(r.command("kdtree", "warm.zst", cache) + " --quiet=false").err;
+  EXPECT_NE(tree_line(cold).find(", built in "), std::string::npos) << cold;
+  EXPECT_NE(tree_line(warm).find(", loaded from the tree cache in "), std::string::npos) << warm;
+  EXPECT_EQ(tree_line(warm).find("built"), std::string::npos) << warm;
+  const std::string info = program("tracer").string() + " info " + shell_quoted(r.scene) + " ";
+  EXPECT_NE(run_command(info + cache).out.find(", loaded from the tree cache in "), std::string::npos);
+  EXPECT_NE(run_command(info).out.find(", built in "), std::string::npos);
+}
+
 TEST(TreeCacheCliTest, InfoLoadsTheTreeARenderStored) {
   TreeCacheRender r;
   const std::string cache = shell_quoted(r.dir / "cache");
@@ -143,9 +162,12 @@ TEST(TreeCacheCliTest, InfoLoadsTheTreeARenderStored) {
     j.erase("peak_memory");
     j["accel"].erase("build_seconds");
     j["accel"].erase("build_cpu_seconds");
+    j["accel"].erase("loaded_from_tree_cache");
     return j;
   };
   EXPECT_EQ(without_times(built.out), without_times(loaded.out));
+  EXPECT_EQ(nlohmann::json::parse(built.out)["accel"]["loaded_from_tree_cache"], false);
+  EXPECT_EQ(nlohmann::json::parse(loaded.out)["accel"]["loaded_from_tree_cache"], true);
 }
 
 }  // namespace

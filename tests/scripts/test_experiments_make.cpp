@@ -348,6 +348,12 @@ TEST_F(ExperimentsMakeTest, WorkloadsTargetCoversEveryIntegratorStructureRaysInF
   // CSV=LAYOUT=OPTIONS, spaces as ^): one simulation per trace, none written.
   EXPECT_EQ(count_lines_with(log, "render-layouts.sh"), 8) << log;
   EXPECT_EQ(count_lines_with(log, "cachesim run"), 0) << log;
+  // The progress counts this study's renders (path-tracing.mk's groups),
+  // one to eight, never "of 0".
+  for (int k = 1; k <= 8; ++k) {
+    EXPECT_EQ(count_lines_with(output_, "render [" + std::to_string(k) + " of 8] "), 1) << output_;
+  }
+  EXPECT_EQ(output_.find(" of 0]"), std::string::npos) << output_;
   std::size_t simulations = 0;
   for (std::size_t at = log.find("=--size^"); at != std::string::npos; at = log.find("=--size^", at + 1)) {
     ++simulations;
@@ -383,6 +389,27 @@ TEST_F(ExperimentsMakeTest, ConvergenceTargetMeasuresErrorAgainstAReferenceAndSt
   EXPECT_NE(md.find("(expected -0.5; within"), std::string::npos) << md;
   EXPECT_TRUE(std::filesystem::exists(out / "convergence" / "convergence.png"));
   EXPECT_EQ(make(options, out), "");  // nothing is rendered twice
+  // Every render built its own tree, so each CPU time includes the build:
+  // none was loaded from (or left in) the tree cache.
+  EXPECT_TRUE(!std::filesystem::exists(out / "tree-cache") || std::filesystem::is_empty(out / "tree-cache"));
+  EXPECT_EQ(count_lines_with(log, "--tree-cache " + (out / "tree-cache").string()), 0) << log;
+}
+
+// Issue 47: CONV_REFERENCE_SPP=8 with CONV_SPP up to 8 reported RMSE 0 (the
+// reference was one of the runs) and a slope of -29.9, exit 0.
+TEST_F(ExperimentsMakeTest, ConvergenceRefusesAReferenceNotAboveEveryMeasuredSpp) {
+  const auto out = dir_ / "convergence";
+  for (const std::string reference : {"8", "4"}) {
+    const std::string log = make("convergence CONV_SCENES=robot CONV_WIDTH=8 CONV_HEIGHT=6 CONV_SPP='1 2 4 8' "
+                                 "CONV_REFERENCE_SPP=" + reference,
+                                 out, false);
+    EXPECT_EQ(log, "") << "nothing is rendered";
+    EXPECT_NE(output_.find("CONV_REFERENCE_SPP=" + reference + " is not above CONV_SPP " +
+                           (reference == "8" ? "8" : "4 8") + ": the reference must have more samples"),
+              std::string::npos)
+        << output_;
+    EXPECT_FALSE(std::filesystem::exists(out / "convergence" / "convergence.csv"));
+  }
 }
 
 TEST_F(ExperimentsMakeTest, AnUnknownSceneStopsMakeWithAMessage) {

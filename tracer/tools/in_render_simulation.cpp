@@ -156,6 +156,17 @@ RecordSinkMaker InRenderSimulation::sink_maker(std::vector<std::string> trace_na
   };
 }
 
+std::vector<cli::NamedOutput> InRenderSimulation::table_files() const {
+  const cachesim::tools::RunCommandLine& line = session_.line();
+  std::vector<cli::NamedOutput> files;
+  for (const auto& [option, path] : {std::pair{"--per-level", &line.per_level},
+                                     std::pair{"--per-frame", &line.per_animation_frame},
+                                     std::pair{"--per-unit", &line.per_unit}}) {
+    if (!path->empty() && *path != "-") files.push_back({fmt::format("--simulate's {}", option), *path});
+  }
+  return files;
+}
+
 cachesim::tools::RunReport InRenderSimulation::report() const {
   std::vector<cachesim::tools::TraceOutcome> outcomes;
   for (const auto& layout : layouts_) outcomes.push_back(layout->outcome);

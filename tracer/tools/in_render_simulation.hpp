@@ -13,6 +13,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "nodetrace/cli/distinct_outputs.hpp"
 #include "nodetrace/tracer/render/record_sink.hpp"
 #include "nodetrace/tracer/render/trace_job.hpp"
 #include "run_session.hpp"
@@ -34,6 +35,9 @@ class InRenderSimulation {
   // or its {layout} name when none is written). What the simulation sees is
   // the container trace of each layout, whatever form -o writes.
   RecordSinkMaker sink_maker(std::vector<std::string> trace_names);
+  // The files its options' own tables go to (--per-level FILE ...; not "-",
+  // which is the report's), each named "--simulate's OPTION".
+  std::vector<cli::NamedOutput> table_files() const;
   // After the job: the report of every layout, in order.
   cachesim::tools::RunReport report() const;
 

@@ -13,6 +13,7 @@
 
 #include "commands.hpp"
 #include "nodetrace/cli/command_line.hpp"
+#include "nodetrace/cli/number_range.hpp"
 #include "nodetrace/cli/csv_text.hpp"
 #include "nodetrace/cli/format_option.hpp"
 #include "nodetrace/cli/exit_status.hpp"
@@ -31,6 +32,7 @@ struct InfoCommand {
   int max_depth = 10;
   std::string integrator = "whitted";
   std::optional<int> max_bounces;
+  CLI::Option* max_depth_option = nullptr;
   unsigned threads = 0;
   std::optional<std::uint32_t> node_size_option;  // default: the acceleration structure's
   SceneCommandOptions scene_options;
@@ -42,8 +44,8 @@ struct InfoCommand {
 void InfoCommand::add_options(CLI::App& app) {
   app.add_option("scene", scene_spec, "an .obj or .aff file, or a built-in scene's name")->required();
   cli::add_format_option(app, format, "json: one object, csv: one table field,value");
-  app.add_option("--max-depth", max_depth, "ray tree depth assumed for the ray kinds")
-      ->check(CLI::Range(1, 64))
+  max_depth_option = app.add_option("--max-depth", max_depth, "ray tree depth assumed for the ray kinds")
+      ->check(cli::NumberRange(1, 64))
       ->capture_default_str();
   app.add_option("--integrator", integrator, "whitted or path: whose ray kinds to show")
       ->check(CLI::IsMember({"whitted", "path"}))
@@ -52,10 +54,10 @@ void InfoCommand::add_options(CLI::App& app) {
                  fmt::format("--integrator path: bounce rays after the camera ray assumed for the ray kinds, 0 to {} "
                              "(default {})",
                              kMaxBounces, kDefaultMaxBounces))
-      ->check(CLI::Range(0, kMaxBounces));
+      ->check(cli::NumberRange(0, kMaxBounces));
   app.add_option("--node-size", node_size_option,
                  "bytes per node, for the bytes and split levels shown (at most 65535; default: the structure's)")
-      ->check(CLI::Range(1, kMaxNodeSize));
+      ->check(cli::NumberRange(1, kMaxNodeSize));
   app.add_option("--threads", threads, "threads reading an OBJ file and building the kd-tree (default: one per core); neither depends on it");
   add_scene_options(app, scene_options, /*frame_runs=*/false);
 }
@@ -65,8 +67,8 @@ int InfoCommand::run() const {
     // Options first, before a scene is loaded.
     if (scene_options.time) cli::check_finite(*scene_options.time, "--time");
     KdBuildOptions build_options = make_build_options(scene_options);
+    check_depth_options(integrator, max_depth_option->count() != 0, max_bounces.has_value());
     const bool path = *parse_integrator(integrator) == Integrator::Path;
-    if (max_bounces && !path) throw base::UsageError("--max-bounces needs --integrator path (Whitted: --max-depth)");
     build_options.threads = cli::check_thread_count(threads, "--threads");
     const auto source = open_scene(scene_spec, {.threads = build_options.threads});
     for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer info: warning: %s\n", warning.c_str());
@@ -128,6 +130,7 @@ int InfoCommand::run() const {
                               {"sah_cost", s.sah_cost},
                               {"build_seconds", s.build_seconds},
                               {"build_cpu_seconds", s.build_cpu_seconds},
+                              {"loaded_from_tree_cache", s.loaded},
                               {"split_level_for_high_size", split_levels}};
       j["accel"] = accel;
     } else {
@@ -144,6 +147,7 @@ int InfoCommand::run() const {
                    {"sah_cost", s.sah_cost},
                    {"build_seconds", s.build_seconds},
                    {"build_cpu_seconds", s.build_cpu_seconds},
+                   {"loaded_from_tree_cache", s.loaded},
                    {"node_size", node_size},
                    {"split_level_for_high_size", split_levels}};
     }
@@ -182,18 +186,20 @@ int InfoCommand::run() const {
       fmt::print("  bounds: ({:g}, {:g}, {:g}) - ({:g}, {:g}, {:g})\n", bounds.lo.x, bounds.lo.y,
                  bounds.lo.z, bounds.hi.x, bounds.hi.y, bounds.hi.z);
     }
+    const char* built_or_loaded = s.loaded ? "loaded from the tree cache" : "built";
     if (kind == AccelKind::KdTree) {
       fmt::print("kd-tree: {} nodes ({} interior, {} leaves, {} empty), depth {} (limit {})\n", s.nodes,
                  s.interior, s.leaves, s.empty_leaves, s.depth, s.depth_limit);
-      fmt::print("  mean leaf size {:.2f} ({:.2f} over non-empty leaves), SAH cost {:.2f}, built in {:.3f} s ({:.3f} s CPU)\n",
-                 s.mean_leaf_size, s.mean_nonempty_leaf_size, s.sah_cost, s.build_seconds, s.build_cpu_seconds);
+      fmt::print("  mean leaf size {:.2f} ({:.2f} over non-empty leaves), SAH cost {:.2f}, {} in {:.3f} s ({:.3f} s CPU)\n",
+                 s.mean_leaf_size, s.mean_nonempty_leaf_size, s.sah_cost, built_or_loaded, s.build_seconds,
+                 s.build_cpu_seconds);
     } else {
       fmt::print("{}: {} nodes of {} bytes ({} bytes), {}-wide, {} leaves, depth {}\n", accel_name(kind), s.nodes,
                  node_size, s.nodes * node_size, accel_arity(kind), s.leaves, s.depth);
       std::string by_size;
       for (const auto& [size, count] : leaf_sizes) by_size += fmt::format("{}{}: {}", by_size.empty() ? "" : ", ", size, count);
-      fmt::print("  mean leaf size {:.2f} (leaves by triangles {}), SAH cost {:.2f}, built in {:.3f} s ({:.3f} s CPU)\n",
-                 s.mean_leaf_size, by_size, s.sah_cost, s.build_seconds, s.build_cpu_seconds);
+      fmt::print("  mean leaf size {:.2f} (leaves by triangles {}), SAH cost {:.2f}, {} in {:.3f} s ({:.3f} s CPU)\n",
+                 s.mean_leaf_size, by_size, s.sah_cost, built_or_loaded, s.build_seconds, s.build_cpu_seconds);
     }
     fmt::print("  nodes per level: {}\n", fmt::join(s.nodes_per_level, " "));
     fmt::print("  split level K for a high-level cache of 1K/2K/4K/8K/16K at {} bytes a node: {}/{}/{}/{}/{}\n",

@@ -16,6 +16,7 @@
 
 #include "commands.hpp"
 #include "nodetrace/cli/command_line.hpp"
+#include "nodetrace/cli/distinct_outputs.hpp"
 #include "nodetrace/cli/exit_status.hpp"
 #include "nodetrace/cli/progress_line.hpp"
 #include "nodetrace/cli/archive_option.hpp"
@@ -53,8 +54,23 @@ void print_rays_per_core(const RenderStats& t, const RayKindPlan& plan) {
   }
 }
 
+// "built in 0.72 s", or what the tree cache gave: the time is then the
+// loading's.
+std::string tree_origin(const TraceJobResult& result) {
+  double seconds = 0;
+  std::size_t loaded = 0;
+  for (const auto& f : result.frames) {
+    seconds += f.tree.build_seconds;
+    loaded += f.tree.loaded;
+  }
+  if (loaded == 0) return fmt::format("built in {:.2f} s", seconds);
+  if (loaded == result.frames.size()) return fmt::format("loaded from the tree cache in {:.2f} s", seconds);
+  return fmt::format("built or loaded in {:.2f} s ({} of {} frames' trees from the tree cache)", seconds, loaded,
+                     result.frames.size());
+}
+
 void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
-                   const std::string& scene_name, double build_seconds) {
+                   const std::string& scene_name) {
   const RenderStats& t = result.total;
   const auto& first = result.frames.front();
   const auto describe = [](LayoutKind kind, std::uint32_t split_level) {
@@ -74,12 +90,12 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
                integrator.c_str(), result.frames.size(), options.other_layouts.empty() ? "" : "s", layout.c_str());
   const std::string accel = options.accel == AccelKind::KdTree ? "kd-tree" : std::string(accel_name(options.accel));
   std::fprintf(stderr,
-               "  %s: %llu triangles, %llu nodes, %llu leaves (%llu empty), depth %u, built in %.2f s\n",
+               "  %s: %llu triangles, %llu nodes, %llu leaves (%llu empty), depth %u, %s\n",
                accel.c_str(), static_cast<unsigned long long>(first.triangles),
                static_cast<unsigned long long>(first.tree.nodes),
                static_cast<unsigned long long>(first.tree.leaves),
                static_cast<unsigned long long>(first.tree.empty_leaves), first.tree.depth,
-               build_seconds);
+               tree_origin(result).c_str());
   std::string kinds;
   for (const RayKind kind : result.plan.kinds) {
     const int k = static_cast<int>(kind);
@@ -141,7 +157,7 @@ struct RenderCommand {
   int run() const;
 
  private:
-  void check_outputs(const TraceJobOptions& options) const;
+  void check_outputs(const TraceJobOptions& options, const std::vector<cli::NamedOutput>& tables) const;
   std::vector<std::string> trace_names(const TraceJobOptions& options) const;
   void check_simulations() const;
   void write_report(const std::string& path, const cachesim::tools::RunReport& text) const;
@@ -195,48 +211,63 @@ void RenderCommand::write_report(const std::string& path, const cachesim::tools:
 // An empty name is no output, two outputs into one file spoil each other, and
 // an output whose folder is missing or not writable would fail only after
 // the whole render: all are refused before it starts.
-void RenderCommand::check_outputs(const TraceJobOptions& options) const {
-  std::vector<std::pair<CLI::Option*, const std::string*>> outputs{{image_option, &image},
-                                                                        {pfm_option, &pfm},
-                                                                        {variance_pfm_option, &variance_pfm},
-                                                                        {trace_info_option, &trace_info},
-                                                                        {output_option, &output}};
-  for (const auto& report : reports) outputs.insert(outputs.end() - 1, {report_option, &report});
-  if (output_option->count() != 0) {
-    outputs.back().second = &options.output;
-    for (const auto& other : options.other_layouts) outputs.emplace_back(output_option, &other.output);
+// `tables`: the files of the --simulate options' own tables (--per-level ...).
+void RenderCommand::check_outputs(const TraceJobOptions& options,
+                                  const std::vector<cli::NamedOutput>& tables) const {
+  std::vector<std::pair<CLI::Option*, std::string>> outputs{
+      {image_option, image}, {pfm_option, pfm}, {variance_pfm_option, variance_pfm}};
+  if (trace_info_option->count() != 0) {
+    // Each layout's file: a pattern is checked as the names it makes.
+    const std::vector<std::string> files =
+        trace_info.empty() ? std::vector<std::string>{trace_info}
+                           : layout_files(layout_choices(render_options), trace_info, "--trace-info");
+    for (const auto& file : files) outputs.emplace_back(trace_info_option, file);
   }
-  for (std::size_t i = 0; i < outputs.size(); ++i) {
-    const auto& [option, path] = outputs[i];
+  for (const auto& report : reports) outputs.emplace_back(report_option, report);
+  if (output_option->count() != 0) {
+    outputs.emplace_back(output_option, options.output);
+    for (const auto& other : options.other_layouts) outputs.emplace_back(output_option, other.output);
+  }
+  std::vector<cli::NamedOutput> named;
+  for (const auto& [option, path] : outputs) {
     if (option->count() == 0) continue;
-    // The image and a trace in one file (or both on standard output) would
-    // interleave or overwrite each other; a device (/dev/null) takes both.
-    // (Two layouts' traces in one file: run_trace_job says so.)
-    for (std::size_t j = 0; j < i; ++j) {
-      if (outputs[j].first != option && outputs[j].first->count() != 0 && *outputs[j].second == *path &&
-          !path->empty() &&
-          base::plan_output(*path).method != base::OutputMethod::Direct) {
-        throw base::UsageError(fmt::format(
-            "{} and {} both name '{}'{}: one output each; write one of them to another file",
-            outputs[j].first->get_name(), option->get_name(), *path, *path == "-" ? " (standard output)" : ""));
-      }
-    }
-    if (path->empty()) {
+    if (path.empty()) {
       throw base::UsageError(fmt::format("{}: an empty name: give a file name{}", option->get_name(),
                                          option == output_option ? ", or - for standard output" : ""));
     }
-    if (*path == "-") continue;
-    const std::filesystem::path folder = std::filesystem::path(*path).parent_path();
+    named.push_back({option->get_name(), path});
+  }
+  // The image and a trace in one file (or both on standard output) would
+  // interleave or overwrite each other; a device (/dev/null) takes both.
+  // (The tables' files are checked by cachesim's own code, as to be written.)
+  std::vector<cli::NamedOutput> all = named;
+  all.insert(all.end(), tables.begin(), tables.end());
+  cli::check_distinct_outputs(all);
+  for (const auto& [option, path] : named) {
+    if (path == "-") continue;
+    const std::filesystem::path folder = std::filesystem::path(path).parent_path();
     if (!folder.empty() && !std::filesystem::is_directory(folder)) {
       throw base::IoError(fmt::format("{}: cannot write: folder '{}' does not exist (checked before rendering)",
-                                      *path, folder.string()));
+                                      path, folder.string()));
     }
     try {
-      base::check_output_writable(*path);
+      base::check_output_writable(path);
     } catch (const base::IoError& error) {
       throw base::IoError(std::string(error.what()) + " (checked before rendering)");
     }
   }
+}
+
+// Several layouts differ only in their records: a run that keeps none of
+// them (no -o, --simulate, --trace-info or --discard-records) asked for
+// something else.
+void refuse_layouts_for_nothing(const std::vector<LayoutChoice>& choices) {
+  if (choices.size() < 2) return;
+  std::string names;
+  for (const auto& choice : choices) names += (names.empty() ? "" : ", ") + choice.name;
+  throw base::UsageError(fmt::format("{} layouts ({}) and nothing takes their records: give -o with {{layout}} in "
+                                     "the file name (one trace each), --simulate or --trace-info",
+                                     choices.size(), names));
 }
 
 // Din has no size field: Dinero IV and cachesim read every din record as 4
@@ -324,11 +355,31 @@ void RenderCommand::add_options(CLI::App& app) {
 int RenderCommand::run() const {
   return cli::exit_status_of("tracer render", [&] {
     check_simulations();
-    TraceJobOptions options = make_job_options(render_options, scene_options, output, !simulations.empty());
-    if (options.render.integrator == Integrator::Path && max_depth_option->count() != 0) {
-      throw base::UsageError("--max-depth is the Whitted tracer's ray depth: --integrator path takes --max-bounces");
+    check_depth_options(render_options.integrator, max_depth_option->count() != 0,
+                        render_options.max_bounces.has_value());
+    // Several layouts need -o's {layout} only when -o is given: without it
+    // no trace is written, and the records go to --simulate, --trace-info or
+    // --discard-records.
+    const bool traces_optional = !simulations.empty() || output_option->count() == 0;
+    if (output_option->count() == 0 && simulations.empty() && trace_info_option->count() == 0 && !discard) {
+      refuse_layouts_for_nothing(layout_choices(render_options));
     }
-    check_outputs(options);
+    TraceJobOptions options = make_job_options(render_options, scene_options, output, traces_optional);
+    std::vector<std::unique_ptr<InRenderSimulation>> simulated;
+    const std::vector<LayoutChoice> choices = layout_choices(render_options);
+    std::vector<std::string> layout_names;
+    for (const auto& choice : choices) layout_names.push_back(choice.name);
+    for (const auto& text : simulations) {
+      simulated.push_back(std::make_unique<InRenderSimulation>());
+      if (const std::optional<int> status = simulated.back()->parse(text, layout_names)) return *status;
+      options.sink_makers.push_back(simulated.back()->sink_maker(trace_names(options)));
+    }
+    std::vector<cli::NamedOutput> tables;
+    for (const auto& simulation : simulated) {
+      const std::vector<cli::NamedOutput> files = simulation->table_files();
+      tables.insert(tables.end(), files.begin(), files.end());
+    }
+    check_outputs(options, tables);
     options.image = image;
     options.pfm = pfm;
     options.variance_pfm = variance_pfm;
@@ -342,15 +393,6 @@ int RenderCommand::run() const {
     options.render.streams = parse_streams(streams);
     base::refuse_binary_on_terminal(output, "a trace");
     warn_of_din_node_size(options);
-    std::vector<std::unique_ptr<InRenderSimulation>> simulated;
-    const std::vector<LayoutChoice> choices = layout_choices(render_options);
-    std::vector<std::string> layout_names;
-    for (const auto& choice : choices) layout_names.push_back(choice.name);
-    for (const auto& text : simulations) {
-      simulated.push_back(std::make_unique<InRenderSimulation>());
-      if (const std::optional<int> status = simulated.back()->parse(text, layout_names)) return *status;
-      options.sink_makers.push_back(simulated.back()->sink_maker(trace_names(options)));
-    }
     if (!trace_info.empty()) {
       options.sink_makers.push_back(trace_info_maker(layout_files(choices, trace_info, "--trace-info")));
     }
@@ -375,11 +417,7 @@ int RenderCommand::run() const {
     progress_line.clear();
     for (const auto& note : result.notes) std::fprintf(stderr, "tracer render: note: %s\n", note.c_str());
     for (std::size_t i = 0; i < simulated.size(); ++i) write_report(reports[i], simulated[i]->report());
-    if (!quiet) {
-      double build_seconds = 0;
-      for (const auto& f : result.frames) build_seconds += f.tree.build_seconds;
-      print_summary(result, options, source->name(), build_seconds);
-    }
+    if (!quiet) print_summary(result, options, source->name());
     return 0;
   }, "the scene or image is");
 }

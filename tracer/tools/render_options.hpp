@@ -14,6 +14,7 @@
 
 #include "nodetrace/base/byte_size.hpp"
 #include "nodetrace/base/error.hpp"
+#include "nodetrace/cli/number_range.hpp"
 #include "nodetrace/cli/option_limits.hpp"
 #include "nodetrace/base/sample_rate.hpp"
 #include "nodetrace/tracer/scene/camera_checks.hpp"
@@ -101,13 +102,13 @@ inline void add_scene_options(CLI::App& app, SceneCommandOptions& o, bool frame_
   app.add_option("--traversal-cost", o.traversal_cost, "SAH cost of a traversal step")->capture_default_str();
   app.add_option("--intersection-cost", o.intersection_cost, "SAH cost of a triangle test")->capture_default_str();
   app.add_option("--empty-bonus", o.empty_bonus, "SAH bonus for cutting off empty space (0..1)")
-      ->check(CLI::Range(0.0f, 1.0f))
+      ->check(cli::NumberRange(0.0f, 1.0f))
       ->capture_default_str();
   app.add_option("--tree-depth", o.tree_depth, "deepest kd-tree level (default 8 + 1.3 log2 N)")
-      ->check(CLI::Range(1, kMaxLevelLimit));
+      ->check(cli::NumberRange(1, kMaxLevelLimit));
   app.add_option("--leaf-size", o.leaf_size,
                  "a node of at most N triangles is a leaf whatever the SAH says (default 0: the SAH decides)")
-      ->check(CLI::Range(0u, 1000000u));
+      ->check(cli::NumberRange(0u, 1000000u));
   app.add_option("--accel", o.accel,
                  "acceleration structure: kdtree (the paper's, 8-byte nodes), bvh2 (binary BVH, 64-byte nodes), "
                  "bvh4 / bvh8 (4- / 8-wide BVH collapsed from the binary one, 128- / 256-byte nodes of "
@@ -121,10 +122,10 @@ inline void add_scene_options(CLI::App& app, SceneCommandOptions& o, bool frame_
   app.add_option("--bvh-max-leaf-size", o.bvh_max_leaf_size,
                  "BVH: a node of more triangles is always split; up to this many become a leaf when the SAH "
                  "says a leaf is cheaper")
-      ->check(CLI::Range(1u, 1000000u))
+      ->check(cli::NumberRange(1u, 1000000u))
       ->capture_default_str();
   app.add_option("--bvh-bins", o.bvh_bins, "BVH: SAH bins per axis (bins - 1 candidate planes)")
-      ->check(CLI::Range(2u, 256u))
+      ->check(cli::NumberRange(2u, 256u))
       ->capture_default_str();
   add_tree_cache_option(app, o.tree_cache);
 }
@@ -190,20 +191,33 @@ inline void add_path_options(CLI::App& app, RenderCommandOptions& o) {
   app.add_option("--spp", o.spp,
                  fmt::format("--integrator path: samples per pixel, 1 to {} (default {}: the smallest workload)",
                              kMaxSamplesPerPixel, kDefaultSamplesPerPixel))
-      ->check(CLI::Range(1u, kMaxSamplesPerPixel));
+      ->check(cli::NumberRange(1u, kMaxSamplesPerPixel));
   app.add_option("--max-bounces", o.max_bounces,
                  fmt::format("--integrator path: bounce rays after the camera ray, 0 to {} (default {}; Russian "
                              "roulette from bounce {})",
                              kMaxBounces, kDefaultMaxBounces, kRouletteFromBounce))
-      ->check(CLI::Range(0, kMaxBounces));
+      ->check(cli::NumberRange(0, kMaxBounces));
 }
 
-// The path tracer's settings; its options without --integrator path are refused.
+// One rule for tracer render and tracer info: --max-depth is the Whitted
+// tracer's ray depth, --max-bounces the path tracer's; each is refused with
+// the other integrator rather than ignored.
+inline void check_depth_options(const std::string& integrator, bool max_depth_given, bool max_bounces_given) {
+  const bool path = *parse_integrator(integrator) == Integrator::Path;
+  if (path && max_depth_given) {
+    throw base::UsageError("--max-depth is the Whitted tracer's ray depth: --integrator path takes --max-bounces");
+  }
+  if (!path && max_bounces_given) {
+    throw base::UsageError("--max-bounces needs --integrator path (Whitted: --max-depth)");
+  }
+}
+
+// The path tracer's settings; its options without --integrator path are
+// refused (--max-bounces by check_depth_options).
 inline void apply_integrator(const RenderCommandOptions& r, RenderOptions& render) {
   render.integrator = *parse_integrator(r.integrator);
   if (render.integrator != Integrator::Path) {
     if (r.spp) throw base::UsageError("--spp needs --integrator path (the Whitted tracer casts one ray per pixel)");
-    if (r.max_bounces) throw base::UsageError("--max-bounces needs --integrator path (Whitted: --max-depth)");
     return;
   }
   render.path.samples_per_pixel = r.spp.value_or(kDefaultSamplesPerPixel);
@@ -212,13 +226,13 @@ inline void apply_integrator(const RenderCommandOptions& r, RenderOptions& rende
 
 inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
   app.add_option("--width", o.width, "image width (at most 65535; width x height at most 2^26 pixels)")
-      ->check(CLI::Range(1, kMaxImageSide))
+      ->check(cli::NumberRange(1, kMaxImageSide))
       ->capture_default_str();
   app.add_option("--height", o.height, "image height (at most 65535)")
-      ->check(CLI::Range(1, kMaxImageSide))
+      ->check(cli::NumberRange(1, kMaxImageSide))
       ->capture_default_str();
   app.add_option("--max-depth", o.max_depth, "ray tree depth (primary rays are depth 1)")
-      ->check(CLI::Range(1, 64))
+      ->check(cli::NumberRange(1, 64))
       ->capture_default_str();
   app.add_option("--rays", o.rays,
                  "rays traced: primary, primary+shadow (no reflection or refraction) or whitted (all)")
@@ -231,7 +245,7 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
       ->check(CLI::IsMember({"scanline", "tiled", "morton"}))
       ->capture_default_str();
   app.add_option("--tile-size", o.tile_size, "tile side for --pixel-order tiled")
-      ->check(CLI::Range(1, kMaxImageSide))
+      ->check(cli::NumberRange(1, kMaxImageSide))
       ->capture_default_str();
   app.add_option("--eye", o.eye, "camera position X Y Z")->expected(3);
   app.add_option("--look-at", o.look_at, "point the camera looks at X Y Z")->expected(3);
@@ -248,12 +262,12 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
   app.add_option("--treelet-bytes", o.treelet_bytes,
                  "treelet layout: bytes per treelet (as many whole nodes as fit, at least one); treelets grow "
                  "from their root by the child of largest surface area")
-      ->check(CLI::Range(1u, 1u << 30))
+      ->check(cli::NumberRange(1u, 1u << 30))
       ->capture_default_str();
   app.add_option("--split-level", o.split_levels,
                  "hybrid layout: levels < K in BFL; several K, comma-separated: one trace each")
       ->delimiter(',')
-      ->check(CLI::Range(0, kMaxLevelLimit));
+      ->check(cli::NumberRange(0, kMaxLevelLimit));
   app.add_option("--high-size", o.high_sizes,
                  "hybrid layout: K = the most levels whose nodes fit a high-level cache of SIZE bytes "
                  "(e.g. 4k); several sizes, comma-separated: one trace each (with --split-level: one trace "
@@ -265,7 +279,7 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
   app.add_option("--node-size", o.node_size,
                  "bytes per node, for what-if studies (at most 65535; default: the structure's: kdtree 8, "
                  "bvh2 64, bvh4 128, bvh8 256, cwbvh8 80)")
-      ->check(CLI::Range(1, kMaxNodeSize));
+      ->check(cli::NumberRange(1, kMaxNodeSize));
   auto* rows = app.add_option("--sample-rows", o.sample_rows,
                               "render one band of rows in every K (rate 1/K), the other bands' rays never traced; "
                               "each band begins a sample window of the trace (with --pixel-order tiled or morton "
@@ -273,23 +287,23 @@ inline void add_render_options(CLI::App& app, RenderCommandOptions& o) {
   app.add_option("--band-height", o.band_height,
                  "--sample-rows: rows per band; 1 measured best (BART Robot 800x600 at 1/16: miss-ratio "
                  "error 0.07 points with 1 row, 0.26 with 4, 0.93 with 16, at the same time)")
-      ->check(CLI::Range(1, kMaxImageSide))
+      ->check(cli::NumberRange(1, kMaxImageSide))
       ->needs(rows)
       ->capture_default_str();
   app.add_option("--rays-in-flight", o.rays_in_flight,
                  "ray slots per traversal unit: each step every busy slot issues its ray's next node fetch, in "
                  "slot order; 1 is one ray at a time (docs/guide/rays-in-flight.md)")
-      ->check(CLI::Range(1u, kMaxRaysInFlight))
+      ->check(cli::NumberRange(1u, kMaxRaysInFlight))
       ->capture_default_str();
   app.add_option("--units", o.units,
                  "traversal units, their fetches merged by step (unit 0's, unit 1's, ...); above 1 each record "
                  "carries its unit after the tag")
-      ->check(CLI::Range(1u, formats::kMaxUnits))
+      ->check(cli::NumberRange(1u, formats::kMaxUnits))
       ->capture_default_str();
   app.add_option("--unit-pixels", o.unit_pixels,
                  "pixels are dealt to the units in runs of this many positions of the pixel order, run r to "
                  "unit r mod units (64: one 8x8 tile of --pixel-order tiled)")
-      ->check(CLI::Range(1u, 1u << 26))
+      ->check(cli::NumberRange(1u, 1u << 26))
       ->capture_default_str();
   app.add_option("--ready-order", o.ready_order,
                  "where a finished ray's secondary rays join its unit's queue, always ahead of the next primary "
@@ -394,8 +408,9 @@ inline std::vector<std::string> layout_files(const std::vector<LayoutChoice>& ch
   const auto place = pattern.find(kPlaceholder);
   if (choices.size() > 1 && place == std::string::npos && !(optional && pattern.empty())) {
     throw base::UsageError(fmt::format("{} layouts: {} needs {{layout}} in the file name, which each layout's name "
-                                       "replaces (e.g. {} out/{{layout}}.din.zst)",
-                                       choices.size(), option, option));
+                                       "replaces (e.g. {} out/{{layout}}{})",
+                                       choices.size(), option, option,
+                                       std::string_view(option) == "-o" ? ".din.zst" : ".json"));
   }
   std::vector<std::string> files;
   for (const auto& choice : choices) {
@@ -406,8 +421,8 @@ inline std::vector<std::string> layout_files(const std::vector<LayoutChoice>& ch
 }
 
 // -o's {layout} replaced by each layout's name: one trace per layout.
-// `traces_optional`: the records go elsewhere too (--simulate), so several
-// layouts need no -o.
+// `traces_optional`: no -o was given, or the records go elsewhere too
+// (--simulate), so several layouts need no {layout} in an empty -o.
 inline void assign_outputs(TraceJobOptions& options, const std::vector<LayoutChoice>& choices, const std::string& output,
                            bool traces_optional) {
   const std::vector<std::string> files = layout_files(choices, output, "-o", traces_optional);

@@ -2,7 +2,10 @@
 // files are checked before the simulation, not after it.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "test_support.hpp"
 
@@ -37,6 +40,46 @@ TEST(RunUsageMessages, UnitsPrivateWithPerLevelNamesWhatWasGiven) {
   EXPECT_EQ(l2.exit_code, 2);
   EXPECT_NE(l2.err.find("--l2-size: not with --per-frame"), std::string::npos) << l2.err;
   EXPECT_EQ(l2.err.find("--units private"), std::string::npos) << l2.err;
+}
+
+// Issue 47: --size 7k and --assoc 0 did not name the option.
+TEST(RunUsageMessages, SizeBlockAndAssociativityErrorsNameTheOption) {
+  testing::TempDir dir;
+  const std::string trace = trace_of_units(dir);
+  for (const auto& [options, says] : std::vector<std::pair<std::string, std::string>>{
+           {"--size 7k", "cachesim run: --size 7k: 7168 bytes is not a power of two"},
+           {"--size 7k --scheme split", "cachesim run: --size 7k: 7168 bytes is not a power of two"},
+           {"--block 24", "cachesim run: --block 24: 24 bytes is not a power of two"},
+           {"--assoc 0", "cachesim run: --assoc: '0' is not an associativity"},
+           {"--scheme split --high-policy cache --high-assoc 0", "cachesim run: --high-assoc: '0' is not an "},
+           {"--l2-size 64k --l2-assoc 0", "cachesim run: --l2-assoc: '0' is not an associativity"}}) {
+    const auto result = run_command(cachesim() + " run " + shell_quoted(trace) + " " + options);
+    EXPECT_EQ(result.exit_code, 2) << options;
+    EXPECT_NE(result.err.find(says), std::string::npos) << options << ": " << result.err;
+  }
+  // A split of --high-size and the rest: only the caches need be powers of two.
+  const auto split = run_command(cachesim() + " run " + shell_quoted(trace) + " --size 12k --scheme split --high-size 4k");
+  EXPECT_EQ(split.exit_code, 0) << split.err;
+}
+
+// Issue 47: two side tables in one file kept only the last one written.
+TEST(RunUsageMessages, TwoTablesInOneFileAreAUsageErrorNamingBothOptions) {
+  testing::TempDir dir;
+  const std::string trace = trace_of_units(dir);
+  const std::string in = "cd " + shell_quoted(dir.path()) + " && " + cachesim() + " run " + shell_quoted(trace);
+  const auto same = run_command(in + " --per-level p.csv --per-frame p.csv");
+  EXPECT_EQ(same.exit_code, 2);
+  EXPECT_NE(same.err.find("--per-level and --per-frame both name 'p.csv'"), std::string::npos) << same.err;
+  const auto spelled = run_command(in + " --per-level p.csv --per-frame ./p.csv");
+  EXPECT_EQ(spelled.exit_code, 2);
+  EXPECT_NE(spelled.err.find("--per-level 'p.csv' and --per-frame './p.csv' name one file"), std::string::npos)
+      << spelled.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "p.csv"));
+  const auto trace_as_table = run_command(in + " --per-level ./mu.din.zst");
+  EXPECT_EQ(trace_as_table.exit_code, 2);
+  EXPECT_NE(trace_as_table.err.find("./mu.din.zst: named both as a trace"), std::string::npos) << trace_as_table.err;
+  const auto devices = run_command(in + " --per-level /dev/null --per-frame /dev/null");
+  EXPECT_EQ(devices.exit_code, 0) << devices.err;  // a device takes both
 }
 
 // The trace on standard input is not a trace at all: an error about it means

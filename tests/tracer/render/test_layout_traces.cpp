@@ -103,14 +103,37 @@ TEST(LayoutTraces, CombinationsThatCannotWorkAreUsageErrors) {
   };
   const std::string out = (dir / "t.din.zst").string();
   expect_usage_error("--layout dfl,bfl -o " + out, "needs {layout} in the file name");
-  expect_usage_error("--layout dfl,bfl", "needs {layout} in the file name");
+  expect_usage_error("--layout dfl,bfl", "2 layouts (dfl, bfl) and nothing takes their records: give -o with "
+                                         "{layout} in the file name (one trace each), --simulate or --trace-info");
+  expect_usage_error("--layout dfl,bfl --trace-info " + (dir / "ti.json").string(),
+                     "2 layouts: --trace-info needs {layout} in the file name");
   expect_usage_error("--layout dfl,bfl -o '{layout}' --discard-records", "--discard-records");
-  expect_usage_error("--layout dfl,dfl -o " + (dir / "{layout}.din").string(), "same file");
+  expect_usage_error("--layout dfl,dfl -o " + (dir / "{layout}.din").string(), "--output names the same file twice");
   expect_usage_error("--layout dfl,bfl --split-level 4 -o " + (dir / "{layout}.din").string(),
                      "apply to --layout hybrid only");
   expect_usage_error("--layout hybrid,dfl -o " + (dir / "{layout}.din").string(), "needs --split-level K");
   expect_usage_error("--split-level 3 --high-size 1k -o " + out, "needs {layout} in the file name");
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+// Issue 47: without -o, several layouts were refused for -o's missing
+// {layout}. -o names no file then: the records go to the other outputs.
+TEST(LayoutTraces, WithoutOutputSeveralLayoutsGoToTheirOtherOutputs) {
+  TempDir dir;
+  const std::string common = tracer() + " render mountain:6 --width 8 --height 8 -q --high-size 2k,4k ";
+  const auto info = run_command(common + "--trace-info " + (dir / "ti-{layout}.json").string());
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_NE(read_file(dir / "ti-hybrid-2k.json").find("\"header\""), std::string::npos);
+  EXPECT_NE(read_file(dir / "ti-hybrid-4k.json").find("\"header\""), std::string::npos);
+  const auto discarded = run_command(common + "--discard-records");
+  EXPECT_EQ(discarded.exit_code, 2);
+  EXPECT_NE(discarded.err.find("--discard-records writes no trace: it takes one layout"), std::string::npos)
+      << discarded.err;
+  const auto alone = run_command(common);
+  EXPECT_EQ(alone.exit_code, 2);
+  EXPECT_EQ(alone.err.find("-o needs"), std::string::npos) << alone.err;
+  EXPECT_NE(alone.err.find("2 layouts (hybrid-2k, hybrid-4k) and nothing takes their records"), std::string::npos)
+      << alone.err;
 }
 
 TEST(LayoutTraces, OneLayoutMayNameItsFileByTheLayout) {

@@ -148,6 +148,31 @@ TEST(PathTracerCli, HostileMaterialsRenderAndTheTrailerCountsTheDroppedSamples) 
   EXPECT_EQ(run_command(program("tracetool").string() + " verify " + trace.string()).exit_code, 0);
 }
 
+// Issue 47: --spp abc said "Value abc not in range 1 to 65536".
+TEST(PathTracerCli, ASppThatIsNotANumberSaysSo) {
+  const auto result = run_command(tracer_render("mountain:6") + "--integrator path --spp abc");
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("tracer render: --spp: 'abc' is not a whole number: expected 1 to 65536"),
+            std::string::npos)
+      << result.err;
+}
+
+// Issue 47: tracer info took --integrator path --max-depth 1 and ignored
+// it. One rule for both commands, in the same words.
+TEST(PathTracerCli, InfoAndRenderRefuseTheOtherIntegratorsDepthAlike) {
+  for (const auto& [options, says] : std::vector<std::pair<std::string, std::string>>{
+           {"--integrator path --max-depth 1",
+            "--max-depth is the Whitted tracer's ray depth: --integrator path takes --max-bounces"},
+           {"--max-bounces 2", "--max-bounces needs --integrator path (Whitted: --max-depth)"}}) {
+    const auto info = run_command(program("tracer").string() + " info mountain:6 " + options);
+    const auto render = run_command(tracer_render("mountain:6") + options);
+    EXPECT_EQ(info.exit_code, 2) << options;
+    EXPECT_EQ(render.exit_code, 2) << options;
+    EXPECT_NE(info.err.find("tracer info: " + says), std::string::npos) << options << ": " << info.err;
+    EXPECT_NE(render.err.find("tracer render: " + says), std::string::npos) << options << ": " << render.err;
+  }
+}
+
 TEST(PathTracerCli, InfoShowsThePathTracersKinds) {
   const auto result = run_command(program("tracer").string() +
                                   " info mountain:6 --integrator path --max-bounces 0 --format json");

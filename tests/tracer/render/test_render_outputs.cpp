@@ -36,6 +36,43 @@ TEST(RenderOutputs, TraceAndImageIntoOneFileIsAUsageError) {
   EXPECT_FALSE(std::filesystem::exists(dir / "x"));
 }
 
+// Issue 47's three: one file by two spellings lost the trace (or the image)
+// to the other output. Each is refused, naming both options, and nothing is
+// written; the trace written before the run is kept.
+TEST(RenderOutputs, OneFileByTwoSpellingsIsAUsageErrorNamingBothOptions) {
+  TempDir dir;
+  const std::string in = "cd " + shell_quoted(dir.path()) + " && ";
+  struct Case {
+    std::string options, first, second;
+  };
+  for (const Case& c : {Case{"-o s.din --simulate '--size 1k' --report ./s.din", "--report './s.din'",
+                             "--output 's.din'"},
+                        Case{"--image same.x --pfm ./same.x", "--image 'same.x'", "--pfm './same.x'"},
+                        Case{"-o s.din --trace-info ./s.din", "--trace-info './s.din'", "--output 's.din'"},
+                        Case{"-o s.din --simulate '--size 1k --per-level ./s.din' --report r.txt",
+                             "--output 's.din'", "--simulate's --per-level './s.din'"},
+                        Case{"-o s.din --image ../" + dir.path().filename().string() + "/s.din",
+                             "--image '../" + dir.path().filename().string() + "/s.din'", "--output 's.din'"}}) {
+    for (const bool exists : {false, true}) {
+      if (exists) {
+        nodetrace::testing::write_file(dir / "s.din", "kept");
+        nodetrace::testing::write_file(dir / "same.x", "kept");
+      }
+      const auto result = run_command(in + render(c.options));
+      EXPECT_EQ(result.exit_code, 2) << c.options;
+      EXPECT_NE(result.err.find(c.first + " and " + c.second + " name one file"), std::string::npos)
+          << c.options << ": " << result.err;
+      if (exists) {
+        EXPECT_EQ(nodetrace::testing::read_file(dir / "s.din"), "kept") << c.options;
+        EXPECT_EQ(nodetrace::testing::read_file(dir / "same.x"), "kept") << c.options;
+      }
+      std::filesystem::remove(dir / "s.din");
+      std::filesystem::remove(dir / "same.x");
+      EXPECT_TRUE(std::filesystem::is_empty(dir.path())) << c.options;
+    }
+  }
+}
+
 // A folder this process cannot create files in, even as root: sysfs's top
 // refuses new files to everyone. Empty when this system lets us create one.
 std::filesystem::path unwritable_folder() {

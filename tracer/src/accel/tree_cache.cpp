@@ -88,7 +88,7 @@ AccelerationStructure TreeCache::obtain(std::span<const Triangle> triangles, Acc
   try {
     if (std::optional<AccelerationStructure> loaded = load(path, key, kind, triangles.size())) {
       AccelerationStructure structure = std::move(*loaded);
-      set_build_times(structure, std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count(),
+      set_load_times(structure, std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count(),
                       double(std::clock() - cpu_start) / CLOCKS_PER_SEC);
       return structure;
     }

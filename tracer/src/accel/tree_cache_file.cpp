@@ -318,8 +318,9 @@ AccelerationStructure read_tree_cache_file(int fd, std::uint64_t file_size, std:
   return std::move(*structure);
 }
 
-void set_build_times(AccelerationStructure& structure, double wall_seconds, double cpu_seconds) {
+void set_load_times(AccelerationStructure& structure, double wall_seconds, double cpu_seconds) {
   KdTreeStats& stats = TreeCacheCodec::stats_of(structure);
+  stats.loaded = true;
   stats.build_seconds = wall_seconds;
   stats.build_cpu_seconds = cpu_seconds;
 }

@@ -44,11 +44,11 @@ std::string encode_tree_cache_file(const AccelerationStructure& structure, std::
 // whole and was made for `key` (a `kind` structure over `triangle_count`
 // triangles); throws DamagedTreeFile otherwise. Each array is read straight
 // into its vector (one pread each, the payload hashed as it comes). The
-// figures' build times are 0 (set_build_times gives them what loading took).
+// figures' build times are 0 (set_load_times gives them what loading took).
 AccelerationStructure read_tree_cache_file(int fd, std::uint64_t file_size, std::string_view key, AccelKind kind,
                                            std::uint64_t triangle_count);
 
-// Sets a structure's build times (a loaded structure's: the time loading took).
-void set_build_times(AccelerationStructure& structure, double wall_seconds, double cpu_seconds);
+// Marks a structure as loaded, its build times the time loading took.
+void set_load_times(AccelerationStructure& structure, double wall_seconds, double cpu_seconds);
 
 }  // namespace nodetrace::tracer

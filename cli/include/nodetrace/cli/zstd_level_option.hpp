@@ -4,6 +4,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "nodetrace/cli/number_range.hpp"
+
 namespace nodetrace::cli {
 
 // zstd's fast levels down to -7 and its levels up to 22: even the "ultra"
@@ -17,7 +19,7 @@ inline CLI::Option* add_zstd_level_option(CLI::App& app, int& level) {
   return app
       .add_option("--zstd-level", level,
                   "zstd level of the trace's data frames, -7 to 22 (higher: smaller and slower)")
-      ->check(CLI::Range(kMinZstdLevel, kMaxZstdLevel))
+      ->check(NumberRange(kMinZstdLevel, kMaxZstdLevel))
       ->capture_default_str();
 }
 

@@ -56,6 +56,7 @@ struct KdTreeStats {
   double sah_cost = 0;                 // expected cost of a ray through the root box
   double build_seconds = 0;            // wall time; never written into traces
   double build_cpu_seconds = 0;        // the process's CPU time (every thread) during the build
+  bool loaded = false;                 // read from the tree cache: the build times are the loading's
 };
 
 class KdTree {
