@@ -336,6 +336,7 @@ const std::set<std::string> kOtherToolsOptions = {
     "--test-dir", "--output-on-failure",  // ctest
     "--ntasks",   "--cpus-per-task",      // srun, in RUN= for a cluster
     "--path",                             // primary_rays_bench, built only where Embree is
+    "--tool",                             // valgrind --tool=callgrind
 };
 
 // Every long option any program, subcommand or script lists in its --help.
