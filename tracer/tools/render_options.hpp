@@ -17,6 +17,7 @@
 #include "nodetrace/cli/option_limits.hpp"
 #include "nodetrace/base/sample_rate.hpp"
 #include "nodetrace/tracer/scene/camera_checks.hpp"
+#include "nodetrace/tracer/scene/scene_loader.hpp"
 #include "nodetrace/tracer/render/trace_job.hpp"
 #include "tree_cache_option.hpp"
 
@@ -85,7 +86,12 @@ struct SceneCommandOptions {
   std::uint32_t bvh_max_leaf_size = BvhBuildOptions{}.max_leaf_size;
   std::uint32_t bvh_bins = BvhBuildOptions{}.bins;
   std::optional<std::string> tree_cache;  // --tree-cache DIR (tree_cache_option.hpp)
+  std::string default_lights = "key-fill";  // SceneLoadOptions::default_lights
 };
+
+inline SceneLoadOptions scene_load_options(const SceneCommandOptions& o, unsigned threads) {
+  return {.threads = threads, .default_lights = o.default_lights != "none"};
+}
 
 // `frame_runs`: --frames (tracer render only: `tracer info` describes one frame).
 inline void add_scene_options(CLI::App& app, SceneCommandOptions& o, bool frame_runs = true) {
@@ -98,6 +104,12 @@ inline void add_scene_options(CLI::App& app, SceneCommandOptions& o, bool frame_
     frame->excludes(frames);
     time->excludes(frames);
   }
+  app.add_option("--default-lights", o.default_lights,
+                 "light a scene gets that its file does not give: key-fill (an OBJ file without light gets a "
+                 "key and a fill point light and ambient 0.1, an AFF file without 'am' ambient 0.1; both said in a note and "
+                 "the header) or none (neither: ambient 0)")
+      ->check(CLI::IsMember({"key-fill", "none"}))
+      ->capture_default_str();
   app.add_option("--traversal-cost", o.traversal_cost, "SAH cost of a traversal step")->capture_default_str();
   app.add_option("--intersection-cost", o.intersection_cost, "SAH cost of a triangle test")->capture_default_str();
   app.add_option("--empty-bonus", o.empty_bonus, "SAH bonus for cutting off empty space (0..1)")

@@ -56,6 +56,8 @@ nlohmann::json make_trace_header(const SceneSource& source, const Scene& first_s
   header["scene"] = {{"name", source.name()},
                      {"hash", source.content_hash()},
                      {"triangles", first_scene.triangles.size()}};
+  // Written only when the scene has light its file does not give.
+  if (!first_scene.default_light.empty()) header["scene"]["default_light"] = first_scene.default_light;
   // A path's rays form a chain of max_bounces + 1 (primary rays are depth 1).
   const int max_depth = r.integrator == Integrator::Path ? r.path.max_bounces + 1 : r.max_depth;
   nlohmann::json render = {{"width", r.width},

@@ -22,6 +22,11 @@ namespace nodetrace::tracer::detail::aff {
 
 namespace {
 
+// An index of refraction of 0 is read as 1: BART's own files write 0.0
+// there, for opaque and transmissive materials alike (Kitchen has four
+// transmissive ones); a negative one is refused where it is read.
+float aff_ior(float ior) { return ior > 0 ? ior : 1; }
+
 Vec3 face_normal(const Vec3& a, const Vec3& b, const Vec3& c) {
   return normalized_or(cross(b - a, c - a), {0, 1, 0});
 }
@@ -82,8 +87,11 @@ class AffParser {
       const std::string_view keyword = tokens.next();
       if (keyword.empty()) return;
       if (keyword == "v") parse_view(tokens);
-      else if (keyword == "b") out_.background = tokens.vec3("background colour");
-      else if (keyword == "am") out_.ambient = tokens.vec3("ambient light colour");
+      else if (keyword == "b") out_.background = tokens.non_negative_vec3("background colour");
+      else if (keyword == "am") {
+        out_.ambient = tokens.non_negative_vec3("ambient light colour");
+        out_.ambient_given = true;
+      }
       else if (keyword == "l") parse_light(tokens);
       else if (keyword == "f") parse_nff_material(tokens);
       else if (keyword == "fm") parse_extended_material(tokens);
@@ -151,7 +159,7 @@ class AffParser {
     LightDefinition light;
     if (!Tokenizer::parse_number(tokens.peek())) light.name = tokens.word("light name");
     light.position = tokens.vec3("light position");
-    if (Tokenizer::parse_number(tokens.peek())) light.color = tokens.vec3("light colour");
+    if (Tokenizer::parse_number(tokens.peek())) light.color = tokens.non_negative_vec3("light colour");
     out_.lights.push_back(std::move(light));
   }
 
@@ -175,31 +183,31 @@ class AffParser {
   }
 
   void parse_nff_material(Tokenizer& tokens) {
-    const Vec3 color = tokens.vec3("material colour");
-    const float kd = tokens.real("diffuse coefficient Kd");
-    const float ks = tokens.real("specular coefficient Ks");
-    const float shine = tokens.real("Phong exponent Shine");
-    const float transmittance = tokens.real("transmittance T");
-    const float ior = tokens.real("index of refraction");
+    const Vec3 color = tokens.non_negative_vec3("material colour");
+    const float kd = tokens.non_negative("diffuse coefficient Kd");
+    const float ks = tokens.non_negative("specular coefficient Ks");
+    const float shine = tokens.non_negative("Phong exponent Shine");
+    const float transmittance = tokens.non_negative("transmittance T");
+    const float ior = tokens.non_negative("index of refraction");
     Material material;
     material.diffuse = color * kd;
     material.specular = {ks, ks, ks};
     material.shininess = shine;
     material.reflectance = std::clamp(ks, 0.0f, 1.0f);  // NFF: Ks also weighs the reflected ray
     material.transmittance = std::clamp(transmittance, 0.0f, 1.0f);
-    material.ior = ior > 0 ? ior : 1;
+    material.ior = aff_ior(ior);
     current_material_ = add_material(std::move(material), tokens);
   }
 
   void parse_extended_material(Tokenizer& tokens) {
     Material material;
-    material.ambient = tokens.vec3("ambient colour");
-    material.diffuse = tokens.vec3("diffuse colour");
-    material.specular = tokens.vec3("specular colour");
-    material.shininess = tokens.real("Phong exponent Shine");
-    material.transmittance = std::clamp(tokens.real("transmittance T"), 0.0f, 1.0f);
-    const float ior = tokens.real("index of refraction");
-    material.ior = ior > 0 ? ior : 1;
+    material.ambient = tokens.non_negative_vec3("ambient colour");
+    material.diffuse = tokens.non_negative_vec3("diffuse colour");
+    material.specular = tokens.non_negative_vec3("specular colour");
+    material.shininess = tokens.non_negative("Phong exponent Shine");
+    material.transmittance = std::clamp(tokens.non_negative("transmittance T"), 0.0f, 1.0f);
+    const float ior = tokens.non_negative("index of refraction");
+    material.ior = aff_ior(ior);
     const Vec3& s = material.specular;
     material.reflectance = std::clamp((s.x + s.y + s.z) / 3, 0.0f, 1.0f);
     current_material_ = add_material(std::move(material), tokens);

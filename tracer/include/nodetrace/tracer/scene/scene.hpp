@@ -70,6 +70,10 @@ struct Scene {
   std::optional<Camera> camera;     // nullopt: frame the bounds by default
   Vec3 background{0, 0, 0};
   Vec3 ambient{0.1f, 0.1f, 0.1f};
+  // The light the scene has that its file does not give (OBJ's default
+  // lights, AFF's default ambient), in words for the trace header and a
+  // note; empty when all its light is the file's.
+  std::string default_light;
   // Resolution suggested by the scene file (AFF `v` resolution), if any.
   std::optional<int> suggested_width, suggested_height;
 
