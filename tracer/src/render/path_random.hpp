@@ -25,6 +25,8 @@ enum PathDimension : std::uint32_t {
   kDirection2 = 2,
   kFresnel = 3,   // reflection or refraction at a dielectric
   kRoulette = 4,  // Russian roulette before the ray
+  kEmitterU = 5,  // next-event estimation at the ray's origin: which emitter and where on it
+  kEmitterV = 6,
 };
 
 class PathRandom {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "nodetrace/formats/container/metadata.hpp"
+#include "render/emitters.hpp"
 #include "render/path_random.hpp"
 
 namespace nodetrace::tracer {
@@ -89,7 +90,18 @@ nlohmann::json make_trace_header(const SceneSource& source, const Scene& first_s
     render["ready_order"] = ready_order_name(r.ready_order);
   }
   // Written only for path tracing, so a Whitted render's header is as before.
-  if (r.integrator == Integrator::Path) render["path"] = path_tracing_description(r.path);
+  if (r.integrator == Integrator::Path) {
+    render["path"] = path_tracing_description(r.path);
+    // Written only for a scene with emitters, so other headers are as before.
+    if (!detail::Emitters(first_scene).empty()) {
+      render["path"]["emitters"] =
+          "emissive triangles (OBJ Ke, AFF fe) are two-sided area lights: rays that meet one collect its "
+          "radiance; at each diffuse or glossy hit one more shadow ray goes to a point uniform on an emitter "
+          "chosen by power (area x mean radiance), random dimensions 5 and 6 of the next bounce (the first, rescaled "
+          "within the chosen emitter's share, also places the point); the two estimates "
+          "are combined per lobe with the power heuristic";
+    }
+  }
   header["render"] = render;
   nlohmann::json layout = {{"name", layout_name(target.layout)},
                            {"node_size", r.addresses.node_size},

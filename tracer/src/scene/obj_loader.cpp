@@ -47,6 +47,7 @@ Material whitted_material(const tinyobj::material_t& m) {
   material.diffuse = vec3(m.diffuse);
   material.specular = vec3(m.specular);
   material.shininess = static_cast<float>(m.shininess);
+  material.emission = vec3(m.emission);
   material.ior = static_cast<float>(m.ior);  // above 0: check_mtl_numbers refuses the rest
   const bool mirror = m.illum == 3 || m.illum == 5;
   const bool glass = m.illum == 4 || m.illum == 6 || m.illum == 7;
@@ -237,15 +238,20 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path, unsigne
   }
   if (any_normals) scene.vertex_normals = std::move(normals);
 
-  // OBJ has no lights and no ambient light: unless turned off, a key light
+  // OBJ has no point lights and no ambient light: a file without an emitter
+  // (a face whose material has `Ke`) gets, unless turned off, a key light
   // above one front corner and a dimmer fill light above the opposite one,
   // each half the scene's diagonal outside the bounds, so the model is lit
   // whatever its scale, and ambient 0.1 (Scene's default, as AFF's).
+  const bool has_emitter = std::any_of(scene.triangles.begin(), scene.triangles.end(), [&](const Triangle& t) {
+    const Vec3& e = scene.materials[t.material].emission;
+    return e.x > 0 || e.y > 0 || e.z > 0;
+  });
   const Bounds box = scene.bounds();
-  if (!default_lights) scene.ambient = {0, 0, 0};
-  if (default_lights && !box.empty()) {
+  if (!default_lights || has_emitter) scene.ambient = {0, 0, 0};
+  if (default_lights && !has_emitter && !box.empty()) {
     scene.default_light =
-        "the OBJ file gives no light: two default point lights, a key light (0.8) and a fill light (0.4) "
+        "the OBJ file gives no light (no face emits): two default point lights, a key light (0.8) and a fill light (0.4) "
         "outside the bounds, and ambient light 0.1 0.1 0.1 (--default-lights none: none of them)";
     notes.push_back(path.string() + ": " + scene.default_light);
     const Vec3 size = box.hi - box.lo;

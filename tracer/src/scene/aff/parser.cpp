@@ -95,6 +95,7 @@ class AffParser {
       else if (keyword == "l") parse_light(tokens);
       else if (keyword == "f") parse_nff_material(tokens);
       else if (keyword == "fm") parse_extended_material(tokens);
+      else if (keyword == "fe") parse_emission(tokens);
       else if (keyword == "p") parse_polygon(tokens, false, false);
       else if (keyword == "pp") parse_polygon(tokens, true, false);
       else if (keyword == "tpp") parse_polygon(tokens, true, true);
@@ -166,10 +167,11 @@ class AffParser {
   std::uint32_t add_material(Material material, const Tokenizer& tokens) {
     // Identical definitions (the BART city includes the same colour files
     // hundreds of times) share one entry.
-    auto key = std::array<float, 14>{material.diffuse.x, material.diffuse.y, material.diffuse.z,
+    auto key = std::array<float, 17>{material.diffuse.x, material.diffuse.y, material.diffuse.z,
                                      material.specular.x, material.specular.y, material.specular.z,
                                      material.shininess, material.reflectance, material.transmittance,
-                                     material.ior, 0, 0, 0, 0};
+                                     material.ior, 0, 0, 0, 0,
+                                     material.emission.x, material.emission.y, material.emission.z};
     if (material.ambient) {
       key[10] = 1, key[11] = material.ambient->x, key[12] = material.ambient->y, key[13] = material.ambient->z;
     }
@@ -210,6 +212,16 @@ class AffParser {
     material.ior = aff_ior(ior);
     const Vec3& s = material.specular;
     material.reflectance = std::clamp((s.x + s.y + s.z) / 3, 0.0f, 1.0f);
+    current_material_ = add_material(std::move(material), tokens);
+  }
+
+  // `fe R G B` (our extension; BART has no emitters): the current material
+  // (the last `f` or `fm`) emitting radiance R G B; the next `f` or `fm`
+  // emits nothing again.
+  void parse_emission(Tokenizer& tokens) {
+    if (current_material_ >= out_.materials.size()) tokens.fail("'fe' needs a material before it ('f' or 'fm')");
+    Material material = out_.materials[current_material_];
+    material.emission = tokens.non_negative_vec3("emitted radiance");
     current_material_ = add_material(std::move(material), tokens);
   }
 
@@ -428,7 +440,7 @@ class AffParser {
   ParsedAff& out_;
   std::vector<int> node_stack_;
   std::uint32_t current_material_ = 0;
-  std::map<std::array<float, 14>, std::uint32_t> material_index_;
+  std::map<std::array<float, 17>, std::uint32_t> material_index_;
   std::unordered_map<std::string, std::string> files_;
   std::uint64_t hash_ = kFnvOffset;
   std::size_t files_parsed_ = 0, triangles_ = 0;

@@ -22,6 +22,9 @@ struct Material {
   float reflectance = 0;           // mirror weight, 0..1 (casts reflection rays when > 0)
   float transmittance = 0;         // transmission weight, 0..1 (casts refraction rays when > 0)
   float ior = 1;                   // index of refraction
+  // Emitted radiance (OBJ `Ke`, AFF `fe`): a triangle of a material that
+  // emits is an area light, emitting from both faces.
+  Vec3 emission{0, 0, 0};
   // Ambient reflectance (AFF `fm`), multiplied by Scene::ambient; nullopt:
   // use `diffuse`.
   std::optional<Vec3> ambient;
