@@ -185,6 +185,7 @@ struct RenderCommandOptions {
   std::string integrator = "whitted";
   std::optional<std::uint32_t> spp;
   std::optional<int> max_bounces;
+  std::optional<std::string> sampler;
 };
 
 // Ray slots per traversal unit at most: a step then issues up to 4096
@@ -208,6 +209,11 @@ inline void add_path_options(CLI::App& app, RenderCommandOptions& o) {
                              "roulette from bounce {})",
                              kMaxBounces, kDefaultMaxBounces, kRouletteFromBounce))
       ->check(CLI::Range(0, kMaxBounces));
+  app.add_option("--sampler", o.sampler,
+                 "--integrator path: where the uniform numbers come from: independent (Philox, the default) or "
+                 "sobol (Owen-scrambled Sobol: lower error at the same samples); both give the same bytes for "
+                 "any threads, pixel order or rays in flight")
+      ->check(CLI::IsMember({"independent", "sobol"}));
 }
 
 // The path tracer's settings; its options without --integrator path are refused.
@@ -216,8 +222,10 @@ inline void apply_integrator(const RenderCommandOptions& r, RenderOptions& rende
   if (render.integrator != Integrator::Path) {
     if (r.spp) throw base::UsageError("--spp needs --integrator path (the Whitted tracer casts one ray per pixel)");
     if (r.max_bounces) throw base::UsageError("--max-bounces needs --integrator path (Whitted: --max-depth)");
+    if (r.sampler) throw base::UsageError("--sampler needs --integrator path (the Whitted tracer draws no numbers)");
     return;
   }
+  if (r.sampler) render.path.sampler = *parse_sampler(*r.sampler);
   render.path.samples_per_pixel = r.spp.value_or(kDefaultSamplesPerPixel);
   render.path.max_bounces = r.max_bounces.value_or(kDefaultMaxBounces);
 }

@@ -69,7 +69,8 @@ int choose_lobe(const std::array<float, 4>& weights, float pick) {
 }  // namespace
 
 Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& context) const {
-  const detail::PathRandom random(options_.animation_frame, pixel, sample);
+  const detail::PathRandom random(options_.animation_frame, pixel, sample, options_.path.sampler,
+                                  options_.path.samples_per_pixel);
   const std::uint32_t width = static_cast<std::uint32_t>(options_.width);
   Ray ray = pinhole_.ray_through(float(pixel % width) + random.uniform(0, detail::kPixelX),
                                  float(pixel / width) + random.uniform(0, detail::kPixelY));

@@ -25,7 +25,7 @@ double shortest(float value) {
 
 // Everything that decides a path tracer's rays, in words where a reader needs them.
 nlohmann::json path_tracing_description(const PathOptions& path) {
-  return {{"integrator", "path"},
+  nlohmann::json description = {{"integrator", "path"},
           {"spp", path.samples_per_pixel},
           {"max_bounces", path.max_bounces},
           {"roulette", fmt::format("before every bounce ray from bounce {} on: survives with probability min({}, "
@@ -44,6 +44,15 @@ nlohmann::json path_tracing_description(const PathOptions& path) {
                                  detail::kPathSeed)},
           {"nonfinite", "a sample whose throughput or radiance becomes NaN or infinite ends, counts as black, and "
                         "is counted in the trailer's totals (nonfinite_samples)"}};
+  // Written only for the Sobol sampler, so the independent one's headers are as before.
+  if (path.sampler == PathSampler::Sobol) {
+    description["sampler"] = fmt::format(
+        "sobol: per pixel and pair of dimensions, the sample number permuted (Kensler 2013) by a hash, indexing "
+        "Sobol dimensions 0 and 1, Owen-scrambled (Burley 2020) by hashes; the hashes are Philox4x32-10 of "
+        "(pixel, bounce, first dimension of the pair, frame & 0xffffffff), key ({:#x}, frame >> 32)",
+        detail::kSobolSeed);
+  }
+  return description;
 }
 
 }  // namespace
