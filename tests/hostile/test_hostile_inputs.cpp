@@ -117,13 +117,13 @@ const HostileCase kCases[] = {
   {"ImageSideTooLarge", "$B/tracer render ok.obj --width 65536 --height 65536", 2, "tracer render: --width: 65536 is outside 1 to 65535"},
   {"ImageTooLarge", "$B/tracer render ok.obj --width 65535 --height 65535", 2, "tracer render: --width 65535 --height 65535: at most 67108864 pixels"},
   {"NodeBaseWraps", "$B/tracer render sphereflake:1 --width 4 --height 3 --node-base 0xfffffffffffffff0 -o t.din.zst", 2, "tracer render: --node-base 0xfffffffffffffff0"},
-  {"ListBaseWraps", "$B/tracer render ok.obj --width 4 --height 3 --streams nodes,lists --list-base 0xffffffffffffffff -o t.din.zst", 2, "tracer render: --list-base 0xffffffffffffffff"},
+  {"ListBaseWraps", "$B/tracer render ok.obj --width 4 --height 3 --streams nodes,lists --list-base 0xffffffffffffffff -o t.din.zst --default-lights none", 2, "tracer render: --list-base 0xffffffffffffffff"},
   {"SceneSizeZero", "$B/tracer info sphereflake:0", 1, "tracer info: scene 'sphereflake:0': size 0 is out of range"},
   {"SceneSizeLarge", "$B/tracer info sphereflake:9", 1, "tracer info: scene 'sphereflake:9': size 9 is out of range"},
   {"SplitLevelHuge", "$B/tracer render ok.obj --width 4 --height 3 --split-level 4294967295", 2, "tracer render: --split-level: 4294967295 is outside 0 to 100"},
   {"TraversalCostNan", "$B/tracer render ok.obj --width 4 --height 3 --traversal-cost nan", 2, "tracer render: --traversal-cost nan: expected a finite number"},
   {"EmptyBonusNan", "$B/tracer info ok.obj --empty-bonus nan", 2, "tracer info: --empty-bonus: 'nan' is not a number: expected 0 to 1"},
-  {"OutOfMemory", "ulimit -v 1000000; $B/tracer render ok.obj --width 8192 --height 8192 --image o.png", 1, "tracer render: out of memory"},
+  {"OutOfMemory", "ulimit -v 1000000; $B/tracer render ok.obj --width 8192 --height 8192 --image o.png --default-lights none", 1, "tracer render: out of memory"},
   {"FrameRecordsZero", "$B/tracetool convert t.din out.din.zst --tags-are-levels --frame-records 0", 2, "tracetool convert: --frame-records: 0 is outside 1 to 16777216"},
   {"FrameRecordsHuge", "$B/tracetool convert t.din out.din.zst --tags-are-levels --frame-records 100000000000", 2, "tracetool convert: --frame-records: 100000000000 is outside 1 to 16777216"},
   // Usage messages name the program and subcommand first (issue 22, items 4, 7, 8, 10, 16).
@@ -156,7 +156,7 @@ const HostileCase kCases[] = {
   {"WrapThreads", "$B/dinero-wrap run t.din --threads 100000 --dinero '$B/cachesim dinero'", 2, "dinero-wrap run: --threads 100000: at most"},
   {"WrapJobs", "$B/dinero-wrap run t.din --jobs 100000 --dinero '$B/cachesim dinero'", 2, "dinero-wrap run: --jobs 100000: at most"},
   // Threads that cannot start (their stacks do not fit the address space).
-  {"TracerThreadsFail", "ulimit -v 250000; $B/tracer render ok.obj --width 256 --height 256 --threads 64 -q", 1, "tracer render: cannot start 64 threads"},
+  {"TracerThreadsFail", "ulimit -v 250000; $B/tracer render ok.obj --width 256 --height 256 --threads 64 -q --default-lights none", 1, "tracer render: cannot start 64 threads"},
   {"ConvertThreadsFail", "ulimit -v 250000; $B/tracetool convert t.din out.din.zst --tags-are-levels --threads 64", 1, "tracetool convert: cannot start 64 threads"},
   {"CachesimThreadsFail", "ulimit -v 250000; $B/cachesim run t.din --threads 64", 1, "cachesim run: cannot start 64 threads"},
   // Caches whose state cannot fit are refused before they are allocated (issue 52, item 7).

@@ -70,7 +70,7 @@ int InfoCommand::run() const {
     check_depth_options(integrator, max_depth_option->count() != 0, max_bounces.has_value());
     const bool path = *parse_integrator(integrator) == Integrator::Path;
     build_options.threads = cli::check_thread_count(threads, "--threads");
-    const auto source = open_scene(scene_spec, {.threads = build_options.threads});
+    const auto source = open_scene(scene_spec, scene_load_options(scene_options, build_options.threads));
     for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer info: warning: %s\n", warning.c_str());
     const Animation& animation = source->animation();
     const std::uint64_t frame = scene_options.frame.value_or(0);

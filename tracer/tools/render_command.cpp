@@ -397,7 +397,7 @@ int RenderCommand::run() const {
       options.sink_makers.push_back(trace_info_maker(layout_files(choices, trace_info, "--trace-info")));
     }
     const std::string spec = scene_spec.empty() ? default_scene_name() : scene_spec;
-    const auto source = open_scene(spec, {.threads = options.build.threads});
+    const auto source = open_scene(spec, scene_load_options(scene_options, options.build.threads));
     for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer render: warning: %s\n", warning.c_str());
 
     cli::ProgressLine progress_line(!quiet);

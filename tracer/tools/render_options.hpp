@@ -18,6 +18,7 @@
 #include "nodetrace/cli/option_limits.hpp"
 #include "nodetrace/base/sample_rate.hpp"
 #include "nodetrace/tracer/scene/camera_checks.hpp"
+#include "nodetrace/tracer/scene/scene_loader.hpp"
 #include "nodetrace/tracer/render/trace_job.hpp"
 #include "tree_cache_option.hpp"
 
@@ -86,7 +87,12 @@ struct SceneCommandOptions {
   std::uint32_t bvh_max_leaf_size = BvhBuildOptions{}.max_leaf_size;
   std::uint32_t bvh_bins = BvhBuildOptions{}.bins;
   std::optional<std::string> tree_cache;  // --tree-cache DIR (tree_cache_option.hpp)
+  std::string default_lights = "key-fill";  // SceneLoadOptions::default_lights
 };
+
+inline SceneLoadOptions scene_load_options(const SceneCommandOptions& o, unsigned threads) {
+  return {.threads = threads, .default_lights = o.default_lights != "none"};
+}
 
 // `frame_runs`: --frames (tracer render only: `tracer info` describes one frame).
 inline void add_scene_options(CLI::App& app, SceneCommandOptions& o, bool frame_runs = true) {
@@ -99,6 +105,12 @@ inline void add_scene_options(CLI::App& app, SceneCommandOptions& o, bool frame_
     frame->excludes(frames);
     time->excludes(frames);
   }
+  app.add_option("--default-lights", o.default_lights,
+                 "light a scene gets that its file does not give: key-fill (an OBJ file without light gets a "
+                 "key and a fill point light and ambient 0.1, an AFF file without 'am' ambient 0.1; both said in a note and "
+                 "the header) or none (neither: ambient 0)")
+      ->check(CLI::IsMember({"key-fill", "none"}))
+      ->capture_default_str();
   app.add_option("--traversal-cost", o.traversal_cost, "SAH cost of a traversal step")->capture_default_str();
   app.add_option("--intersection-cost", o.intersection_cost, "SAH cost of a triangle test")->capture_default_str();
   app.add_option("--empty-bonus", o.empty_bonus, "SAH bonus for cutting off empty space (0..1)")
@@ -174,6 +186,7 @@ struct RenderCommandOptions {
   std::string integrator = "whitted";
   std::optional<std::uint32_t> spp;
   std::optional<int> max_bounces;
+  std::optional<std::string> sampler;
 };
 
 // Ray slots per traversal unit at most: a step then issues up to 4096
@@ -197,6 +210,11 @@ inline void add_path_options(CLI::App& app, RenderCommandOptions& o) {
                              "roulette from bounce {})",
                              kMaxBounces, kDefaultMaxBounces, kRouletteFromBounce))
       ->check(cli::NumberRange(0, kMaxBounces));
+  app.add_option("--sampler", o.sampler,
+                 "--integrator path: where the uniform numbers come from: independent (Philox, the default) or "
+                 "sobol (Owen-scrambled Sobol: lower error at the same samples); both give the same bytes for "
+                 "any threads, pixel order or rays in flight")
+      ->check(CLI::IsMember({"independent", "sobol"}));
 }
 
 // One rule for tracer render and tracer info: --max-depth is the Whitted
@@ -218,8 +236,10 @@ inline void apply_integrator(const RenderCommandOptions& r, RenderOptions& rende
   render.integrator = *parse_integrator(r.integrator);
   if (render.integrator != Integrator::Path) {
     if (r.spp) throw base::UsageError("--spp needs --integrator path (the Whitted tracer casts one ray per pixel)");
+    if (r.sampler) throw base::UsageError("--sampler needs --integrator path (the Whitted tracer draws no numbers)");
     return;
   }
+  if (r.sampler) render.path.sampler = *parse_sampler(*r.sampler);
   render.path.samples_per_pixel = r.spp.value_or(kDefaultSamplesPerPixel);
   render.path.max_bounces = r.max_bounces.value_or(kDefaultMaxBounces);
 }

@@ -131,6 +131,32 @@ TEST(PathTracerCli, NoLightAndABlackBackgroundGivesABlackImageAValidTraceAndANot
   EXPECT_TRUE(header_of(trace).at("render").contains("notes"));
 }
 
+// An AFF file without `am` and lights over a black background: its ambient
+// 0.1 is the AFF default, stated in the header; with --default-lights none
+// the scene is dark and the dark-scene rule holds (issue 49 item 3).
+TEST(PathTracerCli, DefaultAmbientIsInTheHeaderAndNoneMakesADarkSceneBlack) {
+  TempDir dir;
+  std::string text = matte_scene(false, "0 0 0");
+  text.erase(text.find("am 0 0 0\n"), 9);
+  write_file(dir / "no_am.aff", text);
+  const std::string render = program("tracer").string() + " render " + (dir / "no_am.aff").string() +
+                             " --width 32 --height 24 --integrator path --pfm " + (dir / "img.pfm").string() +
+                             " -o " + (dir / "t.din.zst").string();
+  const auto lit = run_command(render);
+  ASSERT_EQ(lit.exit_code, 0) << lit.err;
+  EXPECT_NE(header_of(dir / "t.din.zst").at("scene").value("default_light", "").find("ambient light 0.1"),
+            std::string::npos);
+  const std::string pfm_header = "PF\n32 24\n-1.0\n";
+  const std::string black(32u * 24u * 12u, '\0');
+  EXPECT_FALSE(read_file(dir / "img.pfm").substr(pfm_header.size()) == black);
+  const auto dark = run_command(render + " --default-lights none");
+  ASSERT_EQ(dark.exit_code, 0) << dark.err;
+  EXPECT_NE(dark.err.find("note: the scene has no light, no ambient light and a black background"), std::string::npos)
+      << dark.err;
+  EXPECT_FALSE(header_of(dir / "t.din.zst").at("scene").contains("default_light"));
+  EXPECT_TRUE(read_file(dir / "img.pfm").substr(pfm_header.size()) == black);
+}
+
 TEST(PathTracerCli, HostileMaterialsRenderAndTheTrailerCountsTheDroppedSamples) {
   TempDir dir;
   // Colour 1e38 x Kd 3 overflows, shininess 1e30, glass of index 0.

@@ -134,9 +134,10 @@ TEST(ObjLoader, BadInputIsReported) {
 // what is missing, as AFF problems are.
 TEST(ObjMaterials, MissingMaterialFileAndUnknownMaterialAreWarnedOf) {
   TempDir dir;
+  // Scenes opened without the default lights, whose note is not this test's subject.
   const auto missing = dir.path() / "missing.obj";
   write_file(missing, "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-  const auto without_file = open_scene(missing.string());
+  const auto without_file = open_scene(missing.string(), {.default_lights = false});
   ASSERT_EQ(without_file->warnings().size(), 1u);
   EXPECT_EQ(without_file->warnings()[0],
             missing.string() + ": mtllib missing.mtl: no such file beside the OBJ file; its materials are missing "
@@ -145,7 +146,7 @@ TEST(ObjMaterials, MissingMaterialFileAndUnknownMaterialAreWarnedOf) {
   write_file(dir.path() / "have.mtl", "newmtl red\nKd 1 0 0\n");
   const auto unknown = dir.path() / "unknown.obj";
   write_file(unknown, "mtllib have.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl nosuch\nf 1 2 3\n");
-  const auto without_material = open_scene(unknown.string());
+  const auto without_material = open_scene(unknown.string(), {.default_lights = false});
   ASSERT_EQ(without_material->warnings().size(), 1u);
   EXPECT_NE(without_material->warnings()[0].find(unknown.string() + ": material [ 'nosuch' ] not found"),
             std::string::npos)
@@ -153,7 +154,7 @@ TEST(ObjMaterials, MissingMaterialFileAndUnknownMaterialAreWarnedOf) {
 
   const auto known = dir.path() / "known.obj";
   write_file(known, "mtllib have.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n");
-  EXPECT_TRUE(open_scene(known.string())->warnings().empty());
+  EXPECT_TRUE(open_scene(known.string(), {.default_lights = false})->warnings().empty());
 }
 
 }  // namespace

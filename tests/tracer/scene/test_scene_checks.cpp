@@ -23,7 +23,8 @@ TEST(SceneChecks, ObjZeroAreaTrianglesAreDroppedWithOneWarning) {
   nodetrace::testing::TempDir dir;
   const auto path = dir.path() / "zero.obj";
   nodetrace::testing::write_file(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 1 2\nf 1 2 4\nf 1 2 3\n");
-  const auto source = open_scene(path.string());
+  // Without the default lights' note, this test's subject is the only warning.
+  const auto source = open_scene(path.string(), {.default_lights = false});
   EXPECT_EQ(source->at_time(0).triangles.size(), 2u);
   const auto warnings = source->warnings();
   ASSERT_EQ(warnings.size(), 1u);
@@ -34,7 +35,7 @@ TEST(SceneChecks, ObjTinyTrianglesAreKept) {
   nodetrace::testing::TempDir dir;
   const auto path = dir.path() / "tiny.obj";
   nodetrace::testing::write_file(path, "v 0 0 0\nv 1e-30 0 0\nv 0 1e-30 0\nf 1 2 3\n");
-  const auto source = open_scene(path.string());
+  const auto source = open_scene(path.string(), {.default_lights = false});
   EXPECT_EQ(source->at_time(0).triangles.size(), 1u);
   EXPECT_TRUE(source->warnings().empty());
 }

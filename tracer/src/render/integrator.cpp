@@ -12,4 +12,14 @@ std::optional<Integrator> parse_integrator(std::string_view name) {
   return std::nullopt;
 }
 
+std::string_view sampler_name(PathSampler sampler) {
+  return sampler == PathSampler::Sobol ? "sobol" : "independent";
+}
+
+std::optional<PathSampler> parse_sampler(std::string_view name) {
+  if (name == "independent") return PathSampler::Independent;
+  if (name == "sobol") return PathSampler::Sobol;
+  return std::nullopt;
+}
+
 }  // namespace nodetrace::tracer

@@ -4,16 +4,21 @@
 // numbers: as easy as 1, 2, 3", SC 2011; Random123's header) maps a counter
 // (pixel, sample, bounce << 16 | dimension / 4, animation frame's low 32
 // bits) under the key (kPathSeed, animation frame's high 32 bits) to four
-// 32-bit words; dimension d takes word d % 4. Internal header.
+// 32-bit words; dimension d takes word d % 4. With --sampler sobol the
+// numbers come from sobol.hpp instead, as counter-based. Internal header.
 #pragma once
 
 #include <Random123/philox.h>
 
 #include <cstdint>
 
+#include "nodetrace/tracer/render/integrator.hpp"
+#include "render/sobol.hpp"
+
 namespace nodetrace::tracer::detail {
 
 inline constexpr std::uint32_t kPathSeed = 0x6e747261;  // "ntra": fixed, written in the trace header
+inline constexpr std::uint32_t kSobolSeed = 0x736f626c;  // "sobl": the Sobol sampler's hashes
 
 // Which number of a bounce: the bounce is the number of the ray the number
 // decides (the camera ray is bounce 0, the ray leaving the first hit bounce 1).
@@ -25,15 +30,19 @@ enum PathDimension : std::uint32_t {
   kDirection2 = 2,
   kFresnel = 3,   // reflection or refraction at a dielectric
   kRoulette = 4,  // Russian roulette before the ray
+  kEmitterU = 5,  // next-event estimation at the ray's origin: which emitter and where on it
+  kEmitterV = 6,
 };
 
 class PathRandom {
  public:
-  PathRandom(std::uint64_t animation_frame, std::uint32_t pixel, std::uint32_t sample)
-      : frame_(animation_frame), pixel_(pixel), sample_(sample) {}
+  PathRandom(std::uint64_t animation_frame, std::uint32_t pixel, std::uint32_t sample,
+             PathSampler sampler = PathSampler::Independent, std::uint32_t samples_per_pixel = 1)
+      : frame_(animation_frame), pixel_(pixel), sample_(sample), sampler_(sampler), spp_(samples_per_pixel) {}
 
   // A uniform float in [0, 1): the top 24 bits of the word, exactly.
   float uniform(std::uint32_t bounce, std::uint32_t dimension) const {
+    if (sampler_ == PathSampler::Sobol) return sobol(bounce, dimension);
     const r123::Philox4x32 philox;
     const r123::Philox4x32::ctr_type counter = {
         {pixel_, sample_, (bounce << 16) | (dimension / 4), static_cast<std::uint32_t>(frame_)}};
@@ -43,8 +52,28 @@ class PathRandom {
   }
 
  private:
+  // The second number of a 2D pair: Sobol dimension 1, with its first's index.
+  static bool second_of_pair(std::uint32_t bounce, std::uint32_t dimension) {
+    return bounce == 0 ? dimension == kPixelY : dimension == kDirection2 || dimension == kEmitterV;
+  }
+
+  float sobol(std::uint32_t bounce, std::uint32_t dimension) const {
+    const bool second = second_of_pair(bounce, dimension);
+    const std::uint32_t pair = second ? dimension - 1 : dimension;
+    // The pair's hashes: Philox of (pixel, bounce, pair, frame), not of the sample.
+    const r123::Philox4x32 philox;
+    const r123::Philox4x32::ctr_type counter = {{pixel_, bounce, pair, static_cast<std::uint32_t>(frame_)}};
+    const r123::Philox4x32::key_type key = {{kSobolSeed, static_cast<std::uint32_t>(frame_ >> 32)}};
+    const r123::Philox4x32::ctr_type hashes = philox(counter, key);
+    const std::uint32_t index = permuted(sample_, spp_, hashes[0]);
+    const std::uint32_t bits = owen_scramble(sobol_bits(index, second ? 1 : 0), hashes[second ? 2 : 1]);
+    return static_cast<float>(bits >> 8) * 0x1p-24f;
+  }
+
   std::uint64_t frame_;
   std::uint32_t pixel_, sample_;
+  PathSampler sampler_;
+  std::uint32_t spp_;
 };
 
 }  // namespace nodetrace::tracer::detail

@@ -9,15 +9,22 @@
 // each, and a Lambertian surface of colour Kd lit at angle theta reflects
 // Kd cos(theta) times the light. The ambient term is kept, added at every
 // hit as the Whitted tracer adds it: the scene files light with it (BART
-// Robot's one light is enclosed, so without it Robot is black). Record
+// Robot's one light is enclosed, so without it Robot is black).
+// Emissive triangles (emitters.hpp) are area lights in physical units: a ray
+// that meets one collects its radiance, and next-event estimation casts one
+// more shadow ray, to a point on an emitter chosen by power; the two
+// estimates of a diffuse or glossy lobe's light are combined with multiple
+// importance sampling (Veach's power heuristic, per lobe: the bounce ray's
+// density is its lobe's choice probability times the lobe's density). Record
 // order: each ray's fetches when it is cast, shadow rays before the bounce
-// ray of their hit.
+// ray of their hit, the emitter's after the point lights'.
 #include <algorithm>
 #include <array>
 #include <cmath>
 
 #include "nodetrace/base/portable_math.hpp"
 #include "nodetrace/tracer/render/render.hpp"
+#include "render/emitters.hpp"
 #include "render/fresnel.hpp"
 #include "render/path_lobes.hpp"
 #include "render/path_random.hpp"
@@ -31,6 +38,19 @@ namespace {
 
 bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 float largest_component(const Vec3& v) { return std::max({v.x, v.y, v.z}); }
+
+constexpr float kInvPi = 0.318309886183790671538f;
+
+// Veach's power heuristic (beta 2) for the strategy of density `own`
+// against the other's `other`.
+float power_heuristic(float own, float other) {
+  const float a = own * own, b = other * other;
+  return a + b > 0 ? a / (a + b) : 0.0f;
+}
+
+// The glossy lobe's BRDF without Ks, (n + 2) / (2 pi) cos^n(alpha), and the
+// density of its sampled directions, (n + 1) / (2 pi) cos^n(alpha).
+float phong_cos_power(float cos_alpha, float n) { return cos_alpha > 0 ? math::pow(cos_alpha, n) : 0.0f; }
 
 // The bounce's lobe: the first whose share of the weights' running sum
 // reaches `pick`; rounding can never choose a lobe of weight 0.
@@ -49,12 +69,20 @@ int choose_lobe(const std::array<float, 4>& weights, float pick) {
 }  // namespace
 
 Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& context) const {
-  const detail::PathRandom random(options_.animation_frame, pixel, sample);
+  const detail::PathRandom random(options_.animation_frame, pixel, sample, options_.path.sampler,
+                                  options_.path.samples_per_pixel);
   const std::uint32_t width = static_cast<std::uint32_t>(options_.width);
   Ray ray = pinhole_.ray_through(float(pixel % width) + random.uniform(0, detail::kPixelX),
                                  float(pixel / width) + random.uniform(0, detail::kPixelY));
   RayKind kind = RayKind::Primary;
   Vec3 radiance, throughput{1, 1, 1};
+  // Next-event estimation to emitters happens at each diffuse or glossy hit
+  // that casts shadow rays; `bounce_density` is the density (per solid angle)
+  // of the last bounce ray's direction when it came from such a hit and a
+  // diffuse or glossy lobe (0: a camera, mirror or dielectric ray, whose
+  // emitters are met only by the ray).
+  const bool sample_emitters = emitters_ && !emitters_->empty() && plan_.casts(RayKind::Shadow);
+  float bounce_density = 0;
   const auto dropped = [&] {
     ++context.stats.nonfinite_samples;
     return Vec3{};
@@ -69,6 +97,15 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
     const Material& material = *at.material;
     const detail::LobeWeights w = detail::lobe_weights(material);
     radiance += throughput * scene_.ambient * (material.ambient ? *material.ambient : material.diffuse);
+    if (detail::emits(material)) {
+      float weight = 1;
+      if (bounce_density > 0) {
+        const float cos_emitter = std::fabs(dot(face_normals_[hit->triangle], ray.direction));
+        const float emitter_density = emitters_->pdf_area(hit->triangle) * hit->t * hit->t / cos_emitter;
+        weight = cos_emitter > 0 ? power_heuristic(bounce_density, emitter_density) : 0.0f;
+      }
+      radiance += throughput * material.emission * weight;
+    }
 
     // Next-event estimation: the diffuse and glossy lobes' light from each
     // point light (the mirror and dielectric lobes see none: a point is never hit).
@@ -91,10 +128,42 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
         radiance += throughput * light.color * reflectance * (light_scale_ * cos_light);
       }
     }
+    const auto next_ray = static_cast<std::uint32_t>(bounce + 1);
+    if ((w.diffuse > 0 || w.glossy > 0) && sample_emitters) {
+      const detail::Emitters::Sample e =
+          emitters_->sample(random.uniform(next_ray, detail::kEmitterU), random.uniform(next_ray, detail::kEmitterV));
+      const Vec3 to_emitter = e.point - at.surface.point;
+      const float distance2 = dot(to_emitter, to_emitter);
+      if (dot(to_emitter, at.facing) > 0 && distance2 > 0 &&
+          point_visible(offset_ray_origin(at.surface, at.facing), e.point, self, context)) {
+        const Vec3 l = to_emitter / std::sqrt(distance2);
+        const float cos_surface = dot(at.normal, l), cos_emitter = std::fabs(dot(e.normal, l));
+        const float emitter_density = e.pdf_area * distance2 / cos_emitter;
+        if (cos_surface > 0 && cos_emitter > 0 && emitter_density > 0) {
+          // Where no bounce ray follows, the emitter's estimate is the only one.
+          const bool last = bounce >= options_.path.max_bounces;
+          const float total = w.total();
+          Vec3 brdf_cos;  // each lobe's BRDF x cos, weighted against its bounce ray
+          if (w.diffuse > 0) {
+            const float lobe_density = w.diffuse / total * cos_surface * kInvPi;
+            const float weight = last ? 1.0f : power_heuristic(emitter_density, lobe_density);
+            brdf_cos += material.diffuse * (kInvPi * cos_surface * weight);
+          }
+          if (w.glossy > 0) {
+            const float n = material.shininess;
+            const float lobe = phong_cos_power(dot(detail::reflect(-l, at.normal), at.view), n) * 0.5f * kInvPi;
+            const float lobe_density = w.glossy / total * (n + 1.0f) * lobe;
+            const float weight = last ? 1.0f : power_heuristic(emitter_density, lobe_density);
+            brdf_cos += material.specular * ((n + 2.0f) * lobe * cos_surface * weight);
+          }
+          radiance += throughput * e.radiance * brdf_cos / emitter_density;
+        }
+      }
+    }
     if (bounce >= options_.path.max_bounces) break;
 
     // The bounce ray: number bounce + 1 of the path.
-    const auto next = static_cast<std::uint32_t>(bounce + 1);
+    const std::uint32_t next = next_ray;
     const float total = w.total();
     if (!(total > 0)) break;  // a black material ends the path
     if (next >= static_cast<std::uint32_t>(kRouletteFromBounce)) {
@@ -107,10 +176,12 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
     const float u1 = random.uniform(next, detail::kDirection1), u2 = random.uniform(next, detail::kDirection2);
     Vec3 direction, weight;
     bool leaves_front = true;  // the ray leaves on the side the path came from
+    bounce_density = 0;
     if (lobe == 0) {
       kind = RayKind::Diffuse;
       direction = detail::sample_cosine(at.normal, u1, u2);
       weight = material.diffuse * (total / w.diffuse);
+      if (sample_emitters) bounce_density = w.diffuse / total * std::max(0.0f, dot(direction, at.normal)) * kInvPi;
     } else if (lobe == 1) {
       kind = RayKind::Glossy;
       const Vec3 mirror = normalize(detail::reflect(ray.direction, at.normal));
@@ -119,6 +190,9 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
       if (!(cos_out > 0)) break;  // below the surface: the lobe gives nothing
       const float n = material.shininess;
       weight = material.specular * ((n + 2.0f) / (n + 1.0f) * cos_out * (total / w.glossy));
+      if (sample_emitters) {
+        bounce_density = w.glossy / total * (n + 1.0f) * 0.5f * kInvPi * phong_cos_power(dot(direction, mirror), n);
+      }
     } else {
       kind = RayKind::Reflection;
       // The lobe's weight (reflectance or transmittance) over its probability

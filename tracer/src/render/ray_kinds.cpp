@@ -2,6 +2,7 @@
 
 #include <vector>
 
+#include "render/emitters.hpp"
 #include "render/path_lobes.hpp"
 
 namespace nodetrace::tracer {
@@ -94,8 +95,14 @@ RayKindPlan plan_path_ray_kinds(const Scene& scene, int max_bounces) {
     if (!plan.cast[k]) plan.why_not[k] = !needed ? why_not : "max_bounces is 0";
   };
   decide(RayKind::Primary, true, "", false);
-  decide(RayKind::Shadow, lit && !scene.lights.empty(),
-         scene.lights.empty() ? "scene has no light" : "no material has a diffuse or glossy lobe", false);
+  bool emitter = false;
+  for (const Triangle& t : scene.triangles) {
+    emitter = emitter || (t.material < scene.materials.size() && detail::emits(scene.materials[t.material]));
+    if (emitter) break;
+  }
+  const bool light = !scene.lights.empty() || emitter;
+  decide(RayKind::Shadow, lit && light, !light ? "scene has no light" : "no material has a diffuse or glossy lobe",
+         false);
   decide(RayKind::Diffuse, diffuse, "no material has a diffuse lobe", true);
   decide(RayKind::Glossy, glossy, "no material has a glossy lobe", true);
   decide(RayKind::Reflection, reflects, "no material reflects or transmits", true);

@@ -16,6 +16,7 @@
 #include "nodetrace/base/ordered_pipeline.hpp"
 #include "nodetrace/tracer/render/interaction.hpp"
 #include "render/ray_timing.hpp"
+#include "render/emitters.hpp"
 #include "render/render_context.hpp"
 
 namespace nodetrace::tracer {
@@ -58,6 +59,7 @@ Renderer::Renderer(const Scene& scene, const Bounds& bounds, std::unique_ptr<Ray
   light_scale_ = lights_shadowed_ > 1 ? 1.0f / std::sqrt(float(lights_shadowed_)) : 1.0f;
   face_normals_.reserve(scene.triangles.size());
   for (const auto& t : scene.triangles) face_normals_.push_back(triangle_unit_normal(t, {0, 0, 1}));
+  if (options.integrator == Integrator::Path) emitters_ = std::make_shared<const detail::Emitters>(scene);
 }
 
 std::optional<Hit> Renderer::closest_hit(const Ray& ray, float t_max, std::vector<Record>* records,

@@ -45,8 +45,12 @@ Renderer::ShadingPoint Renderer::shading_point(const Ray& ray, const Hit& hit) c
 
 bool Renderer::light_visible(const Vec3& origin, const PointLight& light, std::uint32_t caster,
                              Context& context) const {
+  return point_visible(origin, light.position, caster, context);
+}
+
+bool Renderer::point_visible(const Vec3& origin, const Vec3& target, std::uint32_t caster, Context& context) const {
   ++context.stats.rays[static_cast<int>(RayKind::Shadow)];
-  const Ray shadow{origin, light.position - origin};
+  const Ray shadow{origin, target - origin};
   context.note(RayKind::Shadow, shadow);
   const std::uint32_t shadow_ray = context.begin_ray(caster);
   bool blocked;
@@ -86,7 +90,9 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
   const Vec3& normal = at.normal;
   const Vec3& view = at.view;
 
-  Vec3 color = scene_.ambient * (material.ambient ? *material.ambient : material.diffuse);
+  // An emitter is seen where a ray meets it; it lights nothing else here
+  // (no shadow rays go to it: the Whitted tracer's light is its point lights').
+  Vec3 color = material.emission + scene_.ambient * (material.ambient ? *material.ambient : material.diffuse);
   if (plan_.casts(RayKind::Shadow)) {
     const Vec3 shadow_origin = offset_ray_origin(surface, facing);
     for (std::size_t i = 0; i < lights_shadowed_; ++i) {

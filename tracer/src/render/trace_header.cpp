@@ -7,6 +7,7 @@
 #include <string>
 
 #include "nodetrace/formats/container/metadata.hpp"
+#include "render/emitters.hpp"
 #include "render/path_random.hpp"
 
 namespace nodetrace::tracer {
@@ -24,7 +25,7 @@ double shortest(float value) {
 
 // Everything that decides a path tracer's rays, in words where a reader needs them.
 nlohmann::json path_tracing_description(const PathOptions& path) {
-  return {{"integrator", "path"},
+  nlohmann::json description = {{"integrator", "path"},
           {"spp", path.samples_per_pixel},
           {"max_bounces", path.max_bounces},
           {"roulette", fmt::format("before every bounce ray from bounce {} on: survives with probability min({}, "
@@ -43,6 +44,15 @@ nlohmann::json path_tracing_description(const PathOptions& path) {
                                  detail::kPathSeed)},
           {"nonfinite", "a sample whose throughput or radiance becomes NaN or infinite ends, counts as black, and "
                         "is counted in the trailer's totals (nonfinite_samples)"}};
+  // Written only for the Sobol sampler, so the independent one's headers are as before.
+  if (path.sampler == PathSampler::Sobol) {
+    description["sampler"] = fmt::format(
+        "sobol: per pixel and pair of dimensions, the sample number permuted (Kensler 2013) by a hash, indexing "
+        "Sobol dimensions 0 and 1, Owen-scrambled (Burley 2020) by hashes; the hashes are Philox4x32-10 of "
+        "(pixel, bounce, first dimension of the pair, frame & 0xffffffff), key ({:#x}, frame >> 32)",
+        detail::kSobolSeed);
+  }
+  return description;
 }
 
 }  // namespace
@@ -56,6 +66,8 @@ nlohmann::json make_trace_header(const SceneSource& source, const Scene& first_s
   header["scene"] = {{"name", source.name()},
                      {"hash", source.content_hash()},
                      {"triangles", first_scene.triangles.size()}};
+  // Written only when the scene has light its file does not give.
+  if (!first_scene.default_light.empty()) header["scene"]["default_light"] = first_scene.default_light;
   // A path's rays form a chain of max_bounces + 1 (primary rays are depth 1).
   const int max_depth = r.integrator == Integrator::Path ? r.path.max_bounces + 1 : r.max_depth;
   nlohmann::json render = {{"width", r.width},
@@ -88,7 +100,18 @@ nlohmann::json make_trace_header(const SceneSource& source, const Scene& first_s
     render["ready_order"] = ready_order_name(r.ready_order);
   }
   // Written only for path tracing, so a Whitted render's header is as before.
-  if (r.integrator == Integrator::Path) render["path"] = path_tracing_description(r.path);
+  if (r.integrator == Integrator::Path) {
+    render["path"] = path_tracing_description(r.path);
+    // Written only for a scene with emitters, so other headers are as before.
+    if (!detail::Emitters(first_scene).empty()) {
+      render["path"]["emitters"] =
+          "emissive triangles (OBJ Ke, AFF fe) are two-sided area lights: rays that meet one collect its "
+          "radiance; at each diffuse or glossy hit one more shadow ray goes to a point uniform on an emitter "
+          "chosen by power (area x mean radiance), random dimensions 5 and 6 of the next bounce (the first, rescaled "
+          "within the chosen emitter's share, also places the point); the two estimates "
+          "are combined per lobe with the power heuristic";
+    }
+  }
   header["render"] = render;
   nlohmann::json layout = {{"name", layout_name(target.layout)},
                            {"node_size", r.addresses.node_size},

@@ -8,6 +8,7 @@
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/base/split_level.hpp"
 #include "nodetrace/formats/container/metadata.hpp"
+#include "render/emitters.hpp"
 #include "render/relocation.hpp"
 #include "render/trace_header.hpp"
 #include "render/trace_writer_sink.hpp"
@@ -177,7 +178,7 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
       result.plan = renderer.ray_plan();
       // The path tracer's light is the lights', the ambient term's and the background's.
       if (r.integrator == Integrator::Path && scene.lights.empty() && is_black(scene.background) &&
-          is_black(scene.ambient)) {
+          is_black(scene.ambient) && detail::Emitters(scene).empty()) {
         result.notes.push_back("the scene has no light, no ambient light and a black background: the path-traced "
                                "image is black (the trace is whole)");
       }

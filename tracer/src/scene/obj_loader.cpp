@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "nodetrace/base/huge_pages.hpp"
+#include "scene/mtl_checks.hpp"
 #include "scene/obj_chunks.hpp"
 #include "scene/obj_line_checks.hpp"
 #include "scene/obj_mesh.hpp"
@@ -46,7 +47,8 @@ Material whitted_material(const tinyobj::material_t& m) {
   material.diffuse = vec3(m.diffuse);
   material.specular = vec3(m.specular);
   material.shininess = static_cast<float>(m.shininess);
-  material.ior = m.ior > 0 ? static_cast<float>(m.ior) : 1.0f;
+  material.emission = vec3(m.emission);
+  material.ior = static_cast<float>(m.ior);  // above 0: check_mtl_numbers refuses the rest
   const bool mirror = m.illum == 3 || m.illum == 5;
   const bool glass = m.illum == 4 || m.illum == 6 || m.illum == 7;
   if (mirror || glass) material.reflectance = std::clamp(mean3(m.specular), 0.0f, 1.0f);
@@ -107,7 +109,7 @@ std::vector<int> triangle_lines(const std::string& obj_text) {
 
 }  // namespace
 
-std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path, unsigned threads) {
+std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path, unsigned threads, bool default_lights) {
   const std::string text = read_scene_file(path, load_threads(threads));
   const std::vector<std::string_view> chunks = split_at_lines(text, kChunksPerThread * load_threads(threads));
   check_obj_lines(chunks, path, threads);
@@ -118,6 +120,7 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path, unsigne
     std::error_code error;
     if (std::filesystem::is_regular_file(directory / library, error)) {
       hashed_libraries.push_back(directory / library);
+      check_mtl_numbers(read_scene_file(directory / library), directory / library);
     } else {
       notes.push_back(path.string() + ": mtllib " + library +
                       ": no such file beside the OBJ file; its materials are missing and their faces get the "
@@ -235,11 +238,22 @@ std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path, unsigne
   }
   if (any_normals) scene.vertex_normals = std::move(normals);
 
-  // OBJ has no lights: a key light above one front corner and a dimmer fill
-  // light above the opposite one, each half the scene's diagonal outside
-  // the bounds, so the model is lit whatever its scale.
+  // OBJ has no point lights and no ambient light: a file without an emitter
+  // (a face whose material has `Ke`) gets, unless turned off, a key light
+  // above one front corner and a dimmer fill light above the opposite one,
+  // each half the scene's diagonal outside the bounds, so the model is lit
+  // whatever its scale, and ambient 0.1 (Scene's default, as AFF's).
+  const bool has_emitter = std::any_of(scene.triangles.begin(), scene.triangles.end(), [&](const Triangle& t) {
+    const Vec3& e = scene.materials[t.material].emission;
+    return e.x > 0 || e.y > 0 || e.z > 0;
+  });
   const Bounds box = scene.bounds();
-  if (!box.empty()) {
+  if (!default_lights || has_emitter) scene.ambient = {0, 0, 0};
+  if (default_lights && !has_emitter && !box.empty()) {
+    scene.default_light =
+        "the OBJ file gives no light (no face emits): two default point lights, a key light (0.8) and a fill light (0.4) "
+        "outside the bounds, and ambient light 0.1 0.1 0.1 (--default-lights none: none of them)";
+    notes.push_back(path.string() + ": " + scene.default_light);
     const Vec3 size = box.hi - box.lo;
     const float reach = 0.5f * length(size) + 1e-3f;
     const Vec3 centre = (box.lo + box.hi) * 0.5f;

@@ -41,9 +41,11 @@ class StaticSceneSource final : public SceneSource {
   Animation animation_;
 };
 
-std::unique_ptr<SceneSource> open_aff(const std::filesystem::path& path);
+// `default_lights`: SceneLoadOptions::default_lights.
+std::unique_ptr<SceneSource> open_aff(const std::filesystem::path& path, bool default_lights = true);
 // `threads`: threads reading the file (0: one per core); the scene does not depend on it.
-std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path, unsigned threads = 0);
+std::unique_ptr<SceneSource> open_obj(const std::filesystem::path& path, unsigned threads = 0,
+                                      bool default_lights = true);
 // Throws SceneError for an unknown name or a size out of range.
 // `size` nullopt: the scene's default size.
 std::unique_ptr<SceneSource> open_builtin(const std::string& name, std::optional<int> size);

@@ -74,8 +74,8 @@ std::string lowercase_extension(const std::string& spec) {
 
 std::unique_ptr<SceneSource> open_scene(const std::string& spec, const SceneLoadOptions& options) {
   const std::string extension = lowercase_extension(spec);
-  if (extension == ".obj") return detail::open_obj(spec, options.threads);
-  if (extension == ".aff") return detail::open_aff(spec);
+  if (extension == ".obj") return detail::open_obj(spec, options.threads, options.default_lights);
+  if (extension == ".aff") return detail::open_aff(spec, options.default_lights);
 
   std::string name = spec;
   std::optional<int> size;

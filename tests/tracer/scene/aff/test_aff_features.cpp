@@ -283,6 +283,24 @@ struct BadInput {
   const char* expected_words;
 };
 
+// `fe R G B` makes the current material emit until the next `f` or `fm`
+// (issue 49 item 1); before any material, or negative, it is an error.
+TEST(AffFeatures, FeMakesTheCurrentMaterialEmit) {
+  TempDir dir;
+  write_file(dir / "lamp.aff", "f 1 1 1 0.5 0 1 0 1\nfe 2 3 4\np 3 0 0 0 1 0 0 0 1 0\n"
+                               "f 1 1 1 0.5 0 1 0 1\np 3 0 0 1 1 0 1 0 1 1\n");
+  const Scene scene = open_scene((dir / "lamp.aff").string())->at_time(0);
+  ASSERT_EQ(scene.triangles.size(), 2u);
+  expect_near(scene.materials[scene.triangles[0].material].emission, Vec3{2, 3, 4});
+  expect_near(scene.materials[scene.triangles[1].material].emission, Vec3{0, 0, 0});
+  write_file(dir / "first.aff", "\nfe 1 1 1\np 3 0 0 0 1 0 0 0 1 0\n");
+  const std::string first = scene_error_of([&] { open_scene((dir / "first.aff").string()); });
+  EXPECT_NE(first.find("first.aff:2: 'fe' needs a material before it"), std::string::npos) << first;
+  write_file(dir / "negative.aff", "f 1 1 1 0.5 0 1 0 1\nfe 1 -1 1\np 3 0 0 0 1 0 0 0 1 0\n");
+  const std::string negative = scene_error_of([&] { open_scene((dir / "negative.aff").string()); });
+  EXPECT_NE(negative.find("negative.aff:2:"), std::string::npos) << negative;
+}
+
 TEST(AffFeatures, BadInputNamesFileLineAndExpectation) {
   const BadInput cases[] = {
       {"p 3\n0 0 0\n1 0 0\n0 1 x1\n", "bad.aff:4:", "number"},

@@ -34,6 +34,7 @@ class AffSceneSource final : public SceneSource {
     scene.materials = parsed_.materials;
     scene.background = parsed_.background;
     scene.ambient = parsed_.ambient;
+    scene.default_light = parsed_.default_light;
     scene.suggested_width = parsed_.width;
     scene.suggested_height = parsed_.height;
 
@@ -115,8 +116,16 @@ class AffSceneSource final : public SceneSource {
 
 }  // namespace
 
-std::unique_ptr<SceneSource> open_aff(const std::filesystem::path& path) {
-  return std::make_unique<AffSceneSource>(parse_aff(path));
+std::unique_ptr<SceneSource> open_aff(const std::filesystem::path& path, bool default_lights) {
+  ParsedAff parsed = parse_aff(path);
+  if (!parsed.ambient_given) {
+    if (default_lights) {
+      parsed.default_light = "no 'am' line: ambient light 0.1 0.1 0.1 (the AFF default; --default-lights none: 0)";
+    } else {
+      parsed.ambient = {0, 0, 0};
+    }
+  }
+  return std::make_unique<AffSceneSource>(std::move(parsed));
 }
 
 }  // namespace nodetrace::tracer::detail

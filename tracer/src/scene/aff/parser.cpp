@@ -22,6 +22,11 @@ namespace nodetrace::tracer::detail::aff {
 
 namespace {
 
+// An index of refraction of 0 is read as 1: BART's own files write 0.0
+// there, for opaque and transmissive materials alike (Kitchen has four
+// transmissive ones); a negative one is refused where it is read.
+float aff_ior(float ior) { return ior > 0 ? ior : 1; }
+
 Vec3 face_normal(const Vec3& a, const Vec3& b, const Vec3& c) {
   return normalized_or(cross(b - a, c - a), {0, 1, 0});
 }
@@ -82,11 +87,15 @@ class AffParser {
       const std::string_view keyword = tokens.next();
       if (keyword.empty()) return;
       if (keyword == "v") parse_view(tokens);
-      else if (keyword == "b") out_.background = tokens.vec3("background colour");
-      else if (keyword == "am") out_.ambient = tokens.vec3("ambient light colour");
+      else if (keyword == "b") out_.background = tokens.non_negative_vec3("background colour");
+      else if (keyword == "am") {
+        out_.ambient = tokens.non_negative_vec3("ambient light colour");
+        out_.ambient_given = true;
+      }
       else if (keyword == "l") parse_light(tokens);
       else if (keyword == "f") parse_nff_material(tokens);
       else if (keyword == "fm") parse_extended_material(tokens);
+      else if (keyword == "fe") parse_emission(tokens);
       else if (keyword == "p") parse_polygon(tokens, false, false);
       else if (keyword == "pp") parse_polygon(tokens, true, false);
       else if (keyword == "tpp") parse_polygon(tokens, true, true);
@@ -151,17 +160,18 @@ class AffParser {
     LightDefinition light;
     if (!Tokenizer::parse_number(tokens.peek())) light.name = tokens.word("light name");
     light.position = tokens.vec3("light position");
-    if (Tokenizer::parse_number(tokens.peek())) light.color = tokens.vec3("light colour");
+    if (Tokenizer::parse_number(tokens.peek())) light.color = tokens.non_negative_vec3("light colour");
     out_.lights.push_back(std::move(light));
   }
 
   std::uint32_t add_material(Material material, const Tokenizer& tokens) {
     // Identical definitions (the BART city includes the same colour files
     // hundreds of times) share one entry.
-    auto key = std::array<float, 14>{material.diffuse.x, material.diffuse.y, material.diffuse.z,
+    auto key = std::array<float, 17>{material.diffuse.x, material.diffuse.y, material.diffuse.z,
                                      material.specular.x, material.specular.y, material.specular.z,
                                      material.shininess, material.reflectance, material.transmittance,
-                                     material.ior, 0, 0, 0, 0};
+                                     material.ior, 0, 0, 0, 0,
+                                     material.emission.x, material.emission.y, material.emission.z};
     if (material.ambient) {
       key[10] = 1, key[11] = material.ambient->x, key[12] = material.ambient->y, key[13] = material.ambient->z;
     }
@@ -175,33 +185,43 @@ class AffParser {
   }
 
   void parse_nff_material(Tokenizer& tokens) {
-    const Vec3 color = tokens.vec3("material colour");
-    const float kd = tokens.real("diffuse coefficient Kd");
-    const float ks = tokens.real("specular coefficient Ks");
-    const float shine = tokens.real("Phong exponent Shine");
-    const float transmittance = tokens.real("transmittance T");
-    const float ior = tokens.real("index of refraction");
+    const Vec3 color = tokens.non_negative_vec3("material colour");
+    const float kd = tokens.non_negative("diffuse coefficient Kd");
+    const float ks = tokens.non_negative("specular coefficient Ks");
+    const float shine = tokens.non_negative("Phong exponent Shine");
+    const float transmittance = tokens.non_negative("transmittance T");
+    const float ior = tokens.non_negative("index of refraction");
     Material material;
     material.diffuse = color * kd;
     material.specular = {ks, ks, ks};
     material.shininess = shine;
     material.reflectance = std::clamp(ks, 0.0f, 1.0f);  // NFF: Ks also weighs the reflected ray
     material.transmittance = std::clamp(transmittance, 0.0f, 1.0f);
-    material.ior = ior > 0 ? ior : 1;
+    material.ior = aff_ior(ior);
     current_material_ = add_material(std::move(material), tokens);
   }
 
   void parse_extended_material(Tokenizer& tokens) {
     Material material;
-    material.ambient = tokens.vec3("ambient colour");
-    material.diffuse = tokens.vec3("diffuse colour");
-    material.specular = tokens.vec3("specular colour");
-    material.shininess = tokens.real("Phong exponent Shine");
-    material.transmittance = std::clamp(tokens.real("transmittance T"), 0.0f, 1.0f);
-    const float ior = tokens.real("index of refraction");
-    material.ior = ior > 0 ? ior : 1;
+    material.ambient = tokens.non_negative_vec3("ambient colour");
+    material.diffuse = tokens.non_negative_vec3("diffuse colour");
+    material.specular = tokens.non_negative_vec3("specular colour");
+    material.shininess = tokens.non_negative("Phong exponent Shine");
+    material.transmittance = std::clamp(tokens.non_negative("transmittance T"), 0.0f, 1.0f);
+    const float ior = tokens.non_negative("index of refraction");
+    material.ior = aff_ior(ior);
     const Vec3& s = material.specular;
     material.reflectance = std::clamp((s.x + s.y + s.z) / 3, 0.0f, 1.0f);
+    current_material_ = add_material(std::move(material), tokens);
+  }
+
+  // `fe R G B` (our extension; BART has no emitters): the current material
+  // (the last `f` or `fm`) emitting radiance R G B; the next `f` or `fm`
+  // emits nothing again.
+  void parse_emission(Tokenizer& tokens) {
+    if (current_material_ >= out_.materials.size()) tokens.fail("'fe' needs a material before it ('f' or 'fm')");
+    Material material = out_.materials[current_material_];
+    material.emission = tokens.non_negative_vec3("emitted radiance");
     current_material_ = add_material(std::move(material), tokens);
   }
 
@@ -420,7 +440,7 @@ class AffParser {
   ParsedAff& out_;
   std::vector<int> node_stack_;
   std::uint32_t current_material_ = 0;
-  std::map<std::array<float, 14>, std::uint32_t> material_index_;
+  std::map<std::array<float, 17>, std::uint32_t> material_index_;
   std::unordered_map<std::string, std::string> files_;
   std::uint64_t hash_ = kFnvOffset;
   std::size_t files_parsed_ = 0, triangles_ = 0;

@@ -55,6 +55,8 @@ struct ParsedAff {
   std::optional<int> width, height;
   Vec3 background{0, 0, 0};
   Vec3 ambient{0.1f, 0.1f, 0.1f};
+  bool ambient_given = false;  // an `am` line
+  std::string default_light;   // Scene::default_light
   std::map<std::string, AnimatedTransform, std::less<>> transforms;
   std::vector<std::string> warnings;
 };

@@ -84,6 +84,21 @@ class Tokenizer {
     return {x, y, z};
   }
 
+  // A material's or light's number: a negative one would give negative
+  // radiance, so it is refused (named with its line and value).
+  float non_negative(std::string_view what) {
+    const float value = real(what);
+    if (value < 0) {
+      fail(fmt::format("expected {} (a number of at least 0), got '{}'", what, std::string(last_token_)));
+    }
+    return value;
+  }
+
+  Vec3 non_negative_vec3(std::string_view what) {
+    const float x = non_negative(what), y = non_negative(what), z = non_negative(what);
+    return {x, y, z};
+  }
+
   // A count of elements that follow in the file, `tokens_per_element`
   // tokens each: each token takes at least two bytes (a character and a
   // separator), so a count the rest of the file cannot hold is an error

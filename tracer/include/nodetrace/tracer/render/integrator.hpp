@@ -28,9 +28,17 @@ inline constexpr int kMaxBounces = 64;
 inline constexpr int kRouletteFromBounce = 3;
 inline constexpr float kMaxSurvival = 0.95f;
 
+// Where the path tracer's uniform numbers come from: independent
+// (Philox, the default) or low-discrepancy (padded, Owen-scrambled Sobol;
+// render/sobol.hpp). Both are counter-based.
+enum class PathSampler : std::uint8_t { Independent, Sobol };
+std::string_view sampler_name(PathSampler sampler);  // independent, sobol
+std::optional<PathSampler> parse_sampler(std::string_view name);
+
 struct PathOptions {
   std::uint32_t samples_per_pixel = kDefaultSamplesPerPixel;
   int max_bounces = kDefaultMaxBounces;
+  PathSampler sampler = PathSampler::Independent;
 };
 
 }  // namespace nodetrace::tracer

@@ -33,6 +33,10 @@
 
 namespace nodetrace::tracer {
 
+namespace detail {
+class Emitters;
+}
+
 struct RenderOptions {
   int width = 800, height = 600;
   Integrator integrator = Integrator::Whitted;
@@ -133,6 +137,8 @@ class Renderer {
   // Casts the shadow ray from `origin` to the light (a child of ray
   // `caster`): whether nothing blocks it.
   bool light_visible(const Vec3& origin, const PointLight& light, std::uint32_t caster, Context& context) const;
+  // The same for a point `target` (on an area light).
+  bool point_visible(const Vec3& origin, const Vec3& target, std::uint32_t caster, Context& context) const;
   // A cast ray: its id (the caster of its shadow rays, the parent of its
   // children) and its closest hit.
   struct TracedRay {
@@ -158,6 +164,7 @@ class Renderer {
   std::vector<Vec3> face_normals_;  // unit geometric normals
   std::size_t lights_shadowed_ = 0;  // the first this many lights get shadow rays
   float light_scale_ = 1;
+  std::shared_ptr<const detail::Emitters> emitters_;  // the emissive triangles (path tracing)
 };
 
 }  // namespace nodetrace::tracer

@@ -22,6 +22,9 @@ struct Material {
   float reflectance = 0;           // mirror weight, 0..1 (casts reflection rays when > 0)
   float transmittance = 0;         // transmission weight, 0..1 (casts refraction rays when > 0)
   float ior = 1;                   // index of refraction
+  // Emitted radiance (OBJ `Ke`, AFF `fe`): a triangle of a material that
+  // emits is an area light, emitting from both faces.
+  Vec3 emission{0, 0, 0};
   // Ambient reflectance (AFF `fm`), multiplied by Scene::ambient; nullopt:
   // use `diffuse`.
   std::optional<Vec3> ambient;
@@ -70,6 +73,10 @@ struct Scene {
   std::optional<Camera> camera;     // nullopt: frame the bounds by default
   Vec3 background{0, 0, 0};
   Vec3 ambient{0.1f, 0.1f, 0.1f};
+  // The light the scene has that its file does not give (OBJ's default
+  // lights, AFF's default ambient), in words for the trace header and a
+  // note; empty when all its light is the file's.
+  std::string default_light;
   // Resolution suggested by the scene file (AFF `v` resolution), if any.
   std::optional<int> suggested_width, suggested_height;
 

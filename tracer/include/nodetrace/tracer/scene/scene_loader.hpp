@@ -37,6 +37,10 @@ struct SceneLoadOptions {
   int builtin_size = 0;
   // Threads reading an OBJ file (0: one per core); the scene does not depend on it.
   unsigned threads = 0;
+  // false (--default-lights none): a scene gets only the light its file
+  // gives: an OBJ file without light no default lights, an AFF file
+  // without `am` ambient 0 instead of 0.1.
+  bool default_lights = true;
 };
 
 // `spec` is a path ending in .obj or .aff, or a built-in scene's name
@@ -52,7 +56,9 @@ struct SceneLoadOptions {
 // with tension, continuity, bias); `k camera` moves the eye (transl) and
 // turns the default view (-z, y up) by `rot`. Texture images are never read.
 // Keys after a track runs backwards in time (as in Robot1.aff) are ignored.
-// OBJ: camera nullopt; two point lights outside the bounds (key and fill).
+// AFF without `am`: ambient 0.1 (the default), said in Scene::default_light.
+// OBJ: camera nullopt; OBJ has no lights, so two point lights outside the
+// bounds (key and fill), said in Scene::default_light and a warning.
 // Content hash: FNV-1a 64 of every file read (includes, MTL), or of a
 // built-in scene's name, size and generated content.
 std::unique_ptr<SceneSource> open_scene(const std::string& spec,
