@@ -21,6 +21,12 @@ inline BlockRange blocks_of(const formats::Record& record, formats::RecordForm f
   const formats::Record view = formats::dinero_view(record, form);
   BlockRange range;
   range.first = view.address >> shift;
+  // Dinero IV invalidates the block of the address alone, whatever the size
+  // (d4invalidate); the other types reference every block they span.
+  if (record.type == formats::AccessType::Invalidate) {
+    range.last = range.first;
+    return range;
+  }
   const std::uint64_t span = view.size == 0 ? 0 : view.size - 1;
   range.last = (view.address + span) >> shift;
   if (range.last < range.first) range.last = range.first;  // wraps past 2^64
