@@ -1,6 +1,7 @@
 // Invalidations in `cachesim run`, on every path, as Dinero IV makes them:
 // an invalidation removes the block of its address alone, whatever its size
-// (d4invalidate). Found by scripts/config-diff.sh.
+// (d4invalidate), and the first level of --l2-size sees them as the sweep's
+// caches do. Both were found by scripts/config-diff.sh.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -65,6 +66,29 @@ TEST_F(Invalidations, RemoveTheBlockOfTheirAddressAloneInTheSplitSchemeAndItsTab
                                       "--high-policy cache");
   ASSERT_EQ(high.size(), 1u);
   EXPECT_EQ(high[0].at("high_misses"), "3");
+}
+
+// The first level that feeds --l2-size invalidates as the sweep's caches
+// do, so its misses agree with the report's (before, it ignored
+// invalidations and the run stopped with exit 1 on a valid trace).
+TEST_F(Invalidations, ReachTheFirstLevelOfTheSecondLevelCache) {
+  const std::string records = "r 10 8 5\nv 10 8 5\nr 10 8 5\nr 0 8 1\nv 0 8 1\nr 0 8 1\n";
+  for (const char* options : {"--scheme single", "--scheme split --split-level 3 --high-policy cache",
+                              "--scheme split --split-level 3 --high-policy retain"}) {
+    const auto rows = run(records, std::string("--size 64 --block 8 --assoc 2 --l2-size 128 --l2-block 16 "
+                                               "--l2-assoc 2 ") + options);
+    ASSERT_EQ(rows.size(), 1u) << options;
+    const bool retain = std::string(options).find("retain") != std::string::npos;
+    // Each cache misses on both fetches of its block (retain: one load, kept for the frame).
+    EXPECT_EQ(rows[0].at("misses"), retain ? "2" : "4") << options;
+    EXPECT_EQ(rows[0].at("l2_refs"), retain ? "3" : "4") << options;
+    // The L2's 16-byte blocks 0 and 1: a miss each, then hits.
+    EXPECT_EQ(rows[0].at("l2_misses"), "2") << options;
+  }
+  const auto spanning = run(kSpanningInvalidation, "--size 64 --block 8 --assoc 2 --l2-size 256 --l2-block 8 --l2-assoc 2");
+  ASSERT_EQ(spanning.size(), 1u);
+  EXPECT_EQ(spanning[0].at("misses"), "3");
+  EXPECT_EQ(spanning[0].at("l2_refs"), "3");
 }
 
 }  // namespace
