@@ -427,6 +427,30 @@ ConfigCase make_config_case(std::uint64_t seed, const ConfigCaseOptions& options
   if (lists.fetch != "demand" && reaches_2_32(c.facts.records)) {
     c.known_defect_triggers.push_back("(h) a prefetching --fetch with addresses from 2^32 on");
   }
+  // A curve allocates caches up to 64 MB: blocks of 16 bytes or more keep each run short.
+  if (lists.fetch == "demand" && !lists.l2 && !lists.private_units && lists.policies.size() <= 2 &&
+      *std::min_element(lists.blocks.begin(), lists.blocks.end()) >= 16 && draw.chance(40)) {
+    // Fully associative curves are one LRU stack (lru) or MIN's layered stack (opt), without invalidations.
+    std::vector<std::string> assocs = assoc_texts(lists.assocs), policies = lists.policies;
+    if (std::find(assocs.begin(), assocs.end(), "full") != assocs.end()) {
+      if (invalidations) {
+        assocs.erase(std::find(assocs.begin(), assocs.end(), "full"));
+      } else {
+        std::erase_if(policies, [](const std::string& p) { return p != "lru" && p != "opt"; });
+      }
+    }
+    if (!assocs.empty() && !policies.empty()) {
+      c.curve_args = {"--curve", "--block", join(texts(lists.blocks)), "--assoc", join(assocs), "--policy",
+                      join(policies), "--scheme", "single", "--format", "csv"};
+      for (std::size_t i = 0; i < lists.other.size(); ++i) {
+        if (lists.other[i] == "--units") {
+          ++i;
+        } else {
+          c.curve_args.push_back(lists.other[i]);
+        }
+      }
+    }
+  }
   if (has_opt && lists.policies.front() != "opt") c.known_defect_triggers.push_back("(a) opt listed after another policy");
   if (has_opt && invalidations) c.known_defect_triggers.push_back("(b) opt on a trace with invalidations");
   const bool wraps = std::any_of(c.facts.records.begin(), c.facts.records.end(), [](const TraceRecord& r) {
@@ -836,6 +860,33 @@ ConfigCaseResult check_config_case(const ConfigCase& c, const Programs& programs
     }
   }
 
+  // A curve's points (up to 16k) against the reference.
+  if (!c.curve_args.empty()) {
+    const KeptRun curve = cachesim("curve", c.curve_args);
+    ++result.properties;
+    if (curve.status != 0) {
+      differ(fmt::format("--curve: exit {}: {}", curve.status, curve.err.substr(0, 300)));
+    }
+    for (const Row& point : curve.status == 0 ? csv_table(curve.out) : std::vector<Row>{}) {
+      Config config;
+      config.size = cell(point, "size");
+      config.block = cell(point, "block");
+      // The reference searches a set way by way: points of up to 1,024 blocks, 256 ways.
+      if (config.size > 16384 || config.size < config.block || config.size / config.block > 1024) continue;
+      config.assoc = point.at("assoc") == "full" ? static_cast<std::uint32_t>(config.size / config.block)
+                                                  : static_cast<std::uint32_t>(cell(point, "assoc"));
+      if (config.assoc > 256) continue;
+      if (config.size / config.block < config.assoc) continue;
+      config.policy = *reference::policy_named(point.at("policy"));
+      const reference::Counts want = reference::simulate(c.facts, config).total;
+      if (cell(point, "fetches") != want.fetches || cell(point, "misses") != want.misses) {
+        differ(fmt::format("--curve: {} at {} bytes, block {}, assoc {}: {} fetches, {} misses; the reference {}, {}",
+                           point.at("policy"), config.size, config.block, point.at("assoc"), cell(point, "fetches"),
+                           cell(point, "misses"), want.fetches, want.misses));
+      }
+    }
+  }
+
   // Sampling at 1/1 is the full run.
   if (list_rows && c.sampling_allowed) {
     const bool sets = c.sample_sets;
@@ -895,20 +946,69 @@ ConfigCaseResult check_config_case(const ConfigCase& c, const Programs& programs
   return result;
 }
 
-void keep_config_case(const ConfigCase& c, const ConfigCaseResult& result, const std::filesystem::path& folder) {
+ConfigCaseResult check_render_case(std::uint64_t seed, const Programs& programs, const std::filesystem::path& work) {
+  ConfigCaseResult result;
+  Draw draw(seed ^ 0x5EED0F4E4DE4ull);
+  const std::array<const char*, 3> scenes = {"sphereflake:1", "mountain:6", "forest:1"};
+  const std::array<const char*, 3> layouts = {"--layout dfl", "--layout bfl", "--layout hybrid --high-size 512"};
+  ConfigCase c;  // what the list generator needs to know of the trace
+  c.seed = seed;
+  c.container = true;
+  c.tagged = true;
+  c.facts.units = draw.chance(30) ? 2 : 1;
+  c.facts.nodes_per_level = {{1}};  // markers with level counts: K auto is allowed
+  const Lists lists = make_lists(draw, c, ConfigCaseOptions{}, false);
+  const std::string list = join(arguments(lists, texts(lists.sizes), texts(lists.blocks), assoc_texts(lists.assocs),
+                                          lists.policies, lists.schemes, lists.split_levels, lists.high_policies),
+                                " ");
+  const auto trace = work / "render.din.zst", report = work / "render.csv";
+  std::filesystem::remove(trace);
+  std::filesystem::remove(report);
+  const std::string render = fmt::format(
+      "{} render {} --width 16 --height 12 --quiet {}{} -o {} --simulate '{}' --report {}",
+      shell_quoted(*programs.tracer), draw.pick(scenes), draw.pick(layouts),
+      c.facts.units > 1 ? " --rays-in-flight 4 --units 2" : "", shell_quoted(trace), list, shell_quoted(report));
+  const auto rendered = run_command(render);
+  result.runs.push_back({"render", render, rendered.exit_code, rendered.out, rendered.err});
+  const std::string run = shell_quoted(programs.cachesim) + " run " + shell_quoted(trace) + " " + list;
+  const auto simulated = run_command(run);
+  result.runs.push_back({"cachesim", run, simulated.exit_code, simulated.out, simulated.err});
+  ++result.properties;
+  if (rendered.exit_code != 0 && !std::filesystem::exists(trace)) {
+    // Refused before rendering (cachesim's own checks): nothing to compare with.
+    if (rendered.exit_code != 2) result.differences.push_back(fmt::format("render: exit {}: {}", rendered.exit_code,
+                                                                          rendered.err.substr(0, 300)));
+    return result;
+  }
+  const std::string reported = read_file(report);
+  if (simulated.exit_code == 0) result.rows = csv_table(simulated.out).size();
+  if (rendered.exit_code != simulated.exit_code || (simulated.exit_code == 0 && reported != simulated.out)) {
+    result.differences.push_back(fmt::format(
+        "tracer render --simulate (exit {}) and cachesim run on its trace (exit {}) differ: {}", rendered.exit_code,
+        simulated.exit_code, reported == simulated.out ? "(same report)" : "reports differ"));
+  }
+  return result;
+}
+
+void keep_runs(const ConfigCaseResult& result, const std::filesystem::path& folder, const std::string& header) {
   std::filesystem::create_directories(folder);
-  write_config_case_trace(c, folder / c.trace_name);
-  write_file(folder / "args", join(c.list_args, " ") + "\n");
   for (const KeptRun& run : result.runs) {
     write_file(folder / (run.name + ".cmd"), run.command + "\n");
     write_file(folder / (run.name + ".out"), run.out);
     write_file(folder / (run.name + ".err"), run.err);
     write_file(folder / (run.name + ".status"), fmt::format("{}\n", run.status));
   }
-  std::string text = fmt::format("seed {}\n", c.seed);
-  for (const auto& trigger : c.known_defect_triggers) text += "known-defect trigger: " + trigger + "\n";
+  std::string text = header;
   for (const auto& d : result.differences) text += d + "\n";
   write_file(folder / "differences", text);
+}
+
+void keep_config_case(const ConfigCase& c, const ConfigCaseResult& result, const std::filesystem::path& folder) {
+  std::string header = fmt::format("seed {}\n", c.seed);
+  for (const auto& trigger : c.known_defect_triggers) header += "known-defect trigger: " + trigger + "\n";
+  keep_runs(result, folder, header);
+  write_config_case_trace(c, folder / c.trace_name);
+  write_file(folder / "args", join(c.list_args, " ") + "\n");
 }
 
 }  // namespace nodetrace::testing

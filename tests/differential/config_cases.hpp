@@ -3,10 +3,12 @@
 // units) and of configuration lists over everything `cachesim run` accepts,
 // and the checks of each case: every row equals its configuration run alone,
 // the reference model (tests/reference) and, where it can express it, the
-// real Dinero IV; OPT bounds every policy of its geometry, a fully
-// associative LRU cache misses no more when it grows, the per-level and
-// per-frame tables sum to the totals, sampling at 1/1 equals the full run.
-// Behind config_diff (scripts/config-diff.sh).
+// real Dinero IV; a --curve's points equal the reference's; OPT bounds every
+// policy of its geometry, a fully associative LRU cache misses no more when
+// it grows, the per-level and per-frame tables sum to the totals, sampling
+// at 1/1 equals the full run; and `tracer render --simulate` equals
+// `cachesim run` on the trace it writes. Behind config_diff
+// (scripts/config-diff.sh).
 #pragma once
 
 #include <cstdint>
@@ -54,6 +56,9 @@ struct ConfigCase {
   bool per_level = false, per_frame = false;
   bool sampling_allowed = false;  // the list's options go with --sample-windows / --sample-sets
   bool sample_sets = false;       // sampled with --sample-sets 1/1 (else --sample-windows 1/1)
+  // A --curve run of the list's blocks, ways and policies (single caches;
+  // empty: none), each point up to 16k against the reference.
+  std::vector<std::string> curve_args;
   // The open defects (ConfigCaseOptions) whose triggers the case holds, for the summary.
   std::vector<std::string> known_defect_triggers;
 };
@@ -66,6 +71,7 @@ void write_config_case_trace(const ConfigCase& c, const std::filesystem::path& f
 struct Programs {
   std::filesystem::path cachesim;
   std::optional<std::filesystem::path> dinero;  // the real Dinero IV
+  std::optional<std::filesystem::path> tracer;  // for the render checks
 };
 
 // One run of a program, kept with a differing case.
@@ -87,8 +93,17 @@ struct ConfigCaseResult {
 // Runs every check of the case in `work` (the trace written there).
 ConfigCaseResult check_config_case(const ConfigCase& c, const Programs& programs, const std::filesystem::path& work);
 
+// A render check: `tracer render --simulate LIST --report` on a tiny
+// built-in scene (16x12) must print, byte for byte, what `cachesim run LIST`
+// prints on the trace the render writes (`-o`), and exit alike. The list is
+// drawn as a case's is, from `seed`.
+ConfigCaseResult check_render_case(std::uint64_t seed, const Programs& programs, const std::filesystem::path& work);
+
 // Writes the case into `folder`: the trace, `args`, every run (NAME.cmd,
 // NAME.out, NAME.err, NAME.status) and `differences`.
 void keep_config_case(const ConfigCase& c, const ConfigCaseResult& result, const std::filesystem::path& folder);
+
+// Writes the runs of a result (a render check's) and its differences into `folder`, under `header`.
+void keep_runs(const ConfigCaseResult& result, const std::filesystem::path& folder, const std::string& header);
 
 }  // namespace nodetrace::testing
