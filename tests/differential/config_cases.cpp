@@ -90,6 +90,10 @@ std::vector<TraceRecord> make_records(Draw& draw, const ConfigCase& c, const Con
       r.size = 8;
     } else if (c.tagged) {
       r.level = static_cast<std::uint32_t>(draw.between(8, 13));
+      if (draw.chance(2)) {  // a primitive list or triangle: counted apart
+        r.level.reset();
+        r.other_stream = draw.chance(50) ? 'p' : 't';
+      }
     }
     if (edges && draw.chance(3)) {
       const std::uint64_t end = binary || draw.chance(40) ? std::uint64_t{1} << 32 : 0;  // 0: 2^64
@@ -470,7 +474,7 @@ void write_config_case_trace(const ConfigCase& c, const std::filesystem::path& f
   if (!c.container) {
     std::string out;
     for (const TraceRecord& r : c.facts.records) {
-      const std::string tag = r.level ? fmt::format(" {}", *r.level) : "";
+      const std::string tag = r.level ? fmt::format(" {}", *r.level) : r.other_stream ? fmt::format(" {}", r.other_stream) : "";
       if (c.form == 'd') {
         out += fmt::format("{} {:x}{}\n", r.type, r.address + 0, tag);
       } else if (c.form == 'D') {
@@ -513,7 +517,10 @@ void write_config_case_trace(const ConfigCase& c, const std::filesystem::path& f
     record.size = r.size;
     record.type = static_cast<formats::AccessType>(r.type);
     record.unit = formats::traversal_unit(r.unit);
-    record.tag = r.level ? static_cast<formats::Tag>(*r.level) : formats::kTagNone;
+    record.tag = r.level                     ? static_cast<formats::Tag>(*r.level)
+                 : r.other_stream == 'p'     ? formats::kTagPrimitiveList
+                 : r.other_stream == 't'     ? formats::kTagTriangle
+                                             : formats::kTagNone;
     writer->write(record);
   }
   writer->finish();
@@ -702,7 +709,9 @@ ConfigCaseResult check_config_case(const ConfigCase& c, const Programs& programs
   });
   if (programs.dinero && !reaches_2_32(c.facts.records)) {
     std::string xdin;
-    for (const TraceRecord& r : c.facts.records) xdin += fmt::format("{} {:x} {:x}\n", kTypeLetters[r.type], r.address, r.size);
+    for (const TraceRecord& r : c.facts.records) {
+      if (!r.other_stream) xdin += fmt::format("{} {:x} {:x}\n", kTypeLetters[r.type], r.address, r.size);
+    }
     const auto dinero_trace = work / "dinero.xdin";
     write_file(dinero_trace, xdin);
     for (std::size_t i = 0; i < c.configs.size(); ++i) {

@@ -342,6 +342,7 @@ Result simulate(const TraceFacts& trace, const Config& config) {
   if (config.policy == Policy::Opt) {  // each cache's whole stream, for the lookahead
     std::vector<std::vector<Event>> main_events(units), high_events(units);
     for (const TraceRecord& record : trace.records) {
+      if (record.other_stream) continue;
       const Role role = role_of(record);
       if (record.type == 4 || (role == kHigh && config.retain)) continue;
       auto& events = (role == kHigh ? high_events : main_events)[unit_of(record)];
@@ -370,6 +371,7 @@ Result simulate(const TraceFacts& trace, const Config& config) {
       frame = record.frame;
       for (UnitCaches& unit : caches) unit.retained.clear();  // loaded once per frame
     }
+    if (record.other_stream) continue;
     Counts counted;
     UnitCaches& unit = caches[unit_of(record)];
     const Role role = role_of(record);

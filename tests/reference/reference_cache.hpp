@@ -92,6 +92,7 @@ struct TraceRecord {
   std::uint32_t size = 4;
   int type = 0;  // 0 read, 1 write, 2 instruction fetch, 3 misc, 4 copy-back, 5 invalidate
   std::optional<std::uint32_t> level;  // nullopt: untagged
+  char other_stream = 0;               // 'p' or 't': a record of another stream, counted apart, never simulated
   unsigned unit = 0;
   std::uint32_t frame = 0;  // index into TraceFacts::nodes_per_level
 };
