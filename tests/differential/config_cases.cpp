@@ -428,6 +428,11 @@ ConfigCase make_config_case(std::uint64_t seed, const ConfigCaseOptions& options
       })) {
     c.known_defect_triggers.push_back("(g) --sample-sets with references that span blocks");
   }
+  c.sets_leave_out_random = options.avoids('i');
+  if (c.sample_sets && !c.sets_leave_out_random &&
+      std::find(lists.policies.begin(), lists.policies.end(), "random") != lists.policies.end()) {
+    c.known_defect_triggers.push_back("(i) random with --sample-sets");
+  }
   if (lists.fetch != "demand" && reaches_2_32(c.facts.records)) {
     c.known_defect_triggers.push_back("(h) a prefetching --fetch with addresses from 2^32 on");
   }
@@ -904,6 +909,7 @@ ConfigCaseResult check_config_case(const ConfigCase& c, const Programs& programs
     for (std::size_t i = 0; i < c.configs.size(); ++i) {
       const Policy p = c.configs[i].config.policy;
       if (p == Policy::Opt || (sets && (p == Policy::Brrip || p == Policy::Drrip))) continue;
+      if (sets && p == Policy::Random && c.sets_leave_out_random) continue;
       kept.push_back(i);
     }
     std::vector<std::string> args = c.list_args;
@@ -912,7 +918,8 @@ ConfigCaseResult check_config_case(const ConfigCase& c, const Programs& programs
            std::vector<std::string> names;
            std::istringstream in(*policy_at);
            for (std::string name; std::getline(in, name, ',');) {
-             if (name != "opt" && !(sets && (name == "brrip" || name == "drrip"))) names.push_back(name);
+             if (name == "opt" || (sets && (name == "brrip" || name == "drrip"))) continue;
+             if (!(sets && name == "random" && c.sets_leave_out_random)) names.push_back(name);
            }
            return names;
          }()) {

@@ -29,6 +29,9 @@ namespace nodetrace::testing {
 //   d  block 2^64 - 1 (1-byte blocks at the last address) is taken for a free way
 //   g  --sample-sets gives a reference that spans blocks whole to its first block's group
 //   h  a prefetching --fetch takes addresses modulo 2^32
+//   i  random with --sample-sets draws from one generator per group of sets,
+//      so at 1/1 it differs from the full run (by design or not: the
+//      integrator's call; refused, it would join brrip and drrip)
 // A case "holds a trigger" of one when it has what the defect needs.
 struct ConfigCaseOptions {
   // Letters of the defects whose triggers the generator leaves out, so that
@@ -56,6 +59,7 @@ struct ConfigCase {
   bool per_level = false, per_frame = false;
   bool sampling_allowed = false;  // the list's options go with --sample-windows / --sample-sets
   bool sample_sets = false;       // sampled with --sample-sets 1/1 (else --sample-windows 1/1)
+  bool sets_leave_out_random = false;  // --sample-sets 1/1 compared without random (defect i avoided)
   // A --curve run of the list's blocks, ways and policies (single caches;
   // empty: none), each point up to 16k against the reference.
   std::vector<std::string> curve_args;
