@@ -92,6 +92,8 @@ struct ConfigCaseResult {
   std::uint64_t rows = 0;           // rows checked against the reference and alone
   std::uint64_t dinero_rows = 0;    // of them, also against Dinero IV
   std::uint64_t properties = 0;     // property checks made
+  std::uint64_t sampled_sets = 0, sampled_windows = 0;  // of them, sampling at 1/1 (rows compared)
+  std::uint64_t curve_points = 0;   // --curve points against the reference
 };
 
 // Runs every check of the case in `work` (the trace written there).

@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
   }
   if (!programs.tracer) programs.tracer = programs.cachesim.parent_path() / "tracer";
   const auto start = std::chrono::steady_clock::now();
-  std::atomic<std::uint64_t> next{0}, render_rows{0}, rows{0}, dinero_rows{0}, properties{0}, configs{0};
+  std::atomic<std::uint64_t> next{0}, render_rows{0}, sampled_sets{0}, sampled_windows{0}, curve_points{0}, rows{0}, dinero_rows{0}, properties{0}, configs{0};
   std::mutex mutex;
   std::map<std::uint64_t, std::vector<std::string>> differing;  // seed -> known-defect triggers
   std::uint64_t differing_renders = 0;
@@ -112,6 +112,9 @@ int main(int argc, char** argv) {
       rows += result.rows;
       dinero_rows += result.dinero_rows;
       properties += result.properties;
+      sampled_sets += result.sampled_sets;
+      sampled_windows += result.sampled_windows;
+      curve_points += result.curve_points;
       configs += c.configs.size();
       if (result.differences.empty()) continue;
       const auto folder = keep / fmt::format("seed-{}", s);
@@ -131,13 +134,16 @@ int main(int argc, char** argv) {
   std::uint64_t with_triggers = 0;
   for (const auto& [s, triggers] : differing) with_triggers += triggers.empty() ? 0 : 1;
   std::printf("seeds %llu-%llu: %llu cases, %llu configurations; %llu rows checked against the reference and alone, "
-              "%llu also against Dinero IV; %llu render checks (%llu rows); %llu property checks; %llu cases differ (%llu of them "
+              "%llu also against Dinero IV; %llu curve points; %llu render checks (%llu rows); %llu property checks (sampling at 1/1: %llu rows by "
+              "windows, %llu by sets); %llu cases differ (%llu of them "
               "hold a trigger of a defect not yet fixed), %llu render checks differ; %.1f s\n",
               static_cast<unsigned long long>(seed), static_cast<unsigned long long>(seed + cases - 1),
               static_cast<unsigned long long>(cases), static_cast<unsigned long long>(configs.load()),
               static_cast<unsigned long long>(rows.load()), static_cast<unsigned long long>(dinero_rows.load()),
-              static_cast<unsigned long long>(renders), static_cast<unsigned long long>(render_rows.load()),
-              static_cast<unsigned long long>(properties.load()),
+              static_cast<unsigned long long>(curve_points.load()), static_cast<unsigned long long>(renders),
+              static_cast<unsigned long long>(render_rows.load()), static_cast<unsigned long long>(properties.load()),
+              static_cast<unsigned long long>(sampled_windows.load()),
+              static_cast<unsigned long long>(sampled_sets.load()),
               static_cast<unsigned long long>(differing.size()), static_cast<unsigned long long>(with_triggers),
               static_cast<unsigned long long>(differing_renders), seconds);
   return differing.empty() && differing_renders == 0 ? 0 : 1;
