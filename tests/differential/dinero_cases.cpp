@@ -1,6 +1,5 @@
 // The generator and the comparison of the differential test (see
-// dinero_cases.hpp). Draws use `below` on std::mt19937_64, whose sequence the
-// standard fixes, so a seed means the same case everywhere.
+// dinero_cases.hpp), from seeded draws (seeded_draw.hpp).
 #include "dinero_cases.hpp"
 
 #include <fmt/format.h>
@@ -11,26 +10,13 @@
 #include <fstream>
 #include <random>
 
+#include "address_stream.hpp"
+#include "seeded_draw.hpp"
 #include "test_support.hpp"
 
 namespace nodetrace::testing {
 
 namespace {
-
-class Draw {
- public:
-  explicit Draw(std::uint64_t seed) : random_(seed * 0x9E3779B97F4A7C15ull + 12345) {}
-  std::uint64_t below(std::uint64_t n) { return n == 0 ? 0 : random_() % n; }
-  std::uint64_t between(std::uint64_t lo, std::uint64_t hi) { return lo + below(hi - lo + 1); }
-  bool chance(int percent) { return below(100) < static_cast<std::uint64_t>(percent); }
-  template <typename T, std::size_t N>
-  T pick(const std::array<T, N>& items) {
-    return items[below(N)];
-  }
-
- private:
-  std::mt19937_64 random_;
-};
 
 enum Kind { Unified = 0, Instruction = 1, Data = 2 };
 constexpr const char* kKind = "uid";
@@ -41,8 +27,7 @@ struct Record {
   int type;  // 0 read, 1 write, 2 instruction fetch, 3 misc, 4 copy-back, 5 invalidate
 };
 
-// Address streams that caches find interesting: loops, strides, hot sets,
-// random jumps, unaligned sequential runs; switched every few hundred records.
+// Records of address streams (address_stream.hpp) and random types and sizes.
 std::vector<Record> make_records(Draw& draw, char informat) {
   std::uint64_t count = 0;
   const auto size_class = draw.below(10);
@@ -59,33 +44,13 @@ std::vector<Record> make_records(Draw& draw, char informat) {
   const bool wide = informat == 'D' && draw.chance(20);
   std::vector<Record> records;
   records.reserve(count);
-  std::uint64_t base = 0, length = 0, step = 0, at = 0;
-  std::vector<std::uint64_t> hot;
-  int mode = 0;
-  std::uint64_t left = 0;
+  AddressStream stream(StreamShape{}, [&](Draw& d) {
+    std::uint64_t base = d.pick(bases) + d.below(1 << 16);
+    if (wide) base += std::uint64_t{0x7ffe} << 32;
+    return base;
+  });
   while (records.size() < count) {
-    if (left == 0) {
-      mode = static_cast<int>(draw.below(5));
-      left = draw.between(10, 400);
-      base = draw.pick(bases) + draw.below(1 << 16);
-      if (wide) base += std::uint64_t{0x7ffe} << 32;
-      length = std::uint64_t{64} << draw.below(9);
-      step = draw.chance(50) ? std::uint64_t{4} << draw.below(4) : draw.between(1, 64);
-      at = 0;
-      hot.clear();
-      const auto hot_count = draw.between(2, 48);
-      for (std::uint64_t i = 0; i < hot_count; ++i) hot.push_back(base + draw.below(length * 4));
-    }
-    --left;
-    std::uint64_t address = 0;
-    switch (mode) {
-      case 0: address = base + (at * step) % length; break;           // loop
-      case 1: address = base + at * step; break;                      // stride
-      case 2: address = hot[draw.below(hot.size())]; break;           // hot set
-      case 3: address = base + draw.below(std::uint64_t{1} << draw.between(8, 22)); break;  // jumps
-      default: address = base + at * draw.between(1, 12); break;      // unaligned runs
-    }
-    ++at;
+    const std::uint64_t address = stream.next(draw);
     Record r;
     const auto t = draw.below(200);
     r.type = t < 90 ? 0 : t < 140 ? 1 : t < 180 ? 2 : t < 194 ? 3 : t < 197 ? 4 : 5;

@@ -101,6 +101,17 @@ CommandResult run_command(const std::string& command, const std::string& input) 
   return result;
 }
 
+std::vector<std::map<std::string, std::string>> csv_table(const std::string& text) {
+  const auto rows = csv_rows(text);
+  std::vector<std::map<std::string, std::string>> out;
+  for (std::size_t r = 1; r < rows.size(); ++r) {
+    if (rows[r].empty()) continue;
+    auto& row = out.emplace_back();
+    for (std::size_t c = 0; c < rows[0].size() && c < rows[r].size(); ++c) row[rows[0][c]] = rows[r][c];
+  }
+  return out;
+}
+
 std::string read_file(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -66,6 +67,10 @@ void write_file(const std::filesystem::path& path, const std::string& bytes);
 // The rows of CSV text as a loader sees them (RFC 4180: quoted fields, doubled
 // quotes); an empty line is a row of no cells, as Python's csv.reader gives it.
 std::vector<std::vector<std::string>> csv_rows(const std::string& text);
+
+// The rows after the header line of CSV text, each as column -> cell (empty
+// lines skipped).
+std::vector<std::map<std::string, std::string>> csv_table(const std::string& text);
 
 // Empty when `text` is exactly one table: the header `columns` (or, when
 // `columns` is empty, any header), then rows of its width; else what is wrong.

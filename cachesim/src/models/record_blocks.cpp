@@ -15,7 +15,8 @@ void refuse_last_block(const formats::Record* records, std::size_t count, format
     if (is_other_stream(record.tag)) continue;
     if (record.type > formats::AccessType::Misc && record.type != formats::AccessType::Invalidate) continue;
     const formats::Record view = formats::dinero_view(record, form);
-    if (kLastAddress - view.address > span_of(view)) continue;  // ends before the last address
+    const std::uint64_t span = record.type == formats::AccessType::Invalidate ? 0 : span_of(view);
+    if (kLastAddress - view.address > span) continue;  // ends before the last address
     throw base::FormatError(fmt::format(
         "{}: record {}: address 0x{:x} of {} bytes reaches address 0xffffffffffffffff, whose 1-byte "
         "block (block number 2^64 - 1) is the caches' mark of a free way and is not simulated; "

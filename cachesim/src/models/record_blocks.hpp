@@ -32,7 +32,11 @@ inline BlockRange blocks_of(const formats::Record& record, formats::RecordForm f
   const std::uint64_t last_block = ~std::uint64_t{0} >> shift;
   if (aligned_din) return {record.address >> shift, record.address >> shift, last_block};
   const formats::Record view = formats::dinero_view(record, form);
-  return {view.address >> shift, (view.address + span_of(view)) >> shift, last_block};
+  const std::uint64_t first = view.address >> shift;
+  // Dinero IV invalidates the block of the address alone, whatever the size
+  // (d4invalidate); the other types reference every block they span.
+  if (record.type == formats::AccessType::Invalidate) return {first, first, last_block};
+  return {first, (view.address + span_of(view)) >> shift, last_block};
 }
 
 // Block number 2^64 - 1, a 1-byte block at the last address, is the mark of

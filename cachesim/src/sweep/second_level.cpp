@@ -107,10 +107,19 @@ void SecondLevelSimulator::feed(const formats::RecordBatch& batch) {
     const bool split = config.scheme == Scheme::Split;
     const std::uint32_t split_level = split ? plan_->current(c) : 0;
     for (const formats::Record& record : batch.records) {
-      if (is_other_stream(record.tag) || record.type > formats::AccessType::Misc) continue;
+      if (is_other_stream(record.tag) || record.type == formats::AccessType::CopyBack) continue;
       FirstLevel& first = per.units[units_ > 1 ? formats::unit_index(record.unit) : 0];
       const bool high = split && record.tag < split_level;
       const BlockRange blocks = blocks_of(record, context_.form, shift, aligned_din);
+      if (record.type == formats::AccessType::Invalidate) {
+        // As the sweep's first level: a retained high cache keeps its blocks for the frame.
+        if (!high) {
+          first.low->invalidate(blocks.first);
+        } else if (first.high) {
+          first.high->invalidate(blocks.first);
+        }
+        continue;
+      }
       for (std::uint64_t block = blocks.first;; block = blocks.after(block)) {
         bool fetched;
         if (!high) {

@@ -1,7 +1,7 @@
 // The replacement policies Dinero IV does not have (plru, srrip, brrip,
-// drrip, opt) against a reference model written apart from the engine and
-// as plainly as possible: per-set arrays, and for opt a scan of the future
-// at every choice. On 1,200 seeded random traces and configurations (sizes,
+// drrip, opt) against the reference model (tests/reference/reference_cache.hpp),
+// written apart from the engine and as plainly as possible: per-set arrays,
+// and for opt a look ahead over the whole stream. On 1,200 seeded random traces and configurations (sizes,
 // ways 1 to full, blocks, both schemes, invalidations) the sweep's counts
 // must equal the reference's exactly. Then the properties every policy
 // must have, and OPT's curve against single runs.
@@ -15,6 +15,7 @@
 #include "nodetrace/cachesim/sweep/curve.hpp"
 #include "nodetrace/cachesim/sweep/sweep.hpp"
 #include "nodetrace/base/error.hpp"
+#include "reference_cache.hpp"
 #include "test_support.hpp"
 
 namespace nodetrace::cachesim {
@@ -22,144 +23,6 @@ namespace {
 
 using formats::AccessType;
 using formats::Record;
-
-constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
-constexpr std::uint64_t kInvalidated = std::uint64_t{1} << 62;  // above every block of these tests
-
-// One cache of the reference: blocks in per-set arrays, each policy's state
-// beside them, every rule written out as docs/guide/replacement-policies.md
-// states it.
-class ReferenceCache {
- public:
-  ReferenceCache(std::uint64_t sets, std::uint32_t ways, ReplacementPolicy policy)
-      : sets_(sets), ways_(ways), policy_(policy),
-        block_(sets, std::vector<std::uint64_t>(ways, kEmpty)),
-        stamp_(sets, std::vector<std::uint64_t>(ways, 0)),
-        tree_(sets, std::vector<int>(ways, 0)),
-        value_(sets, std::vector<int>(ways, 3)) {}
-
-  // `future`: the cache's stream of events, this fetch at `now`: blocks
-  // fetched, and blocks invalidated with kInvalidated added (opt only).
-  bool access(std::uint64_t block, const std::vector<std::uint64_t>& future, std::size_t now) {
-    const std::uint64_t set = block % sets_;
-    std::vector<std::uint64_t>& blocks = block_[set];
-    ++clock_;
-    for (std::uint32_t way = 0; way < ways_; ++way) {
-      if (blocks[way] != block) continue;
-      if (policy_ == ReplacementPolicy::Lru) stamp_[set][way] = clock_;
-      if (policy_ == ReplacementPolicy::Plru) touch_tree(set, way);
-      if (is_rrip()) value_[set][way] = 0;
-      return false;
-    }
-    std::uint32_t way = ways_;
-    for (std::uint32_t w = 0; w < ways_; ++w) {
-      if (blocks[w] == kEmpty) {
-        way = w;
-        break;
-      }
-    }
-    if (way == ways_) {
-      if (policy_ == ReplacementPolicy::Opt) {
-        // Scan the future for each resident block and the incoming one.
-        auto distance = [&](std::uint64_t candidate) {
-          for (std::size_t later = now + 1; later < future.size(); ++later) {
-            if (future[later] == candidate) return later;
-            if (future[later] == (candidate | kInvalidated)) break;  // gone before its next use
-          }
-          return future.size() + 1;  // never again: farthest
-        };
-        std::size_t farthest = distance(block);
-        for (std::uint32_t w = 0; w < ways_; ++w) {
-          const std::size_t d = distance(blocks[w]);
-          if (d > farthest) {
-            farthest = d;
-            way = w;
-          }
-        }
-        if (way == ways_) return true;  // the incoming block is farthest: not placed
-      } else if (policy_ == ReplacementPolicy::Lru || policy_ == ReplacementPolicy::Fifo) {
-        way = 0;
-        for (std::uint32_t w = 1; w < ways_; ++w) {
-          if (stamp_[set][w] < stamp_[set][way]) way = w;
-        }
-      } else if (policy_ == ReplacementPolicy::Plru) {
-        std::uint32_t node = 1;
-        while (node < ways_) node = 2 * node + static_cast<std::uint32_t>(tree_[set][node]);
-        way = node - ways_;
-      } else {
-        for (;;) {
-          for (std::uint32_t w = 0; w < ways_ && way == ways_; ++w) {
-            if (value_[set][w] == 3) way = w;
-          }
-          if (way != ways_) break;
-          for (std::uint32_t w = 0; w < ways_; ++w) ++value_[set][w];
-        }
-      }
-    }
-    blocks[way] = block;
-    stamp_[set][way] = clock_;
-    if (policy_ == ReplacementPolicy::Plru) touch_tree(set, way);
-    if (is_rrip()) value_[set][way] = insertion(set);
-    return true;
-  }
-
-  void invalidate(std::uint64_t block) {
-    const std::uint64_t set = block % sets_;
-    for (std::uint32_t way = 0; way < ways_; ++way) {
-      if (block_[set][way] == block) block_[set][way] = kEmpty;
-    }
-  }
-
- private:
-  bool is_rrip() const {
-    return policy_ == ReplacementPolicy::Srrip || policy_ == ReplacementPolicy::Brrip ||
-           policy_ == ReplacementPolicy::Drrip;
-  }
-
-  // Every bit on the way's path points at the other half.
-  void touch_tree(std::uint64_t set, std::uint32_t way) {
-    std::uint32_t node = way + ways_;
-    while (node > 1) {
-      const std::uint32_t parent = node / 2;
-      tree_[set][parent] = node % 2 == 0 ? 1 : 0;
-      node = parent;
-    }
-  }
-
-  int bimodal() {
-    ++bimodal_count_;
-    return bimodal_count_ % 32 == 0 ? 2 : 3;
-  }
-
-  int insertion(std::uint64_t set) {
-    if (policy_ == ReplacementPolicy::Srrip) return 2;
-    if (policy_ == ReplacementPolicy::Brrip) return bimodal();
-    const std::uint64_t leaders = std::min<std::uint64_t>(32, sets_ / 2);
-    if (leaders > 0) {
-      const std::uint64_t run = sets_ / leaders;
-      if (set % run == 0) {
-        selector_ = std::min(selector_ + 1, 1023);
-        return 2;
-      }
-      if (set % run == run - 1) {
-        selector_ = std::max(selector_ - 1, 0);
-        return bimodal();
-      }
-    }
-    return selector_ >= 512 ? bimodal() : 2;
-  }
-
-  std::uint64_t sets_;
-  std::uint32_t ways_;
-  ReplacementPolicy policy_;
-  std::vector<std::vector<std::uint64_t>> block_;
-  std::vector<std::vector<std::uint64_t>> stamp_;  // LRU: last use; FIFO: fill
-  std::vector<std::vector<int>> tree_;             // PLRU bits, node 1 the root
-  std::vector<std::vector<int>> value_;            // RRIP values
-  std::uint64_t clock_ = 0;
-  std::uint64_t bimodal_count_ = 0;
-  int selector_ = 511;
-};
 
 struct Counts {
   std::uint64_t high_misses = 0;
@@ -169,46 +32,31 @@ struct Counts {
 
 std::uint64_t block_of(const Record& record, std::uint32_t block) { return (record.address & ~std::uint64_t{3}) / block; }
 
-// The reference's counts of `config` on din records: high levels below K
-// to the high cache (retained: loaded once, never a miss), the rest low.
-// Each cache's future is its own stream.
+// The reference model's counts (tests/reference) of `config` on din records
+// tagged with levels: one animation frame, K given.
 Counts reference_counts(const Configuration& config, const std::vector<Record>& records) {
-  const bool split = config.scheme == Scheme::Split;
-  const std::uint32_t k = split ? *config.split_level : 0;
-  auto goes_high = [&](const Record& record) { return split && record.tag < k; };
-  std::vector<std::uint64_t> high_future;
-  std::vector<std::uint64_t> low_future;
+  reference::TraceFacts trace;
   for (const Record& record : records) {
-    const std::uint64_t invalidated = record.type == AccessType::Invalidate ? kInvalidated : 0;
-    (goes_high(record) ? high_future : low_future).push_back(block_of(record, config.block) | invalidated);
+    reference::TraceRecord r;
+    r.address = record.address & ~std::uint64_t{3};  // din: Dinero IV's address and size
+    r.size = 4;
+    r.type = static_cast<int>(record.type);
+    r.level = record.tag;
+    trace.records.push_back(r);
   }
-  const std::uint64_t low_blocks = (split ? config.low_size : config.size) / config.block;
-  ReferenceCache low(low_blocks / config.assoc, config.assoc, config.policy);
-  const std::uint64_t high_blocks = split ? config.high_size / config.block : 1;
-  ReferenceCache high(high_blocks / config.high_assoc, config.high_assoc, config.policy);
-  std::vector<std::uint64_t> retained;
-  Counts counts;
-  std::size_t high_at = 0;
-  std::size_t low_at = 0;
-  for (const Record& record : records) {
-    const std::uint64_t block = block_of(record, config.block);
-    const bool to_high = goes_high(record);
-    if (record.type == AccessType::Invalidate) {
-      if (!to_high) low.invalidate(block);
-      if (to_high && config.high_policy == HighPolicy::Cache) high.invalidate(block);
-      ++(to_high ? high_at : low_at);
-      continue;
-    }
-    if (!to_high) {
-      counts.low_misses += low.access(block, low_future, low_at++);
-    } else if (config.high_policy == HighPolicy::Cache) {
-      counts.high_misses += high.access(block, high_future, high_at++);
-    } else if (std::find(retained.begin(), retained.end(), block) == retained.end()) {
-      retained.push_back(block);
-      ++counts.high_loads;
-    }
-  }
-  return counts;
+  reference::Config ref;
+  ref.split = config.scheme == Scheme::Split;
+  ref.size = config.size;
+  ref.block = config.block;
+  ref.assoc = config.assoc;
+  ref.policy = *reference::policy_named(policy_name(config.policy));
+  ref.retain = config.high_policy == HighPolicy::Retain;
+  ref.high_size = config.high_size;
+  ref.low_size = config.low_size;
+  ref.high_assoc = config.high_assoc;
+  ref.split_level = config.split_level;
+  const reference::Counts counts = reference::simulate(trace, ref).total;
+  return {counts.high_misses, ref.split ? counts.low_misses : counts.misses, counts.high_loads};
 }
 
 ResultRow sweep_row(const Configuration& config, const std::vector<Record>& records) {

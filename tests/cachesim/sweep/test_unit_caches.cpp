@@ -46,14 +46,7 @@ class UnitCaches : public ::testing::Test {
   static std::string tool(const char* name) { return shell_quoted(program(name)); }
   // A CSV table as rows of column -> cell.
   static std::vector<std::map<std::string, std::string>> table(const std::string& csv) {
-    const auto rows = csv_rows(csv);
-    std::vector<std::map<std::string, std::string>> out;
-    for (std::size_t r = 1; r < rows.size(); ++r) {
-      if (rows[r].empty()) continue;
-      auto& row = out.emplace_back();
-      for (std::size_t c = 0; c < rows[0].size(); ++c) row[rows[0][c]] = rows[r].at(c);
-    }
-    return out;
+    return nodetrace::testing::csv_table(csv);
   }
   // Dinero IV's total demand misses of cache `cache` (e.g. "l1-ucache").
   static std::uint64_t dinero_misses(const std::string& output, const std::string& cache = "l1-ucache") {
