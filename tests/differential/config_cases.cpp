@@ -434,11 +434,7 @@ ConfigCase make_config_case(std::uint64_t seed, const ConfigCaseOptions& options
   });
   c.sample_sets = c.sampling_allowed && c.seed % 2 == 1 && !(options.avoids('g') && spans);
   if (c.sample_sets && spans) c.known_defect_triggers.push_back("(g) --sample-sets with references that span blocks");
-  c.sets_leave_out_random = options.avoids('i');
-  if (c.sample_sets && !c.sets_leave_out_random &&
-      std::find(lists.policies.begin(), lists.policies.end(), "random") != lists.policies.end()) {
-    c.known_defect_triggers.push_back("(i) random with --sample-sets");
-  }
+  c.sets_leave_out_random = true;  // random is refused with --sample-sets (once defect i)
   if (lists.fetch != "demand" && reaches_2_32(c.facts.records)) {
     c.known_defect_triggers.push_back("(h) a prefetching --fetch with addresses from 2^32 on");
   }
@@ -916,7 +912,7 @@ ConfigCaseResult check_config_case(const ConfigCase& c, const Programs& programs
     for (std::size_t i = 0; i < c.configs.size(); ++i) {
       const Policy p = c.configs[i].config.policy;
       if (p == Policy::Opt || (sets && (p == Policy::Brrip || p == Policy::Drrip))) continue;
-      if (sets && p == Policy::Random && c.sets_leave_out_random) continue;
+      if (sets && p == Policy::Random) continue;  // refused with --sample-sets (once defect i)
       kept.push_back(i);
     }
     std::vector<std::string> args = c.list_args;
@@ -926,7 +922,7 @@ ConfigCaseResult check_config_case(const ConfigCase& c, const Programs& programs
            std::istringstream in(*policy_at);
            for (std::string name; std::getline(in, name, ',');) {
              if (name == "opt" || (sets && (name == "brrip" || name == "drrip"))) continue;
-             if (!(sets && name == "random" && c.sets_leave_out_random)) names.push_back(name);
+             if (!(sets && name == "random")) names.push_back(name);
            }
            return names;
          }()) {

@@ -159,6 +159,10 @@ const HostileCase kCases[] = {
   {"TracerThreadsFail", "ulimit -v 250000; $B/tracer render ok.obj --width 256 --height 256 --threads 64 -q --default-lights none", 1, "tracer render: cannot start 64 threads"},
   {"ConvertThreadsFail", "ulimit -v 250000; $B/tracetool convert t.din out.din.zst --tags-are-levels --threads 64", 1, "tracetool convert: cannot start 64 threads"},
   {"CachesimThreadsFail", "ulimit -v 250000; $B/cachesim run t.din --threads 64", 1, "cachesim run: cannot start 64 threads"},
+  // What one path of cachesim run would get wrong is refused, naming the record (issue 47's harness: d, g, h).
+  {"CachesimLastOneByteBlock", "printf 'r ffffffffffffffff 1\\n' > last.xdin; $B/cachesim run last.xdin --block 1", 1, "cachesim run: last.xdin: record 1: address 0xffffffffffffffff of 1 bytes reaches address 0xffffffffffffffff"},
+  {"CachesimSampleSetsSpanning", "printf 'r 8 10\\nr 10 8\\n' > g.xdin; $B/cachesim run g.xdin --size 256 --block 8 --assoc 4 --sample-sets 1/1", 1, "cachesim run: g.xdin: record 1: --sample-sets: the reference at 0x8 of 16 bytes spans blocks of 8 bytes"},
+  {"CachesimPrefetchAbove2To32", "printf 'r 0 8\\nr 100000000 8\\n' > h.xdin; $B/cachesim run h.xdin --size 1k --fetch always", 1, "cachesim run: h.xdin: record 2: address 0x100000000 reaches 2^32: a --fetch other than demand is simulated by Dinero IV's engine"},
   // Caches whose state cannot fit are refused before they are allocated (issue 52, item 7).
   {"CachesimStateTooLarge", "ulimit -v 800000; $B/cachesim run t.din --size 256m --assoc 32,full", 2, "cachesim run: the caches asked for keep about 3072 MiB of state, allocated before the first record, more than the "},
   {"CachesimSizePerCache", "$B/cachesim run t.din --size 512m", 2, "cachesim run: --size 512m: at most 256m (the largest cache: its state is allocated up front)"},

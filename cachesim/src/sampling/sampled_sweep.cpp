@@ -99,7 +99,8 @@ class SampledRun {
   // `rows`: the trace's header "sampling" (its windows are its markers).
   SampledRun(const std::vector<Configuration>& configs, const TraceContext& context,
              const SamplingOptions& options, const std::optional<formats::SamplingInfo>& rows)
-      : configs_(configs), options_(options), rows_(rows), trace_(context.trace) {
+      : configs_(configs), options_(options), rows_(rows), trace_(context.trace), source_name_(context.source_name),
+        form_(context.form) {
     if (options.window_records == 0) throw UsageError("--window-records: must be at least 1");
     if (rows_ && options.window_every != 0) {
       throw UsageError(fmt::format(
@@ -121,8 +122,14 @@ class SampledRun {
           (config.policy == ReplacementPolicy::Brrip || config.policy == ReplacementPolicy::Drrip)) {
         throw UsageError(fmt::format("--policy {} with --sample-sets: its insertion counter (and drrip's "
                                      "selector) belong to the whole cache; allowed with --sample-sets: lru, "
-                                     "fifo, random, plru, srrip (or use --sample-windows)",
+                                     "fifo, plru, srrip (or use --sample-windows)",
                                      policy_name(config.policy)));
+      }
+      // Each group of sets would draw its own sequence, not the whole cache's.
+      if (options.set_every != 0 && config.policy == ReplacementPolicy::Random) {
+        throw UsageError("--policy random with --sample-sets: its draws (Dinero IV's one sequence per cache) "
+                         "belong to the whole cache; allowed with --sample-sets: lru, fifo, plru, srrip (or use "
+                         "--sample-windows)");
       }
     }
     if (options.set_every != 0) {
@@ -346,6 +353,7 @@ class SampledRun {
       const std::uint64_t block_size = configs_.front().block;
       for (std::size_t i = begin; i < end; ++i) {
         const std::uint64_t block = batch.records[i].address / block_size;
+        refuse_spanning_reference(batch.records[i], block_size, batch.first_record + i + 1);
         if (block % options_.set_every != residue_) continue;
         group_batches_[(block / options_.set_every) % groups_].records.push_back(batch.records[i]);
       }
@@ -357,6 +365,21 @@ class SampledRun {
     }
   }
 
+  // A reference whose blocks lie in two sets is routed whole, so set
+  // sampling would count it in one set's group only: refused, naming it.
+  void refuse_spanning_reference(const formats::Record& record, std::uint64_t block_size,
+                                 std::uint64_t record_number) const {
+    if (record.type == formats::AccessType::Invalidate || is_other_stream(record.tag)) return;
+    const formats::Record view = formats::dinero_view(record, form_);
+    const std::uint64_t last = view.address + (view.size == 0 ? 0 : view.size - 1);
+    if (view.address / block_size == last / block_size && last >= view.address) return;
+    throw base::FormatError(fmt::format(
+        "{}: record {}: --sample-sets: the reference at 0x{:x} of {} bytes spans blocks of {} bytes, which lie in "
+        "different sets, and set sampling routes a reference whole: use --sample-windows, or a block that holds "
+        "each reference",
+        source_name_, record_number, view.address, view.size, block_size));
+  }
+
   const std::vector<Configuration>& configs_;
   SamplingOptions options_;
   std::uint64_t groups_ = 1;
@@ -365,6 +388,8 @@ class SampledRun {
   std::vector<formats::RecordBatch> group_batches_;
   std::optional<formats::SamplingInfo> rows_;
   std::string trace_;  // the report's trace column
+  std::string source_name_;
+  formats::RecordForm form_;
   bool window_open_ = false;
   bool open_chosen_ = false;
   std::uint64_t open_window_ = 0;

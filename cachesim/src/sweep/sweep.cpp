@@ -14,6 +14,8 @@
 #include <optional>
 
 #include "models/record_blocks.hpp"
+#include "nodetrace/base/error.hpp"
+#include "nodetrace/cachesim/dinero/address_width.hpp"
 #include "sweep/config_simulator.hpp"
 #include "sweep/policy_grid.hpp"
 #include "sweep/stack_group.hpp"
@@ -38,6 +40,8 @@ Sweep::Sweep(std::vector<Configuration> configs, TraceContext context, bool per_
   }
   one_byte_blocks_ = std::any_of(configs_.begin(), configs_.end(),
                                  [](const Configuration& config) { return config.block == 1; });
+  prefetching_ = std::any_of(configs_.begin(), configs_.end(),
+                             [](const Configuration& config) { return config.fetch != FetchPolicy::Demand; });
 }
 
 Sweep::~Sweep() = default;
@@ -301,6 +305,21 @@ void Sweep::begin_batch(const formats::RecordBatch& batch) {
   if (one_byte_blocks_) {
     refuse_last_block(batch.records.data(), batch.records.size(), context_.form, batch.first_record,
                       context_.source_name);
+  }
+  if (prefetching_) {
+    // Dinero IV's engine, which simulates the prefetching fetch policies,
+    // keeps 32-bit addresses, where cachesim run's other paths keep 64.
+    for (std::size_t i = 0; i < batch.records.size(); ++i) {
+      if (is_other_stream(batch.records[i].tag) ||
+          records_beyond_32_bits({&batch.records[i], 1}, context_.form) == 0) {
+        continue;
+      }
+      throw base::FormatError(fmt::format(
+          "{}: record {}: address 0x{:x} reaches 2^32: a --fetch other than demand is simulated by Dinero IV's "
+          "engine, which keeps 32-bit addresses (cachesim dinero); cachesim run keeps 64, so it is not "
+          "simulated: give --fetch demand",
+          context_.source_name, batch.first_record + i + 1, batch.records[i].address));
+    }
   }
   if (!started_) {
     start(batch);

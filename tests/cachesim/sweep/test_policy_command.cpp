@@ -50,7 +50,10 @@ TEST(PolicyCommand, RefusesWhatAPolicyCannotAnswerWithExit2) {
        "cachesim run: --policy opt: not with sampling (--sample-windows, --sample-sets)"},
       {"--policy drrip --assoc 2 --sample-sets 1/2 --size 4k",
        "cachesim run: --policy drrip with --sample-sets: its insertion counter (and drrip's selector) belong to "
-       "the whole cache; allowed with --sample-sets: lru, fifo, random, plru, srrip"},
+       "the whole cache; allowed with --sample-sets: lru, fifo, plru, srrip"},
+      {"--policy random --assoc 2 --sample-sets 1/2 --size 4k",
+       "cachesim run: --policy random with --sample-sets: its draws (Dinero IV's one sequence per cache) belong "
+       "to the whole cache"},
       {"--policy plru --assoc 2 --l2-size 64k", "cachesim run: --l2-size: the first level is simulated record by "
                                                 "record with lru or fifo, not plru"},
       {"--curve --policy srrip --assoc full",

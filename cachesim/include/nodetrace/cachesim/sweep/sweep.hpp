@@ -106,6 +106,7 @@ class Sweep {
   bool per_animation_frame_ = false;
   bool needs_levels_ = false;
   bool one_byte_blocks_ = false;  // then every batch is checked for block number 2^64 - 1
+  bool prefetching_ = false;      // a --fetch other than demand: Dinero IV's engine, 32-bit addresses
   bool started_ = false;
   std::size_t requested_parts_ = 1;
   std::vector<WorkUnit> units_;
