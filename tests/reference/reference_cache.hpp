@@ -1,6 +1,6 @@
 // The reference cache simulator: the plainest simulator we could write that
 // is obviously right, against which every path of `cachesim run` is held
-// (tests/differential/config_cases.cpp, test_replacement_policies.cpp). It
+// (tests/differential/config_case_*.cpp, test_replacement_policies.cpp). It
 // shares no code with cachesim: each set is an array of ways searched one by
 // one, each policy is the README's "Replacement policies" rule written out,
 // OPT looks ahead over the whole stream its cache will see, the split scheme
