@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "nodetrace/base/split_level.hpp"
+#include "nodetrace/formats/container/treelet_map.hpp"
 #include "nodetrace/formats/record/record.hpp"
 
 namespace nodetrace::formats {
@@ -26,6 +27,9 @@ struct AnimationFrameMarker {
   std::uint32_t depth = 0;
   // Further keys written by the producer, kept as they were.
   nlohmann::json extra = nlohmann::json::object();
+  // The frame's treelet map, when the trace carries one (not in the
+  // marker's JSON: FORMAT.md gives the frame that holds it).
+  std::optional<TreeletMap> treelets;
 
   nlohmann::json to_json() const;
   static AnimationFrameMarker from_json(const nlohmann::json& json);  // throws base::FormatError
