@@ -116,6 +116,12 @@ void RunSession::add_options(CLI::App& app, bool traces_positional) {
   app.add_option("--l2-policy", l2_line_.policy, "Second-level replacement: lru or fifo")
       ->check(CLI::IsMember({"lru", "fifo"}))
       ->capture_default_str();
+  app.add_option("--prefetch", prefetch_line_,
+                 "Treelet prefetcher (list): none, treelet[:BYTES] (on a demand miss, the rest of the missed "
+                 "block's treelet, at most BYTES from the block on, a power of two, into the cache that missed) or "
+                 "treelet-low[:BYTES] (into the split scheme's low-level cache only); needs a trace with a treelet "
+                 "map (tracer render --layout treelet); adds the prefetch columns; timing not modelled")
+      ->delimiter(',');
   app.add_option("--per-unit", line_.per_unit,
                  "--units private: also write each unit's rows (the main columns, unit after trace) to FILE "
                  "(- for standard output instead of the main table)");
@@ -123,7 +129,20 @@ void RunSession::add_options(CLI::App& app, bool traces_positional) {
 
 void RunSession::prepare(const CLI::App& app) {
   options_ = sweep_options(line_);
+  if (!prefetch_line_.empty()) {
+    options_.prefetches.clear();
+    for (const std::string& text : prefetch_line_) options_.prefetches.push_back(parse_prefetch(text));
+  }
   sampling_ = sampling_options(sampling_line_, line_);
+  if (!prefetch_line_.empty()) {
+    for (const char* option : {"--curve", "--sample-windows", "--sample-sets", "--units", "--l2-size"}) {
+      if (app.count(option) > 0 && !(std::string_view(option) == "--units" && line_.units == "shared")) {
+        throw base::UsageError(fmt::format("--prefetch: not with {} (the prefetcher runs in the plain sweep of "
+                                           "shared caches)",
+                                           option));
+      }
+    }
+  }
   if (options_.fetch != FetchPolicy::Demand && (line_.curve || sampling_.sampling())) {
     throw base::UsageError(fmt::format("--fetch {}: not with --curve or sampling, which are demand-fetch",
                                        line_.fetch));
@@ -220,6 +239,9 @@ RunMode RunSession::mode_for(const std::vector<const formats::TraceReader*>& rea
                                        sampled->source_name()));
   }
   if (sampling_.sampling() || sampled) {
+    if (!prefetch_line_.empty() && sampled) {
+      throw base::UsageError(fmt::format("--prefetch: not on a row-sampled trace ({})", sampled->source_name()));
+    }
     if (options_.fetch != FetchPolicy::Demand) {
       throw base::UsageError(fmt::format("--fetch {}: not on a row-sampled trace (demand-fetch only)", line_.fetch));
     }

@@ -89,6 +89,7 @@ class RunSession {
   RunCommandLine line_;
   SamplingCommandLine sampling_line_;
   SecondLevelCommandLine l2_line_;
+  std::vector<std::string> prefetch_line_;  // --prefetch, as given
   SweepOptions options_;
   SamplingOptions sampling_;
   std::vector<Configuration> configs_;
