@@ -142,6 +142,10 @@ void RunSession::prepare(const CLI::App& app) {
                                            option));
       }
     }
+    if (prefetch_line_.size() > 1 && (!line_.per_level.empty() || !line_.per_animation_frame.empty())) {
+      throw base::UsageError("--prefetch with more than one value: not with --per-level or --per-frame (their rows "
+                             "do not name the prefetcher); give one --prefetch value");
+    }
   }
   if (options_.fetch != FetchPolicy::Demand && (line_.curve || sampling_.sampling())) {
     throw base::UsageError(fmt::format("--fetch {}: not with --curve or sampling, which are demand-fetch",

@@ -46,6 +46,67 @@ std::map<std::string, std::string> expected_cells(const Config& config, const re
   return cells;
 }
 
+// The prefetch columns' counts a row must show (--prefetch): the reference
+// with the prefetcher (`with`) and without it (`without`).
+std::map<std::string, std::string> expected_prefetch_cells(const Config& config, const reference::Counts& with,
+                                                           const reference::Counts& without) {
+  return {{"prefetch", prefetch_text(config)},
+          {"prefetches", std::to_string(with.prefetches)},
+          {"useful_prefetches", std::to_string(with.useful_prefetches)},
+          {"misses_without_prefetch", std::to_string(without.misses)}};
+}
+
+// The blocks a configuration fetched from memory on demand: its misses, a
+// retained high cache's loads whether counted as misses or not.
+std::uint64_t demand_blocks(const Config& config, const reference::Counts& counts) {
+  if (!config.split) return counts.misses;
+  return counts.low_misses + (config.retain ? counts.high_loads : counts.high_misses);
+}
+
+// The properties of a row's prefetch columns (empty: they hold): accuracy
+// useful / prefetches within [0, 1], coverage (without - with) / without at
+// most 1 and below 0 only where some prefetch was useless (it evicted a block
+// then missed), and bytes per ray (demand blocks + prefetches) x block / rays:
+// the traffic is demand misses plus prefetches.
+std::string prefetch_properties(const Config& config, const reference::Counts& with,
+                                const reference::Counts& without, std::optional<std::uint64_t> rays,
+                                const std::map<std::string, std::string>& row) {
+  std::string out;
+  auto value = [&](const char* column) -> std::optional<double> {
+    const auto found = row.find(column);
+    if (found == row.end() || found->second.empty()) return std::nullopt;
+    return std::stod(found->second);
+  };
+  auto near = [](std::optional<double> got, double want) { return got && std::abs(*got - want) <= 5e-7 * std::max(1.0, std::abs(want)); };
+  const auto accuracy = value("prefetch_accuracy");
+  if (with.prefetches == 0) {
+    if (accuracy) out += " prefetch_accuracy given without prefetches";
+  } else {
+    const double want = static_cast<double>(with.useful_prefetches) / static_cast<double>(with.prefetches);
+    if (!near(accuracy, want) || *accuracy < 0 || *accuracy > 1) out += fmt::format(" prefetch_accuracy (expected {})", want);
+  }
+  const auto coverage = value("prefetch_coverage");
+  if (without.misses == 0) {
+    if (coverage) out += " prefetch_coverage given without misses to cover";
+  } else {
+    const double want = (static_cast<double>(without.misses) - static_cast<double>(with.misses)) /
+                        static_cast<double>(without.misses);
+    if (!near(coverage, want) || *coverage > 1 || (*coverage < 0 && with.prefetches == with.useful_prefetches)) {
+      out += fmt::format(" prefetch_coverage (expected {}, negative only with useless prefetches)", want);
+    }
+  }
+  const auto per_ray = value("bytes_per_ray");
+  if (!rays || *rays == 0) {
+    if (per_ray) out += " bytes_per_ray given without rays";
+  } else {
+    const double want = static_cast<double>((demand_blocks(config, with) + with.prefetches) * config.block) /
+                        static_cast<double>(*rays);
+    if (!near(per_ray, want)) out += fmt::format(" bytes_per_ray (expected {})", want);
+  }
+  if (with.useful_prefetches > with.prefetches) out += " more useful prefetches than prefetches";
+  return out;
+}
+
 std::string compare_cells(const std::map<std::string, std::string>& expected,
                           const std::map<std::string, std::string>& row) {
   std::string out;
@@ -126,11 +187,14 @@ ConfigCaseResult check_config_case(const ConfigCase& c, const Programs& programs
     return run(name, command);
   };
 
-  std::vector<reference::Result> expected;
+  std::vector<reference::Result> expected, without_prefetch;
   bool any_does_not_fit = false;
   for (const ListedConfig& one : c.configs) {
     expected.push_back(reference::simulate(c.facts, one.config));
     any_does_not_fit = any_does_not_fit || expected.back().high_levels_do_not_fit;
+    Config without = one.config;
+    without.prefetch = false;
+    without_prefetch.push_back(one.config.prefetch ? reference::simulate(c.facts, without) : expected.back());
   }
 
   // The list.
@@ -175,7 +239,14 @@ ConfigCaseResult check_config_case(const ConfigCase& c, const Programs& programs
     }
     alone_rows[i] = alone_table[0];
     ++result.rows;
-    const auto cells = expected_cells(one.config, expected[i].total);
+    auto cells = expected_cells(one.config, expected[i].total);
+    if (c.prefetch_columns) {
+      cells.merge(expected_prefetch_cells(one.config, expected[i].total, without_prefetch[i].total));
+      ++result.properties;
+      const std::string broken =
+          prefetch_properties(one.config, expected[i].total, without_prefetch[i].total, c.rays, alone_table[0]);
+      if (!broken.empty()) differ(fmt::format("{}: alone, the prefetch columns:{}", one.name, broken));
+    }
     if (const auto d = compare_cells(cells, alone_table[0]); !d.empty()) {
       differ(fmt::format("{}: alone differs from the reference:{}", one.name, d));
     }
@@ -204,8 +275,9 @@ ConfigCaseResult check_config_case(const ConfigCase& c, const Programs& programs
     write_file(dinero_trace, xdin);
     for (std::size_t i = 0; i < c.configs.size(); ++i) {
       const Config& config = c.configs[i].config;
-      const bool expressible = !config.split && (config.policy == Policy::Lru || config.policy == Policy::Fifo ||
-                                                 config.policy == Policy::Random) &&
+      const bool expressible = !config.split && !config.prefetch &&
+                               (config.policy == Policy::Lru || config.policy == Policy::Fifo ||
+                                config.policy == Policy::Random) &&
                                (!config.private_units || c.facts.units == 1);
       if (!expressible || alone_rows[i].empty()) continue;
       std::string command = "timeout 10 " + shell_quoted(*programs.dinero);
@@ -259,7 +331,8 @@ ConfigCaseResult check_config_case(const ConfigCase& c, const Programs& programs
         const Config& a = c.configs[i].config;
         const Config& b = c.configs[j].config;
         if ((*rows)[i].empty() || (*rows)[j].empty() || a.split || b.split || a.policy != Policy::Lru ||
-            b.policy != Policy::Lru || a.fetch != Fetch::Demand || a.block != b.block || a.size >= b.size ||
+            b.policy != Policy::Lru || a.fetch != Fetch::Demand || a.prefetch || b.prefetch || a.block != b.block ||
+            a.size >= b.size ||
             a.assoc != a.size / a.block || b.assoc != b.size / b.block) {
           continue;
         }

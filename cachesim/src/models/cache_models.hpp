@@ -198,13 +198,15 @@ void begin_treelets(Model& model, const formats::TreeletMap* map) {
 template <typename Use>
 auto with_treelet_prefetcher(const CacheGeometry& geometry, std::uint64_t limit_bytes, Use&& use) {
   validate_geometry(geometry, "cache");
+  // One way: every policy replaces the set's block (random's draws choose among one).
+  if (geometry.assoc == 1) return use(TreeletPrefetcher<DirectMappedSlots>(geometry, limit_bytes));
   switch (geometry.replacement) {
-    case ReplacementPolicy::Random: return use(TreeletPrefetcher<DrawnOrder>(geometry, limit_bytes));
-    case ReplacementPolicy::Plru: return use(TreeletPrefetcher<TreePlru>(geometry, limit_bytes));
+    case ReplacementPolicy::Random: return use(TreeletPrefetcher<PolicyCache<DrawnOrder>>(geometry, limit_bytes));
+    case ReplacementPolicy::Plru: return use(TreeletPrefetcher<PolicyCache<TreePlru>>(geometry, limit_bytes));
     case ReplacementPolicy::Srrip:
     case ReplacementPolicy::Brrip:
-    case ReplacementPolicy::Drrip: return use(TreeletPrefetcher<Rrip>(geometry, limit_bytes));
-    default: return use(TreeletPrefetcher<RecencyOrder>(geometry, limit_bytes));
+    case ReplacementPolicy::Drrip: return use(TreeletPrefetcher<PolicyCache<Rrip>>(geometry, limit_bytes));
+    default: return use(TreeletPrefetcher<PolicyCache<RecencyOrder>>(geometry, limit_bytes));
   }
 }
 

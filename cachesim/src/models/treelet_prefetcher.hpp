@@ -29,7 +29,40 @@ struct PrefetchRange {
 std::optional<PrefetchRange> treelet_prefetch_range(const formats::TreeletMap& map, std::uint64_t block_first,
                                                     std::uint64_t block_bytes, std::uint64_t limit);
 
-template <typename Policy>
+// The cache of a direct-mapped treelet prefetcher: one way per set, so every
+// policy is the same (a miss replaces the set's block), at a table's cost.
+class DirectMappedSlots {
+ public:
+  static constexpr std::uint64_t kNoSlot = ~std::uint64_t{0};
+  explicit DirectMappedSlots(const CacheGeometry& geometry)
+      : tags_(geometry.size / geometry.block_size, kNoSlot), mask_(tags_.size() - 1) {}
+  bool access(std::uint64_t block, std::uint64_t& slot) {
+    slot = block & mask_;
+    const bool miss = tags_[slot] != block;
+    tags_[slot] = block;
+    return miss;
+  }
+  std::uint64_t place(std::uint64_t block) {
+    const std::uint64_t slot = block & mask_;
+    if (tags_[slot] == block) return kNoSlot;
+    tags_[slot] = block;
+    return slot;
+  }
+  std::uint64_t invalidate_slot(std::uint64_t block) {
+    const std::uint64_t slot = block & mask_;
+    if (tags_[slot] != block) return kNoSlot;
+    tags_[slot] = kNoSlot;
+    return slot;
+  }
+  std::uint64_t slots() const { return tags_.size(); }
+
+ private:
+  std::vector<std::uint64_t> tags_;  // kNoSlot when free (block 2^64 - 1 is refused before)
+  std::uint64_t mask_;
+};
+
+// `Cache`: a PolicyCache, or DirectMappedSlots for one way.
+template <typename Cache>
 class TreeletPrefetcher {
  public:
   TreeletPrefetcher(const CacheGeometry& geometry, std::uint64_t limit_bytes)
@@ -54,7 +87,7 @@ class TreeletPrefetcher {
   }
 
   void invalidate(std::uint64_t block) {
-    if (const std::uint64_t slot = cache_.invalidate_slot(block); slot != PolicyCache<Policy>::kNoSlot) {
+    if (const std::uint64_t slot = cache_.invalidate_slot(block); slot != Cache::kNoSlot) {
       unused_[slot] = 0;
     }
   }
@@ -75,13 +108,13 @@ class TreeletPrefetcher {
     const std::uint64_t last = (range->end - 1) >> shift_;
     for (std::uint64_t next = block + 1; next <= last; ++next) {
       const std::uint64_t slot = cache_.place(next);
-      if (slot == PolicyCache<Policy>::kNoSlot) continue;
+      if (slot == Cache::kNoSlot) continue;
       unused_[slot] = 1;
       ++counts_.prefetches;
     }
   }
 
-  PolicyCache<Policy> cache_;
+  Cache cache_;
   std::vector<std::uint8_t> unused_;  // per slot: a prefetched block no demand fetch has used
   unsigned shift_;
   std::uint64_t limit_;
