@@ -201,6 +201,19 @@ void draw_treelet_maps(Draw& draw, ConfigCase& c) {
   }
 }
 
+// Asks the writer to carry each frame's treelet map (WriterOptions::
+// treelet_maps); false where formats has no such option yet (before
+// issue51-trace merges: then the generator draws no maps).
+template <typename Options>
+bool ask_for_treelet_maps(Options& options) {
+  if constexpr (requires { options.treelet_maps = true; }) {
+    options.treelet_maps = true;
+    return true;
+  } else {
+    return false;
+  }
+}
+
 std::vector<std::vector<std::uint64_t>> make_nodes_per_level(const ConfigCase& c) {
   std::vector<std::vector<std::uint64_t>> frames;
   for (std::uint32_t f = 0; f < c.facts.frames; ++f) {
@@ -339,7 +352,7 @@ void write_config_case_trace(const ConfigCase& c, const std::filesystem::path& f
   options.address_digits = 16;
   nlohmann::json header;
   header["layout"] = {{"name", c.facts.contiguous_levels ? "bfl" : "dfl"}, {"node_size", 8}, {"node_base", 0}};
-  if (c.treelet_maps) header["treelet_map"] = true;
+  if (c.treelet_maps) ask_for_treelet_maps(options);
   auto writer = formats::TraceWriter::create(file.string(), header, options);
   std::uint32_t frame = ~std::uint32_t{0};
   for (const TraceRecord& r : c.facts.records) {
@@ -380,10 +393,10 @@ bool containers_carry_treelet_maps() {
     options.kind = formats::OutputKind::Container;
     options.threads = 1;
     bool found = false;
+    if (!ask_for_treelet_maps(options)) return false;
     try {
       nlohmann::json header;
       header["layout"] = {{"name", "treelet"}, {"node_size", 8}, {"node_base", 0}};
-      header["treelet_map"] = true;
       auto writer = formats::TraceWriter::create(file.string(), header, options);
       formats::AnimationFrameMarker marker;
       marker.nodes_per_level = {1};
