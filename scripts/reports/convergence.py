@@ -22,23 +22,6 @@ TOLERANCE = 0.1
 RELATIVE_EPSILON = 0.01
 
 
-def read_pfm(path):
-    """A colour PFM's floats as an array (rows x columns x 3), top row first."""
-    with open(path, "rb") as stream:
-        data = stream.read()
-    lines, offset = [], 0
-    while len(lines) < 3:
-        end = data.index(b"\n", offset)
-        lines.append(data[offset:end].decode("ascii"))
-        offset = end + 1
-    if lines[0] != "PF":
-        raise SystemExit(f"{path}: not a colour PFM")
-    width, height = (int(v) for v in lines[1].split())
-    scale = float(lines[2])
-    pixels = numpy.frombuffer(data, dtype="<f4" if scale < 0 else ">f4", offset=offset, count=width * height * 3)
-    return pixels.reshape(height, width, 3)[::-1].astype(numpy.float64)
-
-
 def cpu_seconds(path):
     with open(path, encoding="utf-8", newline="") as stream:
         timing = next(csv.DictReader(stream))
@@ -47,7 +30,7 @@ def cpu_seconds(path):
 
 references, runs = {}, {}
 for row in rows:
-    image = read_pfm(row["file"][:-len(".csv")] + ".pfm")
+    image = common.read_pfm(row["file"][:-len(".csv")] + ".pfm")
     entry = {"spp": int(row["spp"]), "image": image, "cpu": cpu_seconds(row["file"])}
     if row["reference"] == "yes":
         references[row["scene"]] = entry
