@@ -2,12 +2,14 @@
 image written as a colour PFM (linear radiance, the mean of the samples):
 
   blender -b --factory-startup --python scripts/cycles/render_cycles.py -- \\
-      NAME OUT_PREFIX --spp N --seeds 1,2,3 [--bounces B] [--threads T] [--width W --height H]
+      NAME OUT_PREFIX --spp N --seeds 1,2,3 [--bounces B | --our-bounces B] [--threads T]
+      [--width W --height H]
 
 writes OUT_PREFIX-seedS.pfm for each seed S and OUT_PREFIX-times.csv (seed,
-CPU seconds of the process during that render: scene synchronisation, BVH
-build and the samples; Blender's start-up and this script's set-up are
-left out). The same triangles as ours (no axis conversion: the vertices are
+wall and CPU seconds of the process during that render: scene
+synchronisation, BVH build and the samples; Blender's start-up and this
+script's set-up are left out). --our-bounces B: Cycles' bounces that match
+our --max-bounces B for this scene's light (scenes.py). The same triangles as ours (no axis conversion: the vertices are
 set here, not read by Blender's OBJ importer, which turns Y up into Z up),
 the camera by eye, look-at, up and vertical field of view, a box pixel
 filter of width 1, the Standard view transform, no denoising, no clamping,
@@ -32,8 +34,8 @@ def arguments():
     if len(argv) < 2 or argv[0] in ("-h", "--help"):
         print(__doc__)
         sys.exit(0 if argv and argv[0] in ("-h", "--help") else 2)
-    options = {"name": argv[0], "prefix": argv[1], "spp": None, "seeds": None, "bounces": None, "threads": 0,
-               "width": None, "height": None}
+    options = {"name": argv[0], "prefix": argv[1], "spp": None, "seeds": None, "bounces": None,
+               "our-bounces": None, "threads": 0, "width": None, "height": None}
     i = 2
     while i < len(argv):
         key = argv[i][2:]
@@ -179,7 +181,11 @@ def main():
     height = int(options["height"] or data.height)
     seeds = [int(s) for s in (options["seeds"] or ",".join(str(s) for s in range(data.seeds))).split(",")]
     spp = int(options["spp"] or data.spp // len(seeds))
-    bounces = int(options["bounces"] if options["bounces"] is not None else data.cycles_bounces)
+    bounces = data.cycles_bounces
+    if options["bounces"] is not None:
+        bounces = int(options["bounces"])
+    elif options["our-bounces"] is not None:
+        bounces = int(options["our-bounces"]) - (data.our_bounces - data.cycles_bounces)
     scene = build(data, width, height)
     c = scene.cycles
     c.samples = spp
@@ -192,14 +198,14 @@ def main():
     if threads > 0:
         scene.render.threads = threads
     prefix = os.path.abspath(options["prefix"])
-    times = ["seed,cpu_seconds"]
+    times = ["seed,wall_seconds,cpu_seconds"]
     for seed in seeds:
         c.seed = seed
         exr = f"{prefix}-seed{seed}.exr"
         scene.render.filepath = exr
-        started = time.process_time()
+        started, cpu_started = time.monotonic(), time.process_time()
         bpy.ops.render.render(write_still=True)
-        times.append(f"{seed},{time.process_time() - started:.4f}")
+        times.append(f"{seed},{time.monotonic() - started:.4f},{time.process_time() - cpu_started:.4f}")
         image = bpy.data.images.load(exr)
         image.colorspace_settings.name = "Non-Color"  # the file's numbers as they are
         pixels = numpy.empty(width * height * 4, dtype=numpy.float32)
