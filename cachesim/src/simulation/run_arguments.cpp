@@ -123,6 +123,12 @@ void add_cachesim_options(CLI::App& app, SimulationOptions& line, UnsetDefaults&
   app.add_option("--l2-policy", unset.l2_policy, "Second-level replacement: lru or fifo")
       ->check(CLI::IsMember({"lru", "fifo"}))
       ->capture_default_str();
+  app.add_option("--prefetch", line.prefetch,
+                 "Treelet prefetcher (list): none, treelet[:BYTES] (on a demand miss, the rest of the missed "
+                 "block's treelet, at most BYTES from the block on, a power of two, into the cache that missed) or "
+                 "treelet-low[:BYTES] (into the split scheme's low-level cache only); needs a trace with a treelet "
+                 "map (tracer render --layout treelet); adds the prefetch columns; timing not modelled")
+      ->delimiter(',');
   app.add_option("--per-unit", line.per_unit,
                  "--units private: also write each unit's rows (the main columns, unit after trace) to FILE "
                  "(- for standard output instead of the main table)");

@@ -111,6 +111,24 @@ SimulationPlan::SimulationPlan(SimulationOptions options) : line_(std::move(opti
   check_named_values(line_);
   options_ = sweep_options(line_);
   sampling_ = sampling_options(line_);
+  if (!line_.prefetch.empty()) {
+    options_.prefetches.clear();
+    for (const std::string& text : line_.prefetch) options_.prefetches.push_back(parse_prefetch(text));
+    const char* refused = line_.curve                                  ? "--curve"
+                          : !line_.sample_windows.empty()              ? "--sample-windows"
+                          : !line_.sample_sets.empty()                 ? "--sample-sets"
+                          : line_.units_or_default() == "private"      ? "--units"
+                          : !line_.l2_size.empty()                     ? "--l2-size"
+                                                                       : nullptr;
+    if (refused != nullptr) {
+      throw base::UsageError(fmt::format(
+          "--prefetch: not with {} (the prefetcher runs in the plain sweep of shared caches)", refused));
+    }
+    if (line_.prefetch.size() > 1 && (!line_.per_level.empty() || !line_.per_frame.empty())) {
+      throw base::UsageError("--prefetch with more than one value: not with --per-level or --per-frame (their rows "
+                             "do not name the prefetcher); give one --prefetch value");
+    }
+  }
   if (options_.fetch != FetchPolicy::Demand && (line_.curve || sampling_.sampling())) {
     throw base::UsageError(fmt::format("--fetch {}: not with --curve or sampling, which are demand-fetch",
                                        line_.fetch));
@@ -201,6 +219,9 @@ SimulationMode SimulationPlan::mode_for(const std::vector<const formats::TraceRe
                                        sampled->source_name()));
   }
   if (sampling_.sampling() || sampled) {
+    if (!line_.prefetch.empty() && sampled) {
+      throw base::UsageError(fmt::format("--prefetch: not on a row-sampled trace ({})", sampled->source_name()));
+    }
     if (options_.fetch != FetchPolicy::Demand) {
       throw base::UsageError(fmt::format("--fetch {}: not on a row-sampled trace (demand-fetch only)", line_.fetch));
     }

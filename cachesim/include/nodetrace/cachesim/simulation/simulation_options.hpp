@@ -57,6 +57,8 @@ struct SimulationOptions {
   std::optional<std::uint32_t> l2_block;   // --l2-block (default 64)
   std::optional<std::string> l2_assoc;     // --l2-assoc (default "8")
   std::optional<std::string> l2_policy;    // --l2-policy: lru (default) or fifo
+  // --prefetch (list): none, treelet[:BYTES], treelet-low[:BYTES] (empty: not given).
+  std::vector<std::string> prefetch;
   // Side tables: the file each goes to ("" = none, "-" = the report's own output).
   std::string per_level;   // --per-level
   std::string per_frame;   // --per-frame
