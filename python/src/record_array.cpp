@@ -4,9 +4,9 @@
 
 namespace nodetrace::python {
 
-pybind11::array to_array(std::vector<ArrayRecord>&& records) {
-  auto* owned = new std::vector<ArrayRecord>(std::move(records));
-  pybind11::capsule free_when_done(owned, [](void* p) { delete static_cast<std::vector<ArrayRecord>*>(p); });
+pybind11::array to_array(RecordVector&& records) {
+  auto* owned = new RecordVector(std::move(records));
+  pybind11::capsule free_when_done(owned, [](void* p) { delete static_cast<RecordVector*>(p); });
   return pybind11::array_t<ArrayRecord>(static_cast<pybind11::ssize_t>(owned->size()), owned->data(), free_when_done);
 }
 

@@ -10,6 +10,9 @@
 #include <pybind11/pybind11.h>
 
 #include <cstdint>
+#include <memory>
+#include <new>
+#include <utility>
 #include <span>
 #include <vector>
 
@@ -26,7 +29,26 @@ struct ArrayRecord {
   std::uint64_t frame;
 };
 
-inline void append_records(std::vector<ArrayRecord>& out, std::span<const formats::Record> records,
+// A vector whose resize leaves the new records unwritten (they are written
+// next): value-initialising them first would write the array twice.
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  template <class U>
+  void construct(U* place) noexcept {
+    ::new (static_cast<void*>(place)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* place, Args&&... args) {
+    ::new (static_cast<void*>(place)) U(std::forward<Args>(args)...);
+  }
+};
+using RecordVector = std::vector<ArrayRecord, UninitializedAllocator<ArrayRecord>>;
+
+inline void append_records(RecordVector& out, std::span<const formats::Record> records,
                            std::uint64_t frame) {
   const std::size_t start = out.size();
   out.resize(start + records.size());
@@ -49,7 +71,7 @@ inline formats::Record to_record(const ArrayRecord& r) {
 }
 
 // The array owns the vector's memory (no copy).
-pybind11::array to_array(std::vector<ArrayRecord>&& records);
+pybind11::array to_array(RecordVector&& records);
 
 void register_record_dtype(pybind11::module_& module);
 

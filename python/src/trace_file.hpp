@@ -22,7 +22,7 @@ class RecordCursor {
   explicit RecordCursor(std::shared_ptr<formats::TraceReader> reader) : reader_(std::move(reader)) {}
   // Appends records until `out` holds `limit` or the trace ends; false when
   // it ended with nothing appended.
-  bool fill(std::vector<ArrayRecord>& out, std::size_t limit, const SignalCheck& stop);
+  bool fill(RecordVector& out, std::size_t limit, const SignalCheck& stop);
 
  private:
   std::shared_ptr<formats::TraceReader> reader_;
@@ -51,6 +51,7 @@ class TraceFile {
   pybind11::object header() const;
   pybind11::object trailer() const;
   const formats::TraceReader& reader() const { return *reader_; }
+  const std::string& path() const { return path_; }
   // The reader simulate() consumes (the first, then one opened anew).
   std::shared_ptr<formats::TraceReader> fresh_reader();
 
