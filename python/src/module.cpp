@@ -5,6 +5,7 @@
 #include "errors.hpp"
 #include "record_array.hpp"
 #include "render.hpp"
+#include "simulate.hpp"
 #include "trace_file.hpp"
 
 PYBIND11_MODULE(nodetrace, module) {
@@ -14,4 +15,5 @@ PYBIND11_MODULE(nodetrace, module) {
   nodetrace::python::register_record_dtype(module);
   nodetrace::python::bind_trace_file(module);
   nodetrace::python::bind_render(module);
+  nodetrace::python::bind_simulate(module);
 }

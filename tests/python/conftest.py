@@ -4,12 +4,15 @@ is compared with, and small traces they make."""
 import os
 import pathlib
 import subprocess
+import sys
 
 import pytest
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parents[2]
 BIN_DIR = pathlib.Path(os.environ.get("NODETRACE_BIN_DIR", SOURCE_DIR / "build" / "bin"))
 SHARED_DIR = pathlib.Path(os.environ.get("NODETRACE_SHARED_DIR", SOURCE_DIR.parent / "shared"))
+# The harness's check of simulate() (config_diff --python) shares its CSV typing with these tests.
+sys.path.insert(0, str(SOURCE_DIR / "tests" / "differential"))
 
 # A small built-in scene: its tree builds in well under a second.
 SCENE = "sphereflake:1"
