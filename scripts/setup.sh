@@ -21,9 +21,12 @@ done
 # Philox, the path tracer's counter-based random numbers (header-only). ccache:
 # a rebuild (the sanitizer, cross and fuzz builds of CI, another clone) reuses
 # what an earlier build compiled.
+# pybind11-dev, python3-dev, python3-numpy: the nodetrace Python module
+# (python/), built for /usr/bin/python3; python3-pytest runs its tests,
+# python3-matplotlib its example.
 packages=(cmake g++ make ccache pkg-config zstd python3-matplotlib libzstd-dev libxxhash-dev libcli11-dev libfmt-dev
           libtinyobjloader-dev nlohmann-json3-dev libpng-dev libgtest-dev libgmock-dev groff-base
-          librandom123-dev)
+          librandom123-dev pybind11-dev python3-dev python3-numpy python3-pytest)
 scripts/install-packages.sh "${packages[@]}"
 
 source scripts/ccache-launcher.sh

@@ -220,6 +220,23 @@ ConfigCaseResult check_config_case(const ConfigCase& c, const Programs& programs
   }
   const bool list_rows = !list_table.empty();
 
+  // The same list through the Python module's simulate(), on a sample of the cases.
+  if (programs.python_module && list_rows && c.seed % programs.python_every == 0) {
+    const auto list_csv = work / "list.csv";
+    write_file(list_csv, list.out);
+    std::string command = "PYTHONPATH=" + shell_quoted(*programs.python_module) + " /usr/bin/python3 " +
+                          shell_quoted(std::filesystem::path(NODETRACE_SOURCE_DIR) / "tests" / "differential" /
+                                       "python_simulate_check.py") +
+                          " " + shell_quoted(list_csv) + " " + shell_quoted(trace);
+    for (const auto& a : list_args) command += " " + a;
+    const KeptRun python = run("python", command);
+    if (python.status != 0) {
+      differ(fmt::format("nodetrace.simulate() of the list: {}", python.err.substr(0, 300)));
+    } else {
+      result.python_rows += list_table.size();
+    }
+  }
+
   // Each configuration alone, and against the reference.
   std::vector<std::map<std::string, std::string>> alone_rows(c.configs.size());
   for (std::size_t i = 0; i < c.configs.size(); ++i) {

@@ -89,6 +89,12 @@ struct Programs {
   std::filesystem::path cachesim;
   std::optional<std::filesystem::path> dinero;  // the real Dinero IV
   std::optional<std::filesystem::path> tracer;  // for the render checks
+  // config_diff --python: the folder of the nodetrace Python module; every
+  // python_every-th case's list is also run by nodetrace.simulate() (with
+  // /usr/bin/python3, tests/differential/python_simulate_check.py) and its
+  // rows compared with cachesim run's.
+  std::optional<std::filesystem::path> python_module;
+  std::uint64_t python_every = 10;
 };
 
 // One run of a program, kept with a differing case.
@@ -107,6 +113,7 @@ struct ConfigCaseResult {
   std::uint64_t properties = 0;     // property checks made
   std::uint64_t sampled_sets = 0, sampled_windows = 0;  // of them, sampling at 1/1 (rows compared)
   std::uint64_t curve_points = 0;   // --curve points against the reference
+  std::uint64_t python_rows = 0;    // rows nodetrace.simulate() gave equal to cachesim run's
 };
 
 // Runs every check of the case in `work` (the trace written there).

@@ -1,7 +1,10 @@
 // config_diff: the differential test of `cachesim run` over every path
 // (scripts/config-diff.sh).
 //   config_diff --cachesim PATH [--dinero PATH] [--tracer PATH] [--cases N] [--seed S] [--renders R]
-//               [--keep DIR] [--jobs J] [--avoid LETTERS]
+//               [--keep DIR] [--jobs J] [--avoid LETTERS] [--python DIR] [--python-every N]
+// --python: also run every Nth case's list (seed divisible by N; default 10)
+// through the nodetrace Python module built in DIR, whose rows must equal
+// cachesim run's.
 // --renders: R render checks first (check_render_case; tracer beside cachesim unless --tracer).
 // --avoid: the open defects (config_cases.hpp) whose triggers to leave out, e.g. abcd.
 // Without --dinero, Dinero IV is found as the tests find it ($DINEROIV, PATH,
@@ -52,6 +55,10 @@ int main(int argc, char** argv) {
       programs.tracer = fs::path(value);
     } else if (option == "--avoid") {
       options.avoid = value;
+    } else if (option == "--python") {
+      programs.python_module = fs::path(value);
+    } else if (option == "--python-every") {
+      programs.python_every = std::max<std::uint64_t>(1, std::stoull(value));
     } else if (option == "--keep") {
       keep = value;
     } else {
@@ -63,7 +70,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: config_diff --cachesim PATH [--dinero PATH] [--tracer PATH] [--cases N] [--seed S] [--renders R] "
                  "[--keep DIR] [--jobs J] "
-                 "[--avoid LETTERS]\n");
+                 "[--avoid LETTERS] [--python DIR] [--python-every N]\n");
     return 2;
   }
   if (!programs.dinero) programs.dinero = real_dinero();
@@ -76,7 +83,7 @@ int main(int argc, char** argv) {
   }
   if (!programs.tracer) programs.tracer = programs.cachesim.parent_path() / "tracer";
   const auto start = std::chrono::steady_clock::now();
-  std::atomic<std::uint64_t> next{0}, render_rows{0}, sampled_sets{0}, sampled_windows{0}, curve_points{0}, rows{0}, dinero_rows{0}, properties{0}, configs{0};
+  std::atomic<std::uint64_t> next{0}, render_rows{0}, sampled_sets{0}, sampled_windows{0}, curve_points{0}, python_rows{0}, rows{0}, dinero_rows{0}, properties{0}, configs{0};
   std::mutex mutex;
   std::map<std::uint64_t, std::vector<std::string>> differing;  // seed -> known-defect triggers
   std::uint64_t differing_renders = 0;
@@ -115,6 +122,7 @@ int main(int argc, char** argv) {
       sampled_sets += result.sampled_sets;
       sampled_windows += result.sampled_windows;
       curve_points += result.curve_points;
+      python_rows += result.python_rows;
       configs += c.configs.size();
       if (result.differences.empty()) continue;
       const auto folder = keep / fmt::format("seed-{}", s);
@@ -134,12 +142,13 @@ int main(int argc, char** argv) {
   std::uint64_t with_triggers = 0;
   for (const auto& [s, triggers] : differing) with_triggers += triggers.empty() ? 0 : 1;
   std::printf("seeds %llu-%llu: %llu cases, %llu configurations; %llu rows checked against the reference and alone, "
-              "%llu also against Dinero IV; %llu curve points; %llu render checks (%llu rows); %llu property checks (sampling at 1/1: %llu rows by "
+              "%llu also against Dinero IV; %llu rows also from nodetrace.simulate(); %llu curve points; %llu render checks (%llu rows); %llu property checks (sampling at 1/1: %llu rows by "
               "windows, %llu by sets); %llu cases differ (%llu of them "
               "hold a trigger of a defect not yet fixed), %llu render checks differ; %.1f s\n",
               static_cast<unsigned long long>(seed), static_cast<unsigned long long>(seed + cases - 1),
               static_cast<unsigned long long>(cases), static_cast<unsigned long long>(configs.load()),
               static_cast<unsigned long long>(rows.load()), static_cast<unsigned long long>(dinero_rows.load()),
+              static_cast<unsigned long long>(python_rows.load()),
               static_cast<unsigned long long>(curve_points.load()), static_cast<unsigned long long>(renders),
               static_cast<unsigned long long>(render_rows.load()), static_cast<unsigned long long>(properties.load()),
               static_cast<unsigned long long>(sampled_windows.load()),

@@ -42,6 +42,7 @@ std::vector<Include> quoted_includes(const fs::path& folder) {
 const std::vector<fs::path>& public_include_folders() {
   static const std::vector<fs::path> folders = {kSource / "base/include", kSource / "cli/include",
                                                 kSource / "formats/include", kSource / "tracer/include",
+                                                kSource / "tracer/options/include",
                                                 kSource / "cachesim/include"};
   return folders;
 }

@@ -20,7 +20,7 @@
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/base/split_level.hpp"
 #include "nodetrace/tracer/scene/scene_loader.hpp"
-#include "render_options.hpp"
+#include "nodetrace/tracer/options/render_options.hpp"
 
 namespace nodetrace::tracer::tools {
 

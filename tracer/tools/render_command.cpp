@@ -30,7 +30,8 @@
 #include "in_render_simulation.hpp"
 #include "trace_info_output.hpp"
 #include "nodetrace/base/output_file.hpp"
-#include "render_options.hpp"
+#include "nodetrace/tracer/options/render_options.hpp"
+#include "nodetrace/tracer/options/trace_output_options.hpp"
 
 namespace nodetrace::tracer::tools {
 
@@ -132,10 +133,9 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
 
 // The options of `tracer render` and what it does with them.
 struct RenderCommand {
-  std::string scene_spec, output, records_name, image, streams = "nodes";
+  std::string scene_spec, image;
   std::vector<std::string> simulations, reports;
   std::string trace_info;
-  CLI::Option* output_option = nullptr;
   CLI::Option* image_option = nullptr;
   CLI::Option* report_option = nullptr;
   CLI::Option* trace_info_option = nullptr;
@@ -144,12 +144,8 @@ struct RenderCommand {
   CLI::Option* max_depth_option = nullptr;
   CLI::Option* variance_pfm_option = nullptr;
   bool quiet = false;
-  // The container's default level 3: on the default scene level 1 writes the
-  // trace only about 10% faster for 6% more bytes, and at 3 a trace is no
-  // larger than `zstd -3` makes of its text.
-  int zstd_level = 3;
   bool discard = false;
-  bool archive = false;
+  TraceOutputOptions trace_output;  // -o, --records, --streams, compression
   SceneCommandOptions scene_options;
   RenderCommandOptions render_options;
 
@@ -184,7 +180,7 @@ void RenderCommand::check_simulations() const {
   }
   std::vector<std::string> seen;
   for (const auto& report : reports) {
-    if (report == "-" && output == "-") {
+    if (report == "-" && trace_output.output == "-") {
       throw base::UsageError("--report - and -o -: standard output holds one of them; name a file for the other");
     }
     if (std::find(seen.begin(), seen.end(), report) != seen.end()) {
@@ -224,16 +220,16 @@ void RenderCommand::check_outputs(const TraceJobOptions& options,
     for (const auto& file : files) outputs.emplace_back(trace_info_option, file);
   }
   for (const auto& report : reports) outputs.emplace_back(report_option, report);
-  if (output_option->count() != 0) {
-    outputs.emplace_back(output_option, options.output);
-    for (const auto& other : options.other_layouts) outputs.emplace_back(output_option, other.output);
+  if (trace_output.output_option->count() != 0) {
+    outputs.emplace_back(trace_output.output_option, options.output);
+    for (const auto& other : options.other_layouts) outputs.emplace_back(trace_output.output_option, other.output);
   }
   std::vector<cli::NamedOutput> named;
   for (const auto& [option, path] : outputs) {
     if (option->count() == 0) continue;
     if (path.empty()) {
       throw base::UsageError(fmt::format("{}: an empty name: give a file name{}", option->get_name(),
-                                         option == output_option ? ", or - for standard output" : ""));
+                                         option == trace_output.output_option ? ", or - for standard output" : ""));
     }
     named.push_back({option->get_name(), path});
   }
@@ -288,44 +284,18 @@ void warn_of_din_node_size(const TraceJobOptions& options) {
                node_size);
 }
 
-// A BVH node is larger than din's 4 bytes: unless --records says
-// otherwise its fetches are written as extended din, with the node's size,
-// so Dinero IV counts the bytes each fetch reads. A name that asks for din
-// is refused rather than given xdin records.
-void choose_bvh_record_form(TraceJobOptions& options, const std::string& output, bool form_named) {
-  if (options.accel == AccelKind::KdTree || form_named || options.render.addresses.node_size <= 4) return;
-  if (options.form != formats::RecordForm::Din) return;
-  const auto ends_with = [&](std::string_view suffix) {
-    return output.size() >= suffix.size() && output.compare(output.size() - suffix.size(), suffix.size(), suffix) == 0;
-  };
-  if (ends_with(".din") || ends_with(".din.zst")) {
-    throw base::UsageError(fmt::format("--accel {}: {}-byte nodes are written as extended din (din reads every "
-                                       "fetch as 4 bytes): name the trace .xdin.zst, or give --records din",
-                                       accel_name(options.accel), options.render.addresses.node_size));
-  }
-  options.form = formats::RecordForm::ExtendedDin;
-}
-
 void RenderCommand::add_options(CLI::App& app) {
   app.add_option("scene", scene_spec,
                  "an .obj or .aff file, or a built-in scene's name (NAME or NAME:SIZE); "
                  "default: the default built-in scene");
-  output_option = app.add_option("-o,--output", output,
-                 "trace file (.din.zst, .xdin.zst, .din, .xdin, .bin) or - for standard output; "
-                 "without it nothing is written (render only)");
-  app.add_option("--records", records_name, "record form: din, xdin or binary (default: from the file name)")
-      ->check(CLI::IsMember({"din", "xdin", "binary"}));
+  add_trace_output_option(app, trace_output);
   image_option = app.add_option("--image", image,
                                  "also write the first frame as a PNG (path tracing: the mean radiance, clamped to "
                                  "0..1, through the sRGB curve)");
   pfm_option = app.add_option("--pfm", pfm, "also write the first frame as a float PFM (path tracing: the mean radiance)");
   variance_pfm_option = app.add_option("--variance-pfm", variance_pfm,
                                        "--integrator path: also write each pixel's sample variance as a float PFM");
-  app.add_option("--streams", streams,
-                 "records to write, comma-separated: nodes, lists (leaf primitive lists, tag p), "
-                 "triangles (tag t)")
-      ->capture_default_str();
-  cli::add_archive_flag(app, archive, cli::add_zstd_level_option(app, zstd_level));
+  add_trace_record_options(app, trace_output);
   app.add_flag("--discard-records", discard,
                "make every record but write none: the cost of recording alone (benchmarks)")
       ->excludes("--output");
@@ -360,11 +330,11 @@ int RenderCommand::run() const {
     // Several layouts need -o's {layout} only when -o is given: without it
     // no trace is written, and the records go to --simulate, --trace-info or
     // --discard-records.
-    const bool traces_optional = !simulations.empty() || output_option->count() == 0;
-    if (output_option->count() == 0 && simulations.empty() && trace_info_option->count() == 0 && !discard) {
+    const bool traces_optional = !simulations.empty() || trace_output.output_option->count() == 0;
+    if (trace_output.output_option->count() == 0 && simulations.empty() && trace_info_option->count() == 0 && !discard) {
       refuse_layouts_for_nothing(layout_choices(render_options));
     }
-    TraceJobOptions options = make_job_options(render_options, scene_options, output, traces_optional);
+    TraceJobOptions options = make_job_options(render_options, scene_options, trace_output.output, traces_optional);
     std::vector<std::unique_ptr<InRenderSimulation>> simulated;
     const std::vector<LayoutChoice> choices = layout_choices(render_options);
     std::vector<std::string> layout_names;
@@ -383,15 +353,9 @@ int RenderCommand::run() const {
     options.image = image;
     options.pfm = pfm;
     options.variance_pfm = variance_pfm;
-    options.zstd_level = zstd_level;
-    options.archive = archive;
     options.discard_records = discard;
-    std::optional<formats::RecordForm> named_form;
-    if (!records_name.empty()) named_form = formats::parse_form_name(records_name);
-    options.form = formats::choose_output_form(output, named_form, formats::RecordForm::Din);
-    choose_bvh_record_form(options, output, named_form.has_value());
-    options.render.streams = parse_streams(streams);
-    base::refuse_binary_on_terminal(output, "a trace");
+    apply_trace_output(trace_output, options);
+    base::refuse_binary_on_terminal(trace_output.output, "a trace");
     warn_of_din_node_size(options);
     if (!trace_info.empty()) {
       options.sink_makers.push_back(trace_info_maker(layout_files(choices, trace_info, "--trace-info")));

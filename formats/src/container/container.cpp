@@ -48,17 +48,7 @@ void check_counts(const nlohmann::json& totals) {
 }  // namespace
 
 std::string encode_trailer(const TraceTrailer& trailer) {
-  nlohmann::json json = nlohmann::json::object();
-  nlohmann::json index = nlohmann::json::array();
-  for (const auto& entry : trailer.index) {
-    index.push_back({entry.offset, entry.compressed_size, entry.first_record, entry.record_count,
-                     entry.animation_frame, entry.checksum});
-  }
-  json["index"] = std::move(index);
-  json["totals"] = trailer.totals;
-  json["record_hash"] = hash_text(trailer.record_hash);
-  json["content_hash"] = hash_text(trailer.content_hash);
-  const std::string text = json.dump();
+  const std::string text = trailer.to_json().dump();
   std::string payload = text;
   append_le64(payload, XXH64(text.data(), text.size(), 0));
   append_le32(payload, static_cast<std::uint32_t>(text.size()));
@@ -94,3 +84,21 @@ TraceTrailer decode_trailer_json(std::string_view text) {
 }
 
 }  // namespace nodetrace::formats::detail
+
+namespace nodetrace::formats {
+
+nlohmann::json TraceTrailer::to_json() const {
+  nlohmann::json json = nlohmann::json::object();
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& entry : index) {
+    rows.push_back({entry.offset, entry.compressed_size, entry.first_record, entry.record_count,
+                    entry.animation_frame, entry.checksum});
+  }
+  json["index"] = std::move(rows);
+  json["totals"] = totals;
+  json["record_hash"] = detail::hash_text(record_hash);
+  json["content_hash"] = detail::hash_text(content_hash);
+  return json;
+}
+
+}  // namespace nodetrace::formats

@@ -230,7 +230,8 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
       for (const auto& sink : sinks[t]) sink->begin_animation_frame(marker);
     }
     Image image;
-    const bool want_image = i == 0 && (!options.image.empty() || !options.pfm.empty() || !options.variance_pfm.empty());
+    const bool want_image = i == 0 && (!options.image.empty() || !options.pfm.empty() ||
+                                       !options.variance_pfm.empty() || options.keep_image);
     const double done = double(i), count = double(frames.size());
     Renderer::Progress frame_progress;
     if (progress) frame_progress = [&](double f) { progress((done + f) / count); };
@@ -274,6 +275,7 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
       if (!options.image.empty()) write_png(image, options.image);
       if (!options.pfm.empty()) write_pfm(image, image.pixels, options.pfm);
       if (!options.variance_pfm.empty()) write_pfm(image, image.variance, options.variance_pfm);
+      if (options.keep_image) result.image = std::move(image);
     }
     result.total += report.render;
     result.total.seconds += report.render.seconds;

@@ -119,6 +119,9 @@ struct TraceTrailer {
   nlohmann::json totals = nlohmann::json::object();  // records, records_per_tag, ...
   std::uint64_t record_hash = 0;                     // xxHash64 of all record bytes
   std::uint64_t content_hash = 0;  // xxHash64 of every file byte before the trailer
+
+  // The trailer's JSON as the container holds it (FORMAT.md 2.4).
+  nlohmann::json to_json() const;
 };
 
 }  // namespace nodetrace::formats

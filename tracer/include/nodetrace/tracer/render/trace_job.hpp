@@ -20,6 +20,7 @@
 #include "nodetrace/tracer/accel/kdtree.hpp"
 #include "nodetrace/tracer/accel/layout.hpp"
 #include "nodetrace/tracer/accel/tree_cache.hpp"
+#include "nodetrace/tracer/render/image.hpp"
 #include "nodetrace/tracer/render/render.hpp"
 #include "nodetrace/tracer/render/row_sampling.hpp"
 #include "nodetrace/tracer/scene/scene.hpp"
@@ -57,6 +58,9 @@ struct TraceJobOptions {
   // PFM float images of the first frame: the pixels (path tracing: the mean
   // radiance) and, path tracing only, the per-pixel sample variance.
   std::string pfm, variance_pfm;
+  // Keep the first frame's image in TraceJobResult::image (for callers that
+  // use it in memory, such as the Python module).
+  bool keep_image = false;
 };
 
 struct AnimationFrameReport {
@@ -78,6 +82,8 @@ struct TraceJobResult {
   // What the render noticed and the front end should show (e.g. a path-traced
   // scene with no light and a black background is black).
   std::vector<std::string> notes;
+  // The first frame's image when options.keep_image was set.
+  std::optional<Image> image;
 };
 
 // The split level of a layout for a tree: the fixed one, or the one derived

@@ -1,5 +1,8 @@
-// Command-line options shared by `tracer render` and `tracer info`: frame
-// selection, acceleration structure and its build, layout and render settings, and their parsing.
+// Command-line options shared by `tracer render`, `tracer info` and the
+// Python module's render(): frame selection, acceleration structure and its
+// build, layout and render settings, and their parsing. A public header of
+// the tracer's option layer (nodetrace_tracer_options), so that every front
+// end takes the same names and values and gives the same errors.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -20,7 +23,7 @@
 #include "nodetrace/tracer/scene/camera_checks.hpp"
 #include "nodetrace/tracer/scene/scene_loader.hpp"
 #include "nodetrace/tracer/render/trace_job.hpp"
-#include "tree_cache_option.hpp"
+#include "nodetrace/tracer/options/tree_cache_option.hpp"
 
 namespace nodetrace::tracer::tools {
 
