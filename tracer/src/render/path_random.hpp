@@ -32,6 +32,8 @@ enum PathDimension : std::uint32_t {
   kRoulette = 4,  // Russian roulette before the ray
   kEmitterU = 5,  // next-event estimation at the ray's origin: which emitter and where on it
   kEmitterV = 6,
+  kEnvironmentU = 7,  // next-event estimation at the ray's origin: which direction of the environment map
+  kEnvironmentV = 8,
 };
 
 class PathRandom {
@@ -54,7 +56,8 @@ class PathRandom {
  private:
   // The second number of a 2D pair: Sobol dimension 1, with its first's index.
   static bool second_of_pair(std::uint32_t bounce, std::uint32_t dimension) {
-    return bounce == 0 ? dimension == kPixelY : dimension == kDirection2 || dimension == kEmitterV;
+    return bounce == 0 ? dimension == kPixelY : dimension == kDirection2 || dimension == kEmitterV ||
+                                        dimension == kEnvironmentV;
   }
 
   float sobol(std::uint32_t bounce, std::uint32_t dimension) const {

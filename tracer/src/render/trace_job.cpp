@@ -75,6 +75,7 @@ void check_path_options(const TraceJobOptions& options) {
   const RenderOptions& r = options.render;
   if (r.integrator != Integrator::Path) {
     if (!options.variance_pfm.empty()) throw base::UsageError("--variance-pfm needs --integrator path");
+    if (r.environment) throw base::UsageError("--environment needs --integrator path");
     return;
   }
   if (r.path.samples_per_pixel < 1 || r.path.samples_per_pixel > kMaxSamplesPerPixel) {
@@ -178,7 +179,7 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
       result.plan = renderer.ray_plan();
       // The path tracer's light is the lights', the ambient term's and the background's.
       if (r.integrator == Integrator::Path && scene.lights.empty() && is_black(scene.background) &&
-          is_black(scene.ambient) && detail::Emitters(scene).empty()) {
+          is_black(scene.ambient) && detail::Emitters(scene).empty() && !(r.environment && r.environment->lights())) {
         result.notes.push_back("the scene has no light, no ambient light and a black background: the path-traced "
                                "image is black (the trace is whole)");
       }
