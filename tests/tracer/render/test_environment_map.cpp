@@ -15,12 +15,14 @@
 #include "nodetrace/tracer/render/environment_map.hpp"
 #include "nodetrace/tracer/render/equirectangular.hpp"
 #include "nodetrace/tracer/render/image.hpp"
+#include "pfm_bytes.hpp"
 #include "test_support.hpp"
 
 namespace nodetrace::tracer {
 namespace {
 
 using nodetrace::testing::TempDir;
+using test_files::pfm_bytes;
 using nodetrace::testing::write_file;
 
 constexpr double kPi = 3.14159265358979323846;
@@ -93,26 +95,6 @@ TEST(Equirectangular, EveryPixelCentreMapsBackToItsPixelAsBlenderPicksIt) {
       EXPECT_EQ(blender.row_from_bottom, int(kHeight - 1 - row));
     }
   }
-}
-
-// A colour PFM of `width` x `height` whose pixel (x, y from the top) is
-// `colour(x, y)`, bottom row first, in either byte order.
-template <typename Colour>
-std::string pfm_bytes(int width, int height, Colour colour, bool little_endian = true) {
-  std::string bytes = "PF\n" + std::to_string(width) + " " + std::to_string(height) + "\n" +
-                      (little_endian ? "-1.0" : "1.0") + "\n";
-  for (int stored = 0; stored < height; ++stored) {
-    for (int x = 0; x < width; ++x) {
-      const Vec3 c = colour(x, height - 1 - stored);
-      for (int k = 0; k < 3; ++k) {
-        std::uint32_t bits;
-        const float value = c[k];
-        std::memcpy(&bits, &value, 4);
-        for (int b = 0; b < 4; ++b) bytes += char((bits >> (8 * (little_endian ? b : 3 - b))) & 0xFF);
-      }
-    }
-  }
-  return bytes;
 }
 
 Vec3 index_colour(int x, int y) { return {float(x), float(y), float(x + 100 * y)}; }
