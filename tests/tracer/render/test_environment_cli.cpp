@@ -108,8 +108,10 @@ TEST(EnvironmentCli, HeaderStatesTheMapAsNamedAndTheBytesIgnoreByteOrderAndThrea
   EXPECT_EQ(map.at("height"), 4);
   EXPECT_EQ(map.at("checksum").get<std::string>().rfind("fnv1a64:", 0), 0u);
   EXPECT_NE(map.at("mapping").get<std::string>().find("atan2(y, x)"), std::string::npos);
-  // The map lights a scene without lights: shadow rays are cast.
+  // The map lights a scene without lights: shadow rays are cast, and no
+  // note says the image is black.
   EXPECT_EQ(header.at("rays").at("cast"), nlohmann::json({"primary", "shadow", "diffuse"}));
+  EXPECT_FALSE(header.at("render").contains("notes"));
   // Another map, another checksum.
   write_file(little / "sky.pfm", pfm_bytes(8, 4, [](int x, int y) { return sky(x, y) * 2.0f; }));
   ASSERT_EQ(run_command(render_in(little, options + "-o u.din.zst")).exit_code, 0);
@@ -117,7 +119,29 @@ TEST(EnvironmentCli, HeaderStatesTheMapAsNamedAndTheBytesIgnoreByteOrderAndThrea
             map.at("checksum"));
   // Without --environment the header has no such key.
   ASSERT_EQ(run_command(render_in(little, "--integrator path -o v.din.zst")).exit_code, 0);
-  EXPECT_FALSE(header_of(little / "v.din.zst").at("render").at("path").contains("environment"));
+  const nlohmann::json dark = header_of(little / "v.din.zst");
+  EXPECT_FALSE(dark.at("render").at("path").contains("environment"));
+  EXPECT_TRUE(dark.at("render").contains("notes"));
+}
+
+TEST(EnvironmentCli, InfoShowsTheRayKindsTheMapMakesTheRenderCast) {
+  TempDir dir;
+  write_scene(dir);
+  write_file(dir / "sky.pfm", pfm_bytes(8, 4, sky));
+  const std::string info = "cd " + shell_quoted(dir.path()) + " && " + program("tracer").string() +
+                           " info scene.aff --format json --integrator path";
+  const auto dark = run_command(info);
+  ASSERT_EQ(dark.exit_code, 0) << dark.err;
+  EXPECT_EQ(nlohmann::json::parse(dark.out).at("rays").at("shadow"), "left out: scene has no light");
+  const auto lit = run_command(info + " --environment sky.pfm");
+  ASSERT_EQ(lit.exit_code, 0) << lit.err;
+  EXPECT_EQ(nlohmann::json::parse(lit.out).at("rays").at("shadow"), "cast");
+  EXPECT_EQ(nlohmann::json::parse(lit.out).at("rays_environment"), "sky.pfm");
+  write_file(dir / "bad.pfm", "PF\n0 4\n-1.0\n");
+  EXPECT_EQ(run_command(info + " --environment bad.pfm").exit_code, 1);
+  const std::string whitted = "cd " + shell_quoted(dir.path()) + " && " + program("tracer").string() +
+                              " info scene.aff --environment sky.pfm";
+  EXPECT_EQ(run_command(whitted).exit_code, 2);
 }
 
 }  // namespace
