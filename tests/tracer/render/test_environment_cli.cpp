@@ -122,6 +122,15 @@ TEST(EnvironmentCli, HeaderStatesTheMapAsNamedAndTheBytesIgnoreByteOrderAndThrea
   const nlohmann::json dark = header_of(little / "v.din.zst");
   EXPECT_FALSE(dark.at("render").at("path").contains("environment"));
   EXPECT_TRUE(dark.at("render").contains("notes"));
+  // A black map in place of a bright background lights nothing: the note says so.
+  std::string bright = read_file(little / "scene.aff");
+  bright.replace(bright.find("b 0 0 0"), 7, "b 1 1 1");
+  write_file(little / "bright.aff", bright);
+  write_file(little / "black.pfm", pfm_bytes(2, 1, [](int, int) { return Vec3{}; }));
+  const auto black = run_command("cd " + shell_quoted(little.path()) + " && " + program("tracer").string() +
+                                 " render bright.aff --width 8 --height 6 --integrator path --environment black.pfm");
+  ASSERT_EQ(black.exit_code, 0) << black.err;
+  EXPECT_NE(black.err.find("a black environment map"), std::string::npos) << black.err;
 }
 
 TEST(EnvironmentCli, InfoShowsTheRayKindsTheMapMakesTheRenderCast) {

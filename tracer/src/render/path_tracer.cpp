@@ -81,11 +81,11 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
                                  float(pixel / width) + random.uniform(0, detail::kPixelY));
   RayKind kind = RayKind::Primary;
   Vec3 radiance, throughput{1, 1, 1};
-  // Next-event estimation to emitters happens at each diffuse or glossy hit
-  // that casts shadow rays; `bounce_density` is the density (per solid angle)
-  // of the last bounce ray's direction when it came from such a hit and a
-  // diffuse or glossy lobe (0: a camera, mirror or dielectric ray, whose
-  // emitters are met only by the ray).
+  // Next-event estimation to emitters and to the environment map happens at
+  // each diffuse or glossy hit that casts shadow rays; `bounce_density` is
+  // the density (per solid angle) of the last bounce ray's direction when it
+  // came from such a hit and a diffuse or glossy lobe (0: a camera, mirror or
+  // dielectric ray, whose emitters and map are met only by the ray).
   const bool sample_emitters = emitters_ && !emitters_->empty() && plan_.casts(RayKind::Shadow);
   const EnvironmentMap* environment = options_.environment.get();
   const bool sample_environment = environment && environment->lights() && plan_.casts(RayKind::Shadow);
