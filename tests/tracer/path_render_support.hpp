@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <span>
 #include <vector>
@@ -56,6 +57,46 @@ void expect_means(const Image& image, std::uint32_t spp, Expected expected, floa
     }
   }
   EXPECT_EQ(checked, image.width * image.height * 3);
+}
+
+// The same check made robust to the number of pixels: of hundreds of
+// pixel means, a few lie beyond 3 standard errors by chance (0.27% each),
+// so it asserts that the image's mean error in each channel is within 3
+// standard errors of that mean (pixels are independent, channels are not), that at most one pixel in 50 (and at least one allowed) has a
+// channel beyond 3 of its standard errors, and no channel beyond 5. A
+// biased estimator fails the first; an error confined to a few pixels, the
+// last.
+template <typename Expected>
+void expect_means_within_noise(const Image& image, std::uint32_t spp, Expected expected) {
+  ASSERT_EQ(image.variance.size(), image.pixels.size());
+  std::array<double, 3> error_sum{}, variance_sum{};
+  int pixels_beyond3 = 0, count = 0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * image.width + x;
+      const Vec3 want = expected(x, y);
+      bool beyond3 = false;
+      for (int c = 0; c < 3; ++c) {
+        const double error = double(image.pixels[i][c]) - double(want[c]);
+        const double variance = double(image.variance[i][c]) / spp;
+        const double se = std::sqrt(variance);
+        error_sum[c] += error;
+        variance_sum[c] += variance;
+        ++count;
+        beyond3 = beyond3 || std::fabs(error) > 3 * se;
+        EXPECT_LE(std::fabs(error), std::max(5 * se, 1e-6)) << "pixel " << x << "," << y << " channel " << c;
+      }
+      pixels_beyond3 += beyond3;
+    }
+  }
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_LE(std::fabs(error_sum[c]), std::max(3 * std::sqrt(variance_sum[c]), 1e-6 * count))
+        << "channel " << c << ": mean error " << error_sum[c] * 3 / count << ", its standard error "
+        << std::sqrt(variance_sum[c]) * 3 / count;
+  }
+  const int pixels = image.width * image.height;
+  EXPECT_LE(pixels_beyond3, std::max(1, pixels / 50)) << pixels_beyond3 << " of " << pixels
+                                                      << " pixels beyond 3 standard errors";
 }
 
 // The form factor from a point to a rectangle parallel to its surface, at

@@ -32,8 +32,11 @@ enum PathDimension : std::uint32_t {
   kRoulette = 4,  // Russian roulette before the ray
   kEmitterU = 5,  // next-event estimation at the ray's origin: which emitter and where on it
   kEmitterV = 6,
-  kEnvironmentU = 7,  // next-event estimation at the ray's origin: which direction of the environment map
-  kEnvironmentV = 8,
+  // Next-event estimation at the ray's origin: which direction of the
+  // environment map. 7 is left out so the pair is words 0 and 1 of one
+  // Philox block (dimension / 4), as the other pairs are.
+  kEnvironmentU = 8,
+  kEnvironmentV = 9,
 };
 
 class PathRandom {

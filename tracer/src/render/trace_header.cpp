@@ -67,7 +67,7 @@ nlohmann::json environment_description(const EnvironmentMap& map) {
           {"light", fmt::format(
                         "replaces the background: rays that escape collect the map's radiance; at each diffuse or "
                         "glossy hit one more shadow ray, unbounded, goes in a direction drawn {}, random dimensions "
-                        "7 and 8 of the next bounce; combined per lobe with the bounce ray by the power heuristic",
+                        "8 and 9 of the next bounce; combined per lobe with the bounce ray by the power heuristic",
                         map.sampling() == EnvironmentSampling::Uniform
                             ? "uniformly over the sphere"
                             : "by luminance x solid angle (a row by its pixels' luminance times its band of the "
