@@ -100,4 +100,18 @@ inline Scene cornell_box(bool mirror = true, bool glass = true, bool light = tru
   return scene;
 }
 
+// The box lit by an emissive quad under its ceiling instead of the point
+// light, its white walls glossy too.
+inline Scene cornell_box_with_lamp() {
+  Scene scene = cornell_box(true, true, false);
+  Material lamp;
+  lamp.emission = {12, 10, 8};
+  scene.materials.push_back(lamp);
+  add_quad(scene, {0.35f, 0.99f, 0.4f}, {0.65f, 0.99f, 0.4f}, {0.65f, 0.99f, 0.7f}, {0.35f, 0.99f, 0.7f},
+           static_cast<std::uint32_t>(scene.materials.size() - 1));
+  scene.materials[0].specular = {0.3f, 0.3f, 0.3f};
+  scene.materials[0].shininess = 20;
+  return scene;
+}
+
 }  // namespace nodetrace::tracer::test_scenes

@@ -32,6 +32,7 @@ struct InfoCommand {
   int max_depth = 10;
   std::string integrator = "whitted";
   std::optional<int> max_bounces;
+  std::optional<std::string> environment;
   CLI::Option* max_depth_option = nullptr;
   unsigned threads = 0;
   std::optional<std::uint32_t> node_size_option;  // default: the acceleration structure's
@@ -55,6 +56,10 @@ void InfoCommand::add_options(CLI::App& app) {
                              "(default {})",
                              kMaxBounces, kDefaultMaxBounces))
       ->check(cli::NumberRange(0, kMaxBounces));
+  app.add_option("--environment", environment,
+                 "--integrator path: the environment map assumed to light the scene (as tracer render's), for the "
+                 "ray kinds")
+      ->type_name("FILE.pfm");
   app.add_option("--node-size", node_size_option,
                  "bytes per node, for the bytes and split levels shown (at most 65535; default: the structure's)")
       ->check(cli::NumberRange(1, kMaxNodeSize));
@@ -69,6 +74,9 @@ int InfoCommand::run() const {
     KdBuildOptions build_options = make_build_options(scene_options);
     check_depth_options(integrator, max_depth_option->count() != 0, max_bounces.has_value());
     const bool path = *parse_integrator(integrator) == Integrator::Path;
+    if (environment && !path) throw base::UsageError("--environment needs --integrator path");
+    // Read before the scene: a bad map is refused as tracer render refuses it.
+    const bool environment_light = environment && load_environment_map(*environment)->lights();
     build_options.threads = cli::check_thread_count(threads, "--threads");
     const auto source = open_scene(scene_spec, scene_load_options(scene_options, build_options.threads));
     for (const auto& warning : source->warnings()) std::fprintf(stderr, "tracer info: warning: %s\n", warning.c_str());
@@ -85,7 +93,7 @@ int InfoCommand::run() const {
     const KdTreeStats& s = tree.stats();
     const std::uint32_t node_size = node_size_option.value_or(default_node_size(kind));
     const int bounces = max_bounces.value_or(kDefaultMaxBounces);
-    const RayKindPlan plan = path ? plan_path_ray_kinds(scene, bounces) : plan_ray_kinds(scene, max_depth);
+    const RayKindPlan plan = path ? plan_path_ray_kinds(scene, bounces, environment_light) : plan_ray_kinds(scene, max_depth);
     const Bounds bounds = scene.bounds();
 
     nlohmann::json j;
@@ -161,6 +169,7 @@ int InfoCommand::run() const {
     if (path) {
       j["rays_integrator"] = "path";
       j["rays_max_bounces"] = bounces;
+      if (environment) j["rays_environment"] = *environment;
     } else {
       j["rays_max_depth"] = max_depth;
     }

@@ -85,7 +85,10 @@ void print_summary(const TraceJobResult& result, const TraceJobOptions& options,
   const RenderOptions& r = options.render;
   const std::string integrator =
       r.integrator == Integrator::Path
-          ? fmt::format("path tracing, {} spp, max bounces {}", r.path.samples_per_pixel, r.path.max_bounces)
+          ? fmt::format("path tracing, {} spp, max bounces {}{}", r.path.samples_per_pixel, r.path.max_bounces,
+                        r.environment ? fmt::format(", environment {} {}x{}", r.environment->name(),
+                                                    r.environment->width(), r.environment->height())
+                                      : std::string())
           : fmt::format("max depth {}", r.max_depth);
   std::fprintf(stderr, "tracer: %s, %dx%d, %s, %zu frame(s), layout%s %s\n", scene_name.c_str(), r.width, r.height,
                integrator.c_str(), result.frames.size(), options.other_layouts.empty() ? "" : "s", layout.c_str());
@@ -350,6 +353,8 @@ int RenderCommand::run() const {
       tables.insert(tables.end(), files.begin(), files.end());
     }
     check_outputs(options, tables);
+    // Read before the scene and any output: a bad map leaves nothing behind.
+    if (render_options.environment) options.render.environment = load_environment_map(*render_options.environment);
     options.image = image;
     options.pfm = pfm;
     options.variance_pfm = variance_pfm;

@@ -13,29 +13,16 @@
 #include "nodetrace/tracer/accel/kdtree.hpp"
 #include "nodetrace/tracer/accel/layout.hpp"
 #include "nodetrace/tracer/render/render.hpp"
+#include "path_render_support.hpp"
 #include "test_render_scenes.hpp"
 
 namespace nodetrace::tracer {
 namespace {
 
 using formats::Record;
-
-constexpr double kPi = 3.14159265358979323846;
-
-struct Rendered {
-  std::vector<Record> records;
-  RenderStats stats;
-  Image image;
-};
-
-Rendered render(const Scene& scene, const RenderOptions& options) {
-  const KdTree tree = KdTree::build(scene.triangles);
-  const Renderer renderer(scene, tree, make_layout(tree, LayoutKind::Dfl), options);
-  Rendered out;
-  out.stats = renderer.render([&](std::span<const Record> r) { out.records.insert(out.records.end(), r.begin(), r.end()); },
-                              &out.image);
-  return out;
-}
+using path_testing::form_factor;
+using path_testing::render;
+using path_testing::Rendered;
 
 RenderOptions path_options(int side, std::uint32_t spp, int max_bounces) {
   RenderOptions options;
@@ -44,23 +31,6 @@ RenderOptions path_options(int side, std::uint32_t spp, int max_bounces) {
   options.path.samples_per_pixel = spp;
   options.path.max_bounces = max_bounces;
   return options;
-}
-
-// The form factor from a point to a rectangle parallel to its surface, at
-// height h, with one corner straight above it and sides x and y (signed:
-// the rectangle's other corner at (x, y)).
-double corner_form_factor(double x, double y, double h) {
-  const double X = std::fabs(x) / h, Y = std::fabs(y) / h;
-  const double a = std::sqrt(1 + X * X), b = std::sqrt(1 + Y * Y);
-  const double f = (X / a * std::atan(Y / a) + Y / b * std::atan(X / b)) / (2 * kPi);
-  return (x < 0) != (y < 0) ? -f : f;
-}
-
-// The rectangle [x0, x1] x [y0, y1] at height h over the point (px, py, 0):
-// irradiance / (pi Le), by inclusion and exclusion of corner rectangles.
-double form_factor(double px, double py, double x0, double x1, double y0, double y1, double h) {
-  return corner_form_factor(x1 - px, y1 - py, h) - corner_form_factor(x0 - px, y1 - py, h) -
-         corner_form_factor(x1 - px, y0 - py, h) + corner_form_factor(x0 - px, y0 - py, h);
 }
 
 // A plane of Kd at z = 0 and, at z = 1, a black rectangle emitting Le
@@ -152,32 +122,11 @@ TEST(AreaLights, CameraRaysSeeTheEmittedRadianceInBothIntegrators) {
 }
 
 TEST(AreaLights, SameRaysWhateverTheThreadsPixelOrderAndRaysInFlight) {
-  Scene scene = test_scenes::cornell_box(true, true, false);
-  Material lamp;
-  lamp.emission = {12, 10, 8};
-  scene.materials.push_back(lamp);
-  test_scenes::add_quad(scene, {0.35f, 0.99f, 0.4f}, {0.65f, 0.99f, 0.4f}, {0.65f, 0.99f, 0.7f},
-                        {0.35f, 0.99f, 0.7f}, static_cast<std::uint32_t>(scene.materials.size() - 1));
-  scene.materials[0].specular = {0.3f, 0.3f, 0.3f};
-  scene.materials[0].shininess = 20;
   RenderOptions options = path_options(20, 2, 5);
   options.height = 15;
-  options.pixels_per_chunk = 13;
-  options.threads = 1;
-  const Rendered one = render(scene, options);
-  ASSERT_GT(one.stats.rays[static_cast<int>(RayKind::Shadow)], 0u);
-  options.threads = 2;
-  const Rendered two = render(scene, options);
-  EXPECT_TRUE(two.records == one.records);
-  EXPECT_TRUE(two.image.pixels == one.image.pixels);
-  options.pixel_order = PixelOrder::Morton;
-  const Rendered morton = render(scene, options);
-  EXPECT_TRUE(morton.image.pixels == one.image.pixels);
-  options.pixel_order = PixelOrder::Scanline;
-  options.rays_in_flight = 16;
-  const Rendered in_flight = render(scene, options);
-  EXPECT_EQ(in_flight.records.size(), one.records.size());
-  EXPECT_TRUE(in_flight.image.pixels == one.image.pixels);
+  const Rendered one =
+      path_testing::expect_same_rays_whatever_the_schedule(test_scenes::cornell_box_with_lamp(), options);
+  EXPECT_GT(one.stats.rays[static_cast<int>(RayKind::Shadow)], 0u);
 }
 
 }  // namespace

@@ -15,12 +15,16 @@
 #include "nodetrace/tracer/accel/kdtree.hpp"
 #include "nodetrace/tracer/accel/layout.hpp"
 #include "nodetrace/tracer/render/render.hpp"
+#include "path_render_support.hpp"
 #include "test_render_scenes.hpp"
 
 namespace nodetrace::tracer {
 namespace {
 
 using formats::Record;
+using path_testing::expect_means;
+using path_testing::render;
+using path_testing::Rendered;
 
 RenderOptions path_options(int width, int height, std::uint32_t spp, int max_bounces) {
   RenderOptions options;
@@ -30,45 +34,6 @@ RenderOptions path_options(int width, int height, std::uint32_t spp, int max_bou
   options.path.samples_per_pixel = spp;
   options.path.max_bounces = max_bounces;
   return options;
-}
-
-struct Rendered {
-  std::vector<Record> records;
-  RenderStats stats;
-  Image image;
-};
-
-// Renders every pixel, or only `runs` of the pixel sequence when given.
-Rendered render(const Scene& scene, const RenderOptions& options,
-                const std::vector<Renderer::PixelRun>* runs = nullptr) {
-  const KdTree tree = KdTree::build(scene.triangles);
-  const Layout layout = make_layout(tree, LayoutKind::Dfl);
-  const Renderer renderer(scene, tree, layout, options);
-  Rendered out;
-  const auto sink = [&](std::span<const Record> r) { out.records.insert(out.records.end(), r.begin(), r.end()); };
-  out.stats = runs ? renderer.render_runs(*runs, {}, sink, &out.image) : renderer.render(sink, &out.image);
-  return out;
-}
-
-// Every pixel's mean is `expected(x, y)` within 3 of its standard errors
-// (sqrt(variance / spp)), or within `floor` where the samples agree exactly.
-template <typename Expected>
-void expect_means(const Image& image, std::uint32_t spp, Expected expected, float floor) {
-  ASSERT_EQ(image.variance.size(), image.pixels.size());
-  int checked = 0;
-  for (int y = 0; y < image.height; ++y) {
-    for (int x = 0; x < image.width; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * image.width + x;
-      const Vec3 want = expected(x, y);
-      for (int c = 0; c < 3; ++c) {
-        const double se = std::sqrt(double(image.variance[i][c]) / spp);
-        EXPECT_NEAR(image.pixels[i][c], want[c], std::max(3 * se, double(floor)))
-            << "pixel " << x << "," << y << " channel " << c;
-        ++checked;
-      }
-    }
-  }
-  EXPECT_EQ(checked, image.width * image.height * 3);
 }
 
 TEST(PathTracer, WhiteFurnaceAConvexDiffuseObjectReflectsAlbedoTimesTheBackground) {

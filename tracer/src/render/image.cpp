@@ -2,10 +2,18 @@
 
 #include <png.h>
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <memory>
 
@@ -99,6 +107,93 @@ void write_pfm(const Image& image, const std::vector<Vec3>& plane, const std::st
     out.write(row);
   }
   out.commit();
+}
+
+}  // namespace nodetrace::tracer
+
+namespace nodetrace::tracer {
+
+namespace {
+
+// A header field: skips whitespace, then reads up to the next whitespace.
+std::string pfm_token(const std::string& bytes, std::size_t& at) {
+  while (at < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[at]))) ++at;
+  const std::size_t begin = at;
+  while (at < bytes.size() && !std::isspace(static_cast<unsigned char>(bytes[at]))) ++at;
+  return bytes.substr(begin, at - begin);
+}
+
+std::uint64_t pfm_size(const std::string& token, const std::string& path, const char* what) {
+  if (token.empty() || token.size() > 9 || token.find_first_not_of("0123456789") != std::string::npos) {
+    throw base::FormatError(fmt::format("{}: PFM header: expected the {} as a decimal number, got '{}'", path, what,
+                                        token));
+  }
+  return std::stoull(token);
+}
+
+}  // namespace
+
+Image read_pfm(const std::string& path, std::uint64_t max_pixels) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) throw base::IoError(path + ": cannot read: it is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw base::IoError(fmt::format("{}: cannot read: {}", path, std::strerror(errno)));
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw base::IoError(path + ": cannot read");
+  std::size_t at = 0;
+  const std::string magic = pfm_token(bytes, at);
+  if (magic == "Pf") {
+    throw base::FormatError(path + ": a greyscale PFM ('Pf'): expected a colour PFM ('PF', three floats a pixel)");
+  }
+  if (magic != "PF") {
+    throw base::FormatError(path + ": not a PFM file: expected 'PF' (a colour PFM) at the start");
+  }
+  const std::uint64_t width = pfm_size(pfm_token(bytes, at), path, "width");
+  const std::uint64_t height = pfm_size(pfm_token(bytes, at), path, "height");
+  const std::string scale_text = pfm_token(bytes, at);
+  char* end = nullptr;
+  const double scale = scale_text.empty() ? 0.0 : std::strtod(scale_text.c_str(), &end);
+  if (scale_text.empty() || end != scale_text.c_str() + scale_text.size() || !std::isfinite(scale) || scale == 0) {
+    throw base::FormatError(fmt::format("{}: PFM header: expected a nonzero scale (negative: little-endian), got '{}'",
+                                        path, scale_text));
+  }
+  if (width == 0 || height == 0) {
+    throw base::FormatError(fmt::format("{}: a PFM of {}x{} pixels: expected at least one pixel", path, width, height));
+  }
+  if (width * height > max_pixels) {
+    throw base::FormatError(fmt::format("{}: a PFM of {}x{} pixels: at most {} pixels", path, width, height,
+                                        max_pixels));
+  }
+  ++at;  // the one whitespace character after the scale
+  const std::uint64_t expected = width * height * 12;
+  const std::uint64_t available = at <= bytes.size() ? bytes.size() - at : 0;
+  if (available != expected) {
+    throw base::FormatError(fmt::format("{}: a PFM of {}x{} pixels needs {} bytes of pixels after its header: {} {}",
+                                        path, width, height, expected, available,
+                                        available < expected ? "(truncated)" : "(bytes after the last pixel)"));
+  }
+  const bool little_endian = scale < 0;
+  Image image;
+  image.width = static_cast<int>(width);
+  image.height = static_cast<int>(height);
+  image.pixels.resize(width * height);
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data() + at);
+  for (std::uint64_t stored_row = 0; stored_row < height; ++stored_row) {
+    Vec3* row = &image.pixels[(height - 1 - stored_row) * width];  // the file's first row is the bottom one
+    for (std::uint64_t x = 0; x < width; ++x) {
+      for (int k = 0; k < 3; ++k) {
+        const unsigned char* b = data + ((stored_row * width + x) * 3 + std::uint64_t(k)) * 4;
+        const std::uint32_t bits = little_endian ? std::uint32_t(b[0]) | std::uint32_t(b[1]) << 8 |
+                                                       std::uint32_t(b[2]) << 16 | std::uint32_t(b[3]) << 24
+                                                 : std::uint32_t(b[3]) | std::uint32_t(b[2]) << 8 |
+                                                       std::uint32_t(b[1]) << 16 | std::uint32_t(b[0]) << 24;
+        float value;
+        std::memcpy(&value, &bits, 4);
+        row[x][k] = value;
+      }
+    }
+  }
+  return image;
 }
 
 }  // namespace nodetrace::tracer

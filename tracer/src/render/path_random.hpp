@@ -32,6 +32,11 @@ enum PathDimension : std::uint32_t {
   kRoulette = 4,  // Russian roulette before the ray
   kEmitterU = 5,  // next-event estimation at the ray's origin: which emitter and where on it
   kEmitterV = 6,
+  // Next-event estimation at the ray's origin: which direction of the
+  // environment map. 7 is left out so the pair is words 0 and 1 of one
+  // Philox block (dimension / 4), as the other pairs are.
+  kEnvironmentU = 8,
+  kEnvironmentV = 9,
 };
 
 class PathRandom {
@@ -85,7 +90,8 @@ class PathRandom {
 
   // The second number of a 2D pair: Sobol dimension 1, with its first's index.
   static bool second_of_pair(std::uint32_t bounce, std::uint32_t dimension) {
-    return bounce == 0 ? dimension == kPixelY : dimension == kDirection2 || dimension == kEmitterV;
+    return bounce == 0 ? dimension == kPixelY : dimension == kDirection2 || dimension == kEmitterV ||
+                                        dimension == kEnvironmentV;
   }
 
   float sobol(std::uint32_t bounce, std::uint32_t dimension) const {

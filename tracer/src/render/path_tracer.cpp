@@ -18,6 +18,11 @@
 // density is its lobe's choice probability times the lobe's density). Record
 // order: each ray's fetches when it is cast, shadow rays before the bounce
 // ray of their hit, the emitter's after the point lights'.
+// An environment map (--environment, environment_map.hpp) replaces the
+// background: a ray that escapes collects the map's radiance in its
+// direction, and next-event estimation casts one more shadow ray, unbounded,
+// in a direction drawn from the map's distribution (after the emitter's),
+// combined with the bounce ray by the same power heuristic.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -76,12 +81,15 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
   Ray ray = pinhole_.ray_through(float(pixel % width) + in_pixel.first, float(pixel / width) + in_pixel.second);
   RayKind kind = RayKind::Primary;
   Vec3 radiance, throughput{1, 1, 1};
-  // Next-event estimation to emitters happens at each diffuse or glossy hit
-  // that casts shadow rays; `bounce_density` is the density (per solid angle)
-  // of the last bounce ray's direction when it came from such a hit and a
-  // diffuse or glossy lobe (0: a camera, mirror or dielectric ray, whose
-  // emitters are met only by the ray).
+  // Next-event estimation to emitters and to the environment map happens at
+  // each diffuse or glossy hit that casts shadow rays; `bounce_density` is
+  // the density (per solid angle) of the last bounce ray's direction when it
+  // came from such a hit and a diffuse or glossy lobe (0: a camera, mirror or
+  // dielectric ray, whose emitters and map are met only by the ray).
   const bool sample_emitters = emitters_ && !emitters_->empty() && plan_.casts(RayKind::Shadow);
+  const EnvironmentMap* environment = options_.environment.get();
+  const bool sample_environment = environment && environment->lights() && plan_.casts(RayKind::Shadow);
+  const bool next_event = sample_emitters || sample_environment;
   float bounce_density = 0;
   const auto dropped = [&] {
     ++context.stats.nonfinite_samples;
@@ -90,7 +98,13 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
   for (int bounce = 0;; ++bounce) {
     const auto [self, hit] = cast_closest(ray, kind, context);
     if (!hit) {
-      radiance += throughput * scene_.background;
+      if (environment) {
+        const EnvironmentMap::LookUp seen = environment->look_up(ray.direction);
+        const float weight = sample_environment && bounce_density > 0 ? power_heuristic(bounce_density, seen.pdf) : 1.0f;
+        radiance += throughput * seen.radiance * weight;
+      } else {
+        radiance += throughput * scene_.background;
+      }
       break;
     }
     const ShadingPoint at = shading_point(ray, *hit);
@@ -129,6 +143,28 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
       }
     }
     const auto next_ray = static_cast<std::uint32_t>(bounce + 1);
+    // Where no bounce ray follows, a light sample's estimate is the only one.
+    const bool last = bounce >= options_.path.max_bounces;
+    // The diffuse and glossy lobes' BRDF x cos towards a light sample in
+    // unit direction `l` of density `light_density` (per solid angle), each
+    // lobe weighted against its bounce ray.
+    const auto weighted_brdf_cos = [&](const Vec3& l, float cos_surface, float light_density) {
+      const float total = w.total();
+      Vec3 brdf_cos;
+      if (w.diffuse > 0) {
+        const float lobe_density = w.diffuse / total * cos_surface * kInvPi;
+        const float weight = last ? 1.0f : power_heuristic(light_density, lobe_density);
+        brdf_cos += material.diffuse * (kInvPi * cos_surface * weight);
+      }
+      if (w.glossy > 0) {
+        const float n = material.shininess;
+        const float lobe = phong_cos_power(dot(detail::reflect(-l, at.normal), at.view), n) * 0.5f * kInvPi;
+        const float lobe_density = w.glossy / total * (n + 1.0f) * lobe;
+        const float weight = last ? 1.0f : power_heuristic(light_density, lobe_density);
+        brdf_cos += material.specular * ((n + 2.0f) * lobe * cos_surface * weight);
+      }
+      return brdf_cos;
+    };
     if ((w.diffuse > 0 || w.glossy > 0) && sample_emitters) {
       const auto on_emitter = random.uniform_pair(next_ray, detail::kEmitterU);
       const detail::Emitters::Sample e = emitters_->sample(on_emitter.first, on_emitter.second);
@@ -140,23 +176,18 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
         const float cos_surface = dot(at.normal, l), cos_emitter = std::fabs(dot(e.normal, l));
         const float emitter_density = e.pdf_area * distance2 / cos_emitter;
         if (cos_surface > 0 && cos_emitter > 0 && emitter_density > 0) {
-          // Where no bounce ray follows, the emitter's estimate is the only one.
-          const bool last = bounce >= options_.path.max_bounces;
-          const float total = w.total();
-          Vec3 brdf_cos;  // each lobe's BRDF x cos, weighted against its bounce ray
-          if (w.diffuse > 0) {
-            const float lobe_density = w.diffuse / total * cos_surface * kInvPi;
-            const float weight = last ? 1.0f : power_heuristic(emitter_density, lobe_density);
-            brdf_cos += material.diffuse * (kInvPi * cos_surface * weight);
-          }
-          if (w.glossy > 0) {
-            const float n = material.shininess;
-            const float lobe = phong_cos_power(dot(detail::reflect(-l, at.normal), at.view), n) * 0.5f * kInvPi;
-            const float lobe_density = w.glossy / total * (n + 1.0f) * lobe;
-            const float weight = last ? 1.0f : power_heuristic(emitter_density, lobe_density);
-            brdf_cos += material.specular * ((n + 2.0f) * lobe * cos_surface * weight);
-          }
-          radiance += throughput * e.radiance * brdf_cos / emitter_density;
+          radiance += throughput * e.radiance * weighted_brdf_cos(l, cos_surface, emitter_density) / emitter_density;
+        }
+      }
+    }
+    if ((w.diffuse > 0 || w.glossy > 0) && sample_environment) {
+      const EnvironmentMap::Sample s = environment->sample(random.uniform(next_ray, detail::kEnvironmentU),
+                                                           random.uniform(next_ray, detail::kEnvironmentV));
+      if (dot(s.direction, at.facing) > 0 && s.pdf > 0 &&
+          direction_visible(offset_ray_origin(at.surface, at.facing), s.direction, self, context)) {
+        const float cos_surface = dot(at.normal, s.direction);
+        if (cos_surface > 0) {
+          radiance += throughput * s.radiance * weighted_brdf_cos(s.direction, cos_surface, s.pdf) / s.pdf;
         }
       }
     }
@@ -181,7 +212,7 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
       kind = RayKind::Diffuse;
       direction = detail::sample_cosine(at.normal, u1, u2);
       weight = material.diffuse * (total / w.diffuse);
-      if (sample_emitters) bounce_density = w.diffuse / total * std::max(0.0f, dot(direction, at.normal)) * kInvPi;
+      if (next_event) bounce_density = w.diffuse / total * std::max(0.0f, dot(direction, at.normal)) * kInvPi;
     } else if (lobe == 1) {
       kind = RayKind::Glossy;
       const Vec3 mirror = normalize(detail::reflect(ray.direction, at.normal));
@@ -190,7 +221,7 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
       if (!(cos_out > 0)) break;  // below the surface: the lobe gives nothing
       const float n = material.shininess;
       weight = material.specular * ((n + 2.0f) / (n + 1.0f) * cos_out * (total / w.glossy));
-      if (sample_emitters) {
+      if (next_event) {
         bounce_density = w.glossy / total * (n + 1.0f) * 0.5f * kInvPi * phong_cos_power(dot(direction, mirror), n);
       }
     } else {

@@ -76,7 +76,7 @@ RayKindPlan plan_ray_kinds(const Scene& scene, int max_depth, RayScope scope) {
   return plan;
 }
 
-RayKindPlan plan_path_ray_kinds(const Scene& scene, int max_bounces) {
+RayKindPlan plan_path_ray_kinds(const Scene& scene, int max_bounces, bool environment_light) {
   RayKindPlan plan;
   plan.kinds = {RayKind::Primary, RayKind::Shadow,     RayKind::Diffuse,
                 RayKind::Glossy,  RayKind::Reflection, RayKind::Refraction};
@@ -100,7 +100,7 @@ RayKindPlan plan_path_ray_kinds(const Scene& scene, int max_bounces) {
     emitter = emitter || (t.material < scene.materials.size() && detail::emits(scene.materials[t.material]));
     if (emitter) break;
   }
-  const bool light = !scene.lights.empty() || emitter;
+  const bool light = !scene.lights.empty() || emitter || environment_light;
   decide(RayKind::Shadow, lit && light, !light ? "scene has no light" : "no material has a diffuse or glossy lobe",
          false);
   decide(RayKind::Diffuse, diffuse, "no material has a diffuse lobe", true);

@@ -48,7 +48,8 @@ Renderer::Renderer(const Scene& scene, const Bounds& bounds, std::unique_ptr<Ray
                    const RenderOptions& options)
     : scene_(scene),
       options_(options),
-      plan_(options.integrator == Integrator::Path ? plan_path_ray_kinds(scene, options.path.max_bounces)
+      plan_(options.integrator == Integrator::Path ? plan_path_ray_kinds(scene, options.path.max_bounces,
+                                                                         options.environment && options.environment->lights())
                                                    : plan_ray_kinds(scene, options.max_depth, options.rays)),
       camera_(camera_to_use(scene, bounds, options)),
       pinhole_(camera_, options.width, options.height),

@@ -49,14 +49,22 @@ bool Renderer::light_visible(const Vec3& origin, const PointLight& light, std::u
 }
 
 bool Renderer::point_visible(const Vec3& origin, const Vec3& target, std::uint32_t caster, Context& context) const {
+  return shadow_ray_clear({origin, target - origin}, 1.0f - 1e-4f, caster, context);
+}
+
+bool Renderer::direction_visible(const Vec3& origin, const Vec3& direction, std::uint32_t caster,
+                                 Context& context) const {
+  return shadow_ray_clear({origin, direction}, std::numeric_limits<float>::infinity(), caster, context);
+}
+
+bool Renderer::shadow_ray_clear(const Ray& shadow, float t_max, std::uint32_t caster, Context& context) const {
   ++context.stats.rays[static_cast<int>(RayKind::Shadow)];
-  const Ray shadow{origin, target - origin};
   context.note(RayKind::Shadow, shadow);
   const std::uint32_t shadow_ray = context.begin_ray(caster);
   bool blocked;
   {
     const detail::RayKindTimer timer(context.untimed, context.stats, RayKind::Shadow);
-    blocked = occluded(shadow, 1.0f - 1e-4f, context.records, &context.stats);
+    blocked = occluded(shadow, t_max, context.records, &context.stats);
   }
   context.end_ray(shadow_ray);
   context.maybe_flush();

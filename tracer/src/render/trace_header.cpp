@@ -55,6 +55,25 @@ nlohmann::json path_tracing_description(const PathOptions& path) {
   return description;
 }
 
+// The map as the user named it, its size and checksum, and how it lights.
+nlohmann::json environment_description(const EnvironmentMap& map) {
+  return {{"file", map.name()},
+          {"width", map.width()},
+          {"height", map.height()},
+          {"checksum", map.checksum()},
+          {"mapping", "equirectangular, Blender's with no axis conversion: u = 0.5 - atan2(y, x) / (2 pi), v = 0.5 + "
+                      "atan2(z, hypot(x, y)) / pi; the nearest pixel, column floor(u width), row floor(v height) "
+                      "from the bottom (+Z the top row, +X the middle column, +Y a quarter from the left)"},
+          {"light", fmt::format(
+                        "replaces the background: rays that escape collect the map's radiance; at each diffuse or "
+                        "glossy hit one more shadow ray, unbounded, goes in a direction drawn {}, random dimensions "
+                        "8 and 9 of the next bounce; combined per lobe with the bounce ray by the power heuristic",
+                        map.sampling() == EnvironmentSampling::Uniform
+                            ? "uniformly over the sphere"
+                            : "by luminance x solid angle (a row by its pixels' luminance times its band of the "
+                              "sphere, a column by luminance, a direction uniform within the pixel)")}};
+}
+
 }  // namespace
 
 nlohmann::json make_trace_header(const SceneSource& source, const Scene& first_scene,
@@ -111,6 +130,8 @@ nlohmann::json make_trace_header(const SceneSource& source, const Scene& first_s
           "within the chosen emitter's share, also places the point); the two estimates "
           "are combined per lobe with the power heuristic";
     }
+    // Written only with --environment, so other headers are as before.
+    if (r.environment) render["path"]["environment"] = environment_description(*r.environment);
   }
   header["render"] = render;
   nlohmann::json layout = {{"name", layout_name(target.layout)},

@@ -75,6 +75,7 @@ void check_path_options(const TraceJobOptions& options) {
   const RenderOptions& r = options.render;
   if (r.integrator != Integrator::Path) {
     if (!options.variance_pfm.empty()) throw base::UsageError("--variance-pfm needs --integrator path");
+    if (r.environment) throw base::UsageError("--environment needs --integrator path");
     return;
   }
   if (r.path.samples_per_pixel < 1 || r.path.samples_per_pixel > kMaxSamplesPerPixel) {
@@ -176,11 +177,14 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
 
     if (i == 0) {
       result.plan = renderer.ray_plan();
-      // The path tracer's light is the lights', the ambient term's and the background's.
-      if (r.integrator == Integrator::Path && scene.lights.empty() && is_black(scene.background) &&
+      // The path tracer's light is the lights', the ambient term's and the
+      // background's, or the environment map's in its place.
+      const bool background_lights = r.environment ? r.environment->lights() : !is_black(scene.background);
+      if (r.integrator == Integrator::Path && scene.lights.empty() && !background_lights &&
           is_black(scene.ambient) && detail::Emitters(scene).empty()) {
-        result.notes.push_back("the scene has no light, no ambient light and a black background: the path-traced "
-                               "image is black (the trace is whole)");
+        result.notes.push_back(fmt::format("the scene has no light, no ambient light and {}: the path-traced image is "
+                                           "black (the trace is whole)",
+                                           r.environment ? "a black environment map" : "a black background"));
       }
       // Wider addresses only when some stream can reach past 32 bits.
       const std::uint64_t node_end =

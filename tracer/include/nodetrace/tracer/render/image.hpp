@@ -1,7 +1,8 @@
 // A rendered picture and its outputs: a PNG for people, PFM float images for
-// analysis tools.
+// analysis tools; and the PFM reader (environment maps).
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -28,5 +29,15 @@ void write_png(const Image& image, const std::string& path);
 // A colour PFM ("PF", little-endian 32-bit floats, bottom row first, as the
 // format has it) of `plane` (image.pixels or image.variance), written the same way.
 void write_pfm(const Image& image, const std::vector<Vec3>& plane, const std::string& path);
+
+// A colour PFM file: "PF", the width and height, the scale (negative:
+// little-endian floats, positive: big-endian; its magnitude is ignored, as
+// netpbm's pfmtopam ignores it), one whitespace character, then exactly
+// width x height x 3 floats, bottom row first. Returns the pixels top row
+// first (Image's order). Throws base::IoError when the file cannot be read
+// and base::FormatError, naming the file, for anything else: not a PFM, a
+// greyscale one ("Pf"), a size of 0 or above `max_pixels`, too few or too
+// many bytes. The values are returned as stored (NaN included).
+Image read_pfm(const std::string& path, std::uint64_t max_pixels);
 
 }  // namespace nodetrace::tracer

@@ -42,7 +42,8 @@ std::string_view ray_scope_name(RayScope scope);  // "primary", "primary+shadow"
 
 RayKindPlan plan_ray_kinds(const Scene& scene, int max_depth, RayScope scope = RayScope::Whitted);
 // The kinds a path tracer with at most `max_bounces` bounce rays after the
-// camera ray may cast in `scene` (material lobes: path_lobes.hpp).
-RayKindPlan plan_path_ray_kinds(const Scene& scene, int max_bounces);
+// camera ray may cast in `scene` (material lobes: path_lobes.hpp);
+// `environment_light`: an environment map that is not black lights it.
+RayKindPlan plan_path_ray_kinds(const Scene& scene, int max_bounces, bool environment_light = false);
 
 }  // namespace nodetrace::tracer

@@ -19,6 +19,7 @@
 #include "nodetrace/formats/record/record.hpp"
 #include "nodetrace/tracer/accel/acceleration_structure.hpp"
 #include "nodetrace/tracer/render/camera.hpp"
+#include "nodetrace/tracer/render/environment_map.hpp"
 #include "nodetrace/tracer/render/image.hpp"
 #include "nodetrace/tracer/render/integrator.hpp"
 #include "nodetrace/tracer/accel/kdtree.hpp"
@@ -41,6 +42,9 @@ struct RenderOptions {
   int width = 800, height = 600;
   Integrator integrator = Integrator::Whitted;
   PathOptions path;  // the path tracer's (Integrator::Path only)
+  // Path tracing: the light of the directions rays escape in, instead of
+  // the scene's constant background (null: the background).
+  std::shared_ptr<const EnvironmentMap> environment;
   // The animation frame rendered: the path tracer's random numbers depend on it.
   std::uint64_t animation_frame = 0;
   int max_depth = 10;  // Whitted: primary rays are depth 1; no secondary ray beyond it
@@ -139,6 +143,10 @@ class Renderer {
   bool light_visible(const Vec3& origin, const PointLight& light, std::uint32_t caster, Context& context) const;
   // The same for a point `target` (on an area light).
   bool point_visible(const Vec3& origin, const Vec3& target, std::uint32_t caster, Context& context) const;
+  // The same for the environment in `direction`: nothing in the way, however far.
+  bool direction_visible(const Vec3& origin, const Vec3& direction, std::uint32_t caster, Context& context) const;
+  // Casts, counts, times and records a shadow ray over [0, t_max) of `shadow`.
+  bool shadow_ray_clear(const Ray& shadow, float t_max, std::uint32_t caster, Context& context) const;
   // A cast ray: its id (the caster of its shadow rays, the parent of its
   // children) and its closest hit.
   struct TracedRay {

@@ -190,6 +190,7 @@ struct RenderCommandOptions {
   std::optional<std::uint32_t> spp;
   std::optional<int> max_bounces;
   std::optional<std::string> sampler;
+  std::optional<std::string> environment;  // --environment FILE.pfm
 };
 
 // Ray slots per traversal unit at most: a step then issues up to 4096
@@ -218,6 +219,11 @@ inline void add_path_options(CLI::App& app, RenderCommandOptions& o) {
                  "sobol (Owen-scrambled Sobol: lower error at the same samples); both give the same bytes for "
                  "any threads, pixel order or rays in flight")
       ->check(CLI::IsMember({"independent", "sobol"}));
+  app.add_option("--environment", o.environment,
+                 "--integrator path: light from an equirectangular colour PFM map of linear radiance instead of the "
+                 "background, oriented as Blender's environment texture (+Z up, +X the middle column), sampled by "
+                 "luminance for next-event estimation")
+      ->type_name("FILE.pfm");
 }
 
 // One rule for tracer render and tracer info: --max-depth is the Whitted
@@ -240,6 +246,9 @@ inline void apply_integrator(const RenderCommandOptions& r, RenderOptions& rende
   if (render.integrator != Integrator::Path) {
     if (r.spp) throw base::UsageError("--spp needs --integrator path (the Whitted tracer casts one ray per pixel)");
     if (r.sampler) throw base::UsageError("--sampler needs --integrator path (the Whitted tracer draws no numbers)");
+    if (r.environment) {
+      throw base::UsageError("--environment needs --integrator path (the Whitted tracer shows the background colour)");
+    }
     return;
   }
   if (r.sampler) render.path.sampler = *parse_sampler(*r.sampler);
