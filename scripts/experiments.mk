@@ -190,6 +190,14 @@ scene_robot := $(SHARED)/scenes/bart/robots/Robot.aff
 scene_kitchen := $(SHARED)/scenes/bart/kitchen/kitchen.aff
 # The paper's Fairy Forest is not available; the built-in forest stands in.
 scene_forest := forest
+# The scenes of scripts/cycles/scenes.py, which Blender Cycles renders too
+# (scripts/test-cycles.sh): AFF files it writes under $(OUT)/scenes, each
+# hashed as the script that writes it.
+CYCLES_SCENES := sphere cornell mirror glass
+$(foreach s,$(CYCLES_SCENES),$(eval scene_$s := $(OUT)/scenes/$s.aff)$(eval scene_hash_$s = $$(call \
+  file_hash,$(MK_DIR)/cycles/scenes.py)))
+$(OUT)/scenes/%.aff: $(MK_DIR)/cycles/scenes.py | $(OUT)/scenes/.dir
+	@$(PYTHON) $(MK_DIR)/cycles/scenes.py $* $@
 
 # --- Helpers ------------------------------------------------------------------
 empty :=
@@ -215,7 +223,8 @@ cachesim_hash = $(or $(cachesim_hash_value),$(call need_program,$(CACHESIM))$(ev
 
 # A file scene is every file of its folder (an AFF file includes others); a
 # built-in scene is its name, its geometry being part of the tracer binary.
-scene_arg = $(or $(scene_$1),$(error unknown scene '$1' (expected robot, kitchen, forest)))
+scene_arg = $(or $(scene_$1),$(error unknown scene '$1' (expected robot, kitchen, forest, $(call \
+  join_commas,$(CYCLES_SCENES)))))
 scene_hash = $(or $(scene_hash_$1),$(eval scene_hash_$1 := $(call compute_scene_hash,$1))$(scene_hash_$1))
 compute_scene_hash = $(if $(findstring /,$(call scene_arg,$1)),$(if $(wildcard $(scene_$1)),$(call checked_hash,$(shell \
   cd '$(dir $(scene_$1))' && find . -type f | LC_ALL=C sort | xargs -r sha256sum | sha256sum | cut -c1-16),scene $1),$(error scene $1: $(scene_$1) not found (SHARED=$(SHARED)))),builtin-$(scene_$1))

@@ -3,6 +3,9 @@
 //   dinero-wrap exec TRACE [--dinero CMD] -- [dineroIV options]
 #include <CLI/CLI.hpp>
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -15,8 +18,11 @@
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/cli/command_line.hpp"
 #include "nodetrace/cli/exit_status.hpp"
+#include "nodetrace/cli/option_limits.hpp"
 #include "commands.hpp"
-#include "run_options.hpp"
+#include "nodetrace/cachesim/simulation/run_arguments.hpp"
+#include "nodetrace/cachesim/simulation/simulation.hpp"
+#include "print_report.hpp"
 #include "nodetrace/cli/subcommand_dispatch.hpp"
 
 namespace {
@@ -38,24 +44,28 @@ constexpr const char* kUsage =
     "`dinero-wrap SUBCOMMAND --help` describes each.\n";
 
 int run_subcommand(int argc, char** argv) {
-  CLI::App app{
-      "Answer `cachesim run` options with Dinero IV: one Dinero IV process per cache (at most "
-      "one per core at a time), same report and columns as cachesim run.",
-      "dinero-wrap run"};
-  tools::RunCommandLine line;
-  tools::add_run_options(app, line, /*side_tables=*/false);
+  SimulationOptions line;
   std::string dinero;
   unsigned jobs = 0;
-  app.add_option("--dinero", dinero,
-                 "Dinero IV command, may carry arguments (default: $DINEROIV, or dineroIV on "
-                 "PATH)");
-  app.add_option("--jobs", jobs, "Dinero IV processes at a time (default: one per core; at most 16 per core)");
-  if (const std::optional<int> status = cli::parse_command_line(app, argc, argv)) return *status;
+  RunArgumentsSyntax syntax{
+      "dinero-wrap run",
+      "Answer `cachesim run` options with Dinero IV: one Dinero IV process per cache (at most "
+      "one per core at a time), same report and columns as cachesim run."};
+  syntax.cachesim_only_options = false;
+  syntax.extra = {{"--dinero",
+                   "Dinero IV command, may carry arguments (default: $DINEROIV, or dineroIV on "
+                   "PATH)",
+                   &dinero},
+                  {"--jobs", "Dinero IV processes at a time (default: one per core; at most 16 per core)", &jobs}};
+  if (const std::optional<int> status =
+          parse_run_arguments(std::vector<std::string>(argv + std::min(argc, 1), argv + argc), syntax, line)) {
+    return *status;
+  }
   return cli::exit_status_of("dinero-wrap run", [&] {
     wrap::WrapOptions options;
     options.jobs = cli::check_thread_count(jobs, "--jobs", "processes");
-    options.reader = tools::reader_options(line);
-    const SweepOptions sweep = tools::sweep_options(line);
+    options.reader = reader_options(line);
+    const SweepOptions sweep = sweep_options(line);
     for (const ReplacementPolicy policy : sweep.policies) {
       if (!dinero_has_policy(policy)) {
         throw base::UsageError(fmt::format(
@@ -68,14 +78,14 @@ int run_subcommand(int argc, char** argv) {
     std::vector<Configuration> configs = expand_configurations(sweep);
     std::vector<ResultRow> rows;
     std::vector<std::string> notes;
-    if (const std::optional<std::string> split_size = tools::split_size_note(line, sweep)) notes.push_back(*split_size);
+    if (const std::optional<std::string> split_size = split_size_note(line, sweep)) notes.push_back(*split_size);
     if (const std::optional<std::string> repeated = merge_repeated_configurations(configs)) notes.push_back(*repeated);
     for (const std::string& trace : line.traces) {
       TraceResult result = wrap::wrap_run(trace, configs, trace, sweep.per_level, options, sweep.per_animation_frame);
       rows.insert(rows.end(), result.rows.begin(), result.rows.end());
       notes.insert(notes.end(), result.notes.begin(), result.notes.end());
     }
-    tools::print_run_report(tools::run_report(rows, {}, notes, line));
+    tools::print_report(sweep_report(rows, {}, notes, line));
     return 0;
   }, tools::kTooLarge);
 }

@@ -11,6 +11,7 @@ import subprocess
 import sys
 
 import matplotlib
+import numpy
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -216,3 +217,20 @@ def size_bytes(text):
         if text.endswith(suffix):
             return int(text[:-1]) * factor
     return int(text)
+
+
+def read_pfm(path):
+    """A colour PFM's floats as an array (rows x columns x 3), top row first."""
+    with open(path, "rb") as stream:
+        data = stream.read()
+    lines, offset = [], 0
+    while len(lines) < 3:
+        end = data.index(b"\n", offset)
+        lines.append(data[offset:end].decode("ascii"))
+        offset = end + 1
+    if lines[0] != "PF":
+        raise SystemExit(f"{path}: not a colour PFM")
+    width, height = (int(v) for v in lines[1].split())
+    scale = float(lines[2])
+    pixels = numpy.frombuffer(data, dtype="<f4" if scale < 0 else ">f4", offset=offset, count=width * height * 3)
+    return pixels.reshape(height, width, 3)[::-1].astype(numpy.float64)

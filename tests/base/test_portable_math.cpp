@@ -151,6 +151,48 @@ TEST(PortableMath, ResultsArePinnedToTheBit) {
   }
 }
 
+// The float sin and cos take a plain-double fast path where it cannot change
+// the float: their bits must be those of the double functions rounded once,
+// as before the fast path (traces keep their bytes), on the angles the path
+// tracer draws (2 pi u), on every float of a few binades near the quadrant
+// boundaries, and on large and tiny arguments.
+TEST(PortableMath, FloatSinAndCosAreTheDoubleOnesRoundedToFloat) {
+  const auto expect_same = [](float x) {
+    const float s = math::sin(x), c = math::cos(x);
+    const float es = static_cast<float>(math::sin(static_cast<double>(x)));
+    const float ec = static_cast<float>(math::cos(static_cast<double>(x)));
+    std::uint32_t a, b, d, e;
+    std::memcpy(&a, &s, 4), std::memcpy(&b, &es, 4), std::memcpy(&d, &c, 4), std::memcpy(&e, &ec, 4);
+    if (a != b || d != e) {
+      ADD_FAILURE() << "x = " << x << " (" << std::hexfloat << x << "): sin " << s << " against " << es << ", cos "
+                    << c << " against " << ec;
+      return false;
+    }
+    return true;
+  };
+  std::mt19937 generator(49);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int i = 0; i < 1000000; ++i) {
+    if (!expect_same(6.28318530717958647692f * unit(generator))) return;
+  }
+  std::uniform_int_distribution<std::uint32_t> bits(0, 0xFFFFFFFFu);
+  for (int i = 0; i < 300000; ++i) {
+    const std::uint32_t b = bits(generator);
+    float x;
+    std::memcpy(&x, &b, 4);
+    if (std::isfinite(x) && !expect_same(x)) return;
+  }
+  for (const float center : {0.78539816f, 1.5707963f, 3.1415927f, 4.712389f, 6.2831855f}) {
+    float x = center;
+    for (int i = 0; i < 20000; ++i, x = std::nextafter(x, 0.0f)) {
+      if (!expect_same(x) || !expect_same(-x)) return;
+    }
+  }
+  for (const float x : {0.0f, -0.0f, 1e-30f, -1e-30f, 1e-45f, 3e38f, -3e38f, 1e6f, 823550.f}) {
+    if (!expect_same(x)) return;
+  }
+}
+
 TEST(PortableMath, SpecialValuesFollowTheCLibrary) {
   const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
   EXPECT_TRUE(std::isnan(math::sin(inf)));

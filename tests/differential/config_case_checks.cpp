@@ -46,6 +46,67 @@ std::map<std::string, std::string> expected_cells(const Config& config, const re
   return cells;
 }
 
+// The prefetch columns' counts a row must show (--prefetch): the reference
+// with the prefetcher (`with`) and without it (`without`).
+std::map<std::string, std::string> expected_prefetch_cells(const Config& config, const reference::Counts& with,
+                                                           const reference::Counts& without) {
+  return {{"prefetch", prefetch_text(config)},
+          {"prefetches", std::to_string(with.prefetches)},
+          {"useful_prefetches", std::to_string(with.useful_prefetches)},
+          {"misses_without_prefetch", std::to_string(without.misses)}};
+}
+
+// The blocks a configuration fetched from memory on demand: its misses, a
+// retained high cache's loads whether counted as misses or not.
+std::uint64_t demand_blocks(const Config& config, const reference::Counts& counts) {
+  if (!config.split) return counts.misses;
+  return counts.low_misses + (config.retain ? counts.high_loads : counts.high_misses);
+}
+
+// The properties of a row's prefetch columns (empty: they hold): accuracy
+// useful / prefetches within [0, 1], coverage (without - with) / without at
+// most 1 and below 0 only where some prefetch was useless (it evicted a block
+// then missed), and bytes per ray (demand blocks + prefetches) x block / rays:
+// the traffic is demand misses plus prefetches.
+std::string prefetch_properties(const Config& config, const reference::Counts& with,
+                                const reference::Counts& without, std::optional<std::uint64_t> rays,
+                                const std::map<std::string, std::string>& row) {
+  std::string out;
+  auto value = [&](const char* column) -> std::optional<double> {
+    const auto found = row.find(column);
+    if (found == row.end() || found->second.empty()) return std::nullopt;
+    return std::stod(found->second);
+  };
+  auto near = [](std::optional<double> got, double want) { return got && std::abs(*got - want) <= 5e-7 * std::max(1.0, std::abs(want)); };
+  const auto accuracy = value("prefetch_accuracy");
+  if (with.prefetches == 0) {
+    if (accuracy) out += " prefetch_accuracy given without prefetches";
+  } else {
+    const double want = static_cast<double>(with.useful_prefetches) / static_cast<double>(with.prefetches);
+    if (!near(accuracy, want) || *accuracy < 0 || *accuracy > 1) out += fmt::format(" prefetch_accuracy (expected {})", want);
+  }
+  const auto coverage = value("prefetch_coverage");
+  if (without.misses == 0) {
+    if (coverage) out += " prefetch_coverage given without misses to cover";
+  } else {
+    const double want = (static_cast<double>(without.misses) - static_cast<double>(with.misses)) /
+                        static_cast<double>(without.misses);
+    if (!near(coverage, want) || *coverage > 1 || (*coverage < 0 && with.prefetches == with.useful_prefetches)) {
+      out += fmt::format(" prefetch_coverage (expected {}, negative only with useless prefetches)", want);
+    }
+  }
+  const auto per_ray = value("bytes_per_ray");
+  if (!rays || *rays == 0) {
+    if (per_ray) out += " bytes_per_ray given without rays";
+  } else {
+    const double want = static_cast<double>((demand_blocks(config, with) + with.prefetches) * config.block) /
+                        static_cast<double>(*rays);
+    if (!near(per_ray, want)) out += fmt::format(" bytes_per_ray (expected {})", want);
+  }
+  if (with.useful_prefetches > with.prefetches) out += " more useful prefetches than prefetches";
+  return out;
+}
+
 std::string compare_cells(const std::map<std::string, std::string>& expected,
                           const std::map<std::string, std::string>& row) {
   std::string out;
@@ -126,11 +187,14 @@ ConfigCaseResult check_config_case(const ConfigCase& c, const Programs& programs
     return run(name, command);
   };
 
-  std::vector<reference::Result> expected;
+  std::vector<reference::Result> expected, without_prefetch;
   bool any_does_not_fit = false;
   for (const ListedConfig& one : c.configs) {
     expected.push_back(reference::simulate(c.facts, one.config));
     any_does_not_fit = any_does_not_fit || expected.back().high_levels_do_not_fit;
+    Config without = one.config;
+    without.prefetch = false;
+    without_prefetch.push_back(one.config.prefetch ? reference::simulate(c.facts, without) : expected.back());
   }
 
   // The list.
@@ -176,15 +240,38 @@ ConfigCaseResult check_config_case(const ConfigCase& c, const Programs& programs
     alone_rows[i] = alone_table[0];
     ++result.rows;
     const auto cells = expected_cells(one.config, expected[i].total);
-    if (const auto d = compare_cells(cells, alone_table[0]); !d.empty()) {
+    // A list with --prefetch treelet has the prefetch columns in every row;
+    // a configuration without the prefetcher run alone (--prefetch none) has none.
+    auto listed_cells = cells;
+    auto alone_cells = cells;
+    auto check_prefetch_columns = [&](const Row& row, const char* which) {
+      ++result.properties;
+      const std::string broken =
+          prefetch_properties(one.config, expected[i].total, without_prefetch[i].total, c.rays, row);
+      if (!broken.empty()) differ(fmt::format("{}: {}, the prefetch columns:{}", one.name, which, broken));
+    };
+    if (c.prefetch_columns) {
+      const auto prefetch_cells = expected_prefetch_cells(one.config, expected[i].total, without_prefetch[i].total);
+      listed_cells.insert(prefetch_cells.begin(), prefetch_cells.end());
+      if (one.config.prefetch) {
+        alone_cells.insert(prefetch_cells.begin(), prefetch_cells.end());
+        check_prefetch_columns(alone_table[0], "alone");
+      }
+      if (list_rows) check_prefetch_columns(list_table[i], "in the list");
+    }
+    if (const auto d = compare_cells(alone_cells, alone_table[0]); !d.empty()) {
       differ(fmt::format("{}: alone differs from the reference:{}", one.name, d));
     }
     if (list_rows) {
-      if (list_table[i] != alone_table[0]) {
+      Row listed_as_alone;  // the list's row in the alone row's columns
+      for (const auto& [column, value] : list_table[i]) {
+        if (alone_table[0].count(column) != 0) listed_as_alone[column] = value;
+      }
+      if (listed_as_alone != alone_table[0]) {
         differ(fmt::format("{}: its row in the list differs from the row alone: {} against {}", one.name,
                            row_text(list_table[i]), row_text(alone_table[0])));
       }
-      if (const auto d = compare_cells(cells, list_table[i]); !d.empty()) {
+      if (const auto d = compare_cells(listed_cells, list_table[i]); !d.empty()) {
         differ(fmt::format("{}: in the list, differs from the reference:{}", one.name, d));
       }
     }
@@ -204,8 +291,9 @@ ConfigCaseResult check_config_case(const ConfigCase& c, const Programs& programs
     write_file(dinero_trace, xdin);
     for (std::size_t i = 0; i < c.configs.size(); ++i) {
       const Config& config = c.configs[i].config;
-      const bool expressible = !config.split && (config.policy == Policy::Lru || config.policy == Policy::Fifo ||
-                                                 config.policy == Policy::Random) &&
+      const bool expressible = !config.split && !config.prefetch &&
+                               (config.policy == Policy::Lru || config.policy == Policy::Fifo ||
+                                config.policy == Policy::Random) &&
                                (!config.private_units || c.facts.units == 1);
       if (!expressible || alone_rows[i].empty()) continue;
       std::string command = "timeout 10 " + shell_quoted(*programs.dinero);
@@ -259,7 +347,8 @@ ConfigCaseResult check_config_case(const ConfigCase& c, const Programs& programs
         const Config& a = c.configs[i].config;
         const Config& b = c.configs[j].config;
         if ((*rows)[i].empty() || (*rows)[j].empty() || a.split || b.split || a.policy != Policy::Lru ||
-            b.policy != Policy::Lru || a.fetch != Fetch::Demand || a.block != b.block || a.size >= b.size ||
+            b.policy != Policy::Lru || a.fetch != Fetch::Demand || a.prefetch || b.prefetch || a.block != b.block ||
+            a.size >= b.size ||
             a.assoc != a.size / a.block || b.assoc != b.size / b.block) {
           continue;
         }

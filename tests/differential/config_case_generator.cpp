@@ -7,6 +7,9 @@
 #include <algorithm>
 #include <set>
 
+#include <unistd.h>
+
+#include "nodetrace/formats/read/trace_reader.hpp"
 #include "nodetrace/formats/write/trace_writer.hpp"
 #include "address_stream.hpp"
 #include "config_case_lists.hpp"
@@ -94,6 +97,15 @@ std::vector<TraceRecord> make_records(Draw& draw, const ConfigCase& c, const Con
   return records;
 }
 
+// A --prefetch value as the reference takes it: none (or not given), treelet[:B], treelet-low[:B].
+void set_prefetch(Config& config, const std::string& spec) {
+  if (spec.empty() || spec == "none") return;
+  config.prefetch = true;
+  config.prefetch_low = spec.starts_with("treelet-low");
+  const auto colon = spec.find(':');
+  if (colon != std::string::npos) config.prefetch_bytes = std::stoull(spec.substr(colon + 1));
+}
+
 std::uint32_t resolved_ways(std::uint32_t assoc, std::uint64_t size, std::uint64_t block) {
   return assoc == 0 ? static_cast<std::uint32_t>(std::max<std::uint64_t>(1, size / block)) : assoc;
 }
@@ -132,27 +144,35 @@ std::vector<ListedConfig> expand(const Lists& l) {
             } else {
               config.assoc = resolved_ways(assoc, size, block);
             }
+            const std::vector<std::string> prefetches =
+                l.prefetches.empty() ? std::vector<std::string>{""} : l.prefetches;
             for (const std::string& k : split_levels) {
               for (const std::string& high : high_policies) {
-                ListedConfig one;
-                one.config = config;
-                if (config.split) {
-                  if (k != "auto") one.config.split_level = static_cast<std::uint32_t>(std::stoul(k));
-                  one.config.retain = high == "retain";
+                for (const std::string& prefetch : prefetches) {
+                  ListedConfig one;
+                  one.config = config;
+                  if (config.split) {
+                    if (k != "auto") one.config.split_level = static_cast<std::uint32_t>(std::stoul(k));
+                    one.config.retain = high == "retain";
+                  }
+                  set_prefetch(one.config, prefetch);
+                  const std::string key = fmt::format(
+                      "{} {} {} {} {} {} {} {} {} {} {} {} {}", scheme, one.config.size, block, one.config.assoc,
+                      policy, config.split ? high : "", one.config.high_size, one.config.low_size,
+                      one.config.high_assoc, k, config.split && l.count_loads, 0, prefetch_text(one.config));
+                  if (!seen.insert(key).second) continue;
+                  one.name = fmt::format("{} size {} block {} assoc {} policy {}{}{}", scheme, size, block,
+                                         assoc_text(assoc), policy,
+                                         config.split ? fmt::format(" K {} high {}", k, high) : "",
+                                         prefetch.empty() ? "" : " prefetch " + prefetch);
+                  Lists alone = l;
+                  if (!prefetch.empty()) alone.prefetches = {prefetch};
+                  one.alone_args = arguments(
+                      alone, {std::to_string(size)}, {std::to_string(block)}, {assoc_text(assoc)}, {policy}, {scheme},
+                      config.split ? std::vector<std::string>{k} : std::vector<std::string>{},
+                      config.split ? std::vector<std::string>{high} : std::vector<std::string>{});
+                  listed.push_back(std::move(one));
                 }
-                const std::string key = fmt::format(
-                    "{} {} {} {} {} {} {} {} {} {} {} {}", scheme, one.config.size, block, one.config.assoc, policy,
-                    config.split ? high : "", one.config.high_size, one.config.low_size,
-                    one.config.high_assoc, k, config.split && l.count_loads, 0);
-                if (!seen.insert(key).second) continue;
-                one.name = fmt::format("{} size {} block {} assoc {} policy {}{}", scheme, size, block,
-                                       assoc_text(assoc), policy,
-                                       config.split ? fmt::format(" K {} high {}", k, high) : "");
-                one.alone_args = arguments(l, {std::to_string(size)}, {std::to_string(block)}, {assoc_text(assoc)},
-                                           {policy}, {scheme}, config.split ? std::vector<std::string>{k}
-                                                                            : std::vector<std::string>{},
-                                           config.split ? std::vector<std::string>{high} : std::vector<std::string>{});
-                listed.push_back(std::move(one));
               }
             }
           }
@@ -161,6 +181,37 @@ std::vector<ListedConfig> expand(const Lists& l) {
     }
   }
   return listed;
+}
+
+// Random treelet maps, one per frame, over the frame's nodes [0, nodes x 8):
+// treelets of 1 to 1024 bytes, some with a gap before them.
+void draw_treelet_maps(Draw& draw, ConfigCase& c) {
+  for (std::uint32_t f = 0; f < c.facts.frames; ++f) {
+    std::uint64_t nodes = 0;
+    for (const std::uint64_t n : c.facts.nodes_per_level.at(f)) nodes += n;
+    std::vector<reference::Treelet> map;
+    std::uint64_t at = draw.below(4) * 8;
+    while (at < nodes * 8) {
+      const std::uint64_t bytes = std::min(nodes * 8 - at, draw.chance(50) ? 8 * draw.between(1, 128)
+                                                                               : draw.between(1, 1024));
+      map.push_back({at, bytes});
+      at += bytes + (draw.chance(20) ? draw.between(1, 200) : 0);
+    }
+    c.facts.treelets.emplace_back(std::move(map));
+  }
+}
+
+// Asks the writer to carry each frame's treelet map (WriterOptions::
+// treelet_maps); false where formats has no such option yet (before
+// issue51-trace merges: then the generator draws no maps).
+template <typename Options>
+bool ask_for_treelet_maps(Options& options) {
+  if constexpr (requires { options.treelet_maps = true; }) {
+    options.treelet_maps = true;
+    return true;
+  } else {
+    return false;
+  }
 }
 
 std::vector<std::vector<std::uint64_t>> make_nodes_per_level(const ConfigCase& c) {
@@ -190,6 +241,11 @@ ConfigCase make_config_case(std::uint64_t seed, const ConfigCaseOptions& options
   c.facts.frames = c.container ? static_cast<std::uint32_t>(draw.between(1, 3)) : 1;
   c.facts.contiguous_levels = draw.chance(70);
   if (c.container) c.facts.nodes_per_level = make_nodes_per_level(c);
+  if (c.container && containers_carry_treelet_maps() && draw.chance(50)) {
+    c.treelet_maps = true;
+    draw_treelet_maps(draw, c);
+    if (draw.chance(70)) c.rays = draw.between(1, 5000);
+  }
   c.facts.records = make_records(draw, c, options);
   const bool invalidations = std::any_of(c.facts.records.begin(), c.facts.records.end(),
                                          [](const TraceRecord& r) { return r.type == 5; });
@@ -207,9 +263,14 @@ ConfigCase make_config_case(std::uint64_t seed, const ConfigCaseOptions& options
     if (fits) break;
   }
   const bool has_opt = std::find(lists.policies.begin(), lists.policies.end(), "opt") != lists.policies.end();
-  c.per_level = c.tagged && !has_opt && !lists.private_units && !lists.l2 && draw.chance(25);
-  c.per_frame = !has_opt && !lists.private_units && !lists.l2 && draw.chance(25);
-  c.sampling_allowed = !c.per_level && !c.per_frame && !lists.private_units && !lists.l2 && lists.fetch == "demand";
+  // Per-level and per-frame rows do not name the prefetcher: one at most.
+  const bool one_prefetcher = lists.prefetches.size() <= 1;
+  c.per_level = c.tagged && !has_opt && !lists.private_units && !lists.l2 && one_prefetcher && draw.chance(25);
+  c.per_frame = !has_opt && !lists.private_units && !lists.l2 && one_prefetcher && draw.chance(25);
+  c.prefetch_columns = std::any_of(lists.prefetches.begin(), lists.prefetches.end(),
+                                   [](const std::string& spec) { return spec != "none"; });
+  c.sampling_allowed = !c.per_level && !c.per_frame && !lists.private_units && !lists.l2 && lists.fetch == "demand" &&
+                       lists.prefetches.empty();
   c.list_args = arguments(lists, texts(lists.sizes), texts(lists.blocks), assoc_texts(lists.assocs), lists.policies,
                           lists.schemes, lists.split_levels, lists.high_policies);
 
@@ -291,6 +352,7 @@ void write_config_case_trace(const ConfigCase& c, const std::filesystem::path& f
   options.address_digits = 16;
   nlohmann::json header;
   header["layout"] = {{"name", c.facts.contiguous_levels ? "bfl" : "dfl"}, {"node_size", 8}, {"node_base", 0}};
+  if (c.treelet_maps) ask_for_treelet_maps(options);
   auto writer = formats::TraceWriter::create(file.string(), header, options);
   std::uint32_t frame = ~std::uint32_t{0};
   for (const TraceRecord& r : c.facts.records) {
@@ -302,6 +364,10 @@ void write_config_case_trace(const ConfigCase& c, const std::filesystem::path& f
       marker.nodes_per_level = c.facts.nodes_per_level.at(frame);
       for (const auto n : marker.nodes_per_level) marker.nodes += n;
       marker.depth = static_cast<std::uint32_t>(marker.nodes_per_level.size());
+      if (c.treelet_maps) {
+        marker.treelets.emplace();
+        for (const reference::Treelet& t : *c.facts.treelets.at(frame)) marker.treelets->treelets.push_back({t.first, t.bytes});
+      }
       writer->begin_animation_frame(marker);
     }
     formats::Record record;
@@ -315,7 +381,44 @@ void write_config_case_trace(const ConfigCase& c, const std::filesystem::path& f
                                              : formats::kTagNone;
     writer->write(record);
   }
+  if (c.rays) writer->add_totals({{"rays", {{"primary", *c.rays}}}});
   writer->finish();
+}
+
+bool containers_carry_treelet_maps() {
+  static const bool carried = [] {
+    const auto file = std::filesystem::temp_directory_path() / fmt::format("treelet-map-probe-{}.xdin.zst", ::getpid());
+    formats::WriterOptions options;
+    options.form = formats::RecordForm::ExtendedDin;
+    options.kind = formats::OutputKind::Container;
+    options.threads = 1;
+    bool found = false;
+    if (!ask_for_treelet_maps(options)) return false;
+    try {
+      nlohmann::json header;
+      header["layout"] = {{"name", "treelet"}, {"node_size", 8}, {"node_base", 0}};
+      auto writer = formats::TraceWriter::create(file.string(), header, options);
+      formats::AnimationFrameMarker marker;
+      marker.nodes_per_level = {1};
+      marker.nodes = 1;
+      marker.depth = 1;
+      marker.treelets = formats::TreeletMap{{{0, 8}}};
+      writer->begin_animation_frame(marker);
+      formats::Record record;
+      record.size = 8;
+      record.tag = 0;
+      writer->write(record);
+      writer->finish();
+      auto reader = formats::TraceReader::open(file.string());
+      formats::RecordBatch batch;
+      while (!found && reader->next(batch)) found = batch.marker && batch.marker->treelets;
+    } catch (const std::exception&) {
+      found = false;
+    }
+    std::filesystem::remove(file);
+    return found;
+  }();
+  return carried;
 }
 
 }  // namespace nodetrace::testing

@@ -1,6 +1,8 @@
 // The option lists of a configuration case (config_case_lists.hpp).
 #include "config_case_lists.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <bit>
 
@@ -146,6 +148,17 @@ Lists make_lists(Draw& draw, const ConfigCase& c, const ConfigCaseOptions& optio
     }
     l.l2 = l2;
   }
+  const bool has_opt = std::find(l.policies.begin(), l.policies.end(), "opt") != l.policies.end();
+  if (c.treelet_maps && l.fetch == "demand" && !l.private_units && !l.l2 && !has_opt && draw.chance(70)) {
+    const std::array<const char*, 2> kinds = {"treelet", "treelet-low"};
+    const std::uint64_t count = draw.between(1, 3);
+    for (std::uint64_t i = 0; i < count; ++i) {
+      std::string spec = draw.pick(kinds);
+      if (draw.chance(15)) spec = "none";
+      if (spec != "none" && draw.chance(60)) spec += fmt::format(":{}", std::uint64_t{1} << draw.between(0, 11));
+      if (std::find(l.prefetches.begin(), l.prefetches.end(), spec) == l.prefetches.end()) l.prefetches.push_back(spec);
+    }
+  }
   if (c.form == 'b') l.other.insert(l.other.end(), {"--informat", "binary"});
   if (!c.container && c.form != 'b' && draw.chance(20)) {
     l.other.insert(l.other.end(), {"--informat", c.form == 'd' ? "din" : "xdin"});
@@ -175,6 +188,7 @@ std::vector<std::string> arguments(const Lists& l, const std::vector<std::string
   }
   if (l.fetch != "demand") args.insert(args.end(), {"--fetch", l.fetch});
   if (l.distance) args.insert(args.end(), {"--prefetch-distance", std::to_string(*l.distance)});
+  if (!l.prefetches.empty()) args.insert(args.end(), {"--prefetch", join(l.prefetches)});
   if (l.private_units) args.insert(args.end(), {"--units", "private"});
   if (l.l2) {
     args.insert(args.end(), {"--l2-size", std::to_string(l.l2->size)});
@@ -186,6 +200,12 @@ std::vector<std::string> arguments(const Lists& l, const std::vector<std::string
   args.insert(args.end(), l.other.begin(), l.other.end());
   args.insert(args.end(), {"--format", "csv"});
   return args;
+}
+
+std::string prefetch_text(const Config& config) {
+  if (!config.prefetch) return "none";
+  const std::string kind = config.prefetch_low ? "treelet-low" : "treelet";
+  return config.prefetch_bytes == 0 ? kind : fmt::format("{}:{}", kind, config.prefetch_bytes);
 }
 
 std::vector<std::string> texts(const std::vector<std::uint64_t>& values) {

@@ -36,9 +36,12 @@ struct Lists {
   bool private_units = false;
   std::optional<reference::L2Config> l2;
   bool l2_defaults = false;  // --l2-block and --l2-assoc left to their defaults (64, 8)
+  std::vector<std::string> prefetches;  // --prefetch (empty: not given)
   std::vector<std::string> other;  // --threads, --informat, --tags-are-levels, --units shared
 };
 
+// The report's `prefetch` cell of `config`: none, treelet[:B], treelet-low[:B].
+std::string prefetch_text(const Config& config);
 std::string join(const std::vector<std::string>& values, const char* separator = ",");
 std::string assoc_text(std::uint32_t assoc);
 // Whether a prefetch from some record may reach 2^32 (Dinero IV's engine keeps 32 bits).

@@ -311,6 +311,28 @@ void add(Counts& to, const Counts& from) {
   to.l2_refs += from.l2_refs;
   to.l2_fetches += from.l2_fetches;
   to.l2_misses += from.l2_misses;
+  to.prefetches += from.prefetches;
+  to.useful_prefetches += from.useful_prefetches;
+}
+
+// The treelet prefetcher's bytes for a miss on the block at `start`: from
+// there to the end of its treelet (the one holding `start`, else the first
+// beginning inside the block), at most `limit` bytes (0: no limit). Empty
+// when no treelet is there.
+std::optional<std::pair<std::uint64_t, std::uint64_t>> prefetch_bytes(const std::vector<Treelet>& treelets,
+                                                                      std::uint64_t start, std::uint64_t block,
+                                                                      std::uint64_t limit) {
+  const Treelet* found = nullptr;
+  for (const Treelet& treelet : treelets) {
+    if (treelet.first <= start && start < treelet.first + treelet.bytes) found = &treelet;
+  }
+  for (const Treelet& treelet : treelets) {
+    if (found == nullptr && start < treelet.first && treelet.first < start + block) found = &treelet;
+  }
+  if (found == nullptr) return std::nullopt;
+  std::uint64_t end = found->first + found->bytes;
+  if (limit != 0 && end > start + limit) end = start + limit;
+  return std::make_pair(start, end);
 }
 
 }  // namespace
@@ -410,10 +432,23 @@ Result simulate(const TraceFacts& trace, const Config& config) {
           continue;
         }
         const bool referenced_before = cache->referenced(part.block);
+        // A block placed by a treelet prefetch is unreferenced until a demand fetch uses it.
+        if (config.prefetch && cache->holds(part.block) && !referenced_before) ++counted.useful_prefetches;
         const bool missed = cache->access(part.block);
         if (missed) {
           miss(part.block);
           to_l2(part.block);
+        }
+        const bool prefetching_cache = role != kHigh || !config.prefetch_low;
+        if (config.prefetch && missed && prefetching_cache && record.frame < trace.treelets.size() &&
+            trace.treelets[record.frame]) {
+          const auto range = prefetch_bytes(*trace.treelets[record.frame], part.block * config.block, config.block,
+                                            config.prefetch_bytes);
+          for (std::uint64_t b = part.block + 1; range && b * config.block < range->second; ++b) {
+            if (cache->holds(b)) continue;
+            cache->access(b, false);
+            ++counted.prefetches;
+          }
         }
         // Dinero IV prefetches on demand reads and instruction fetches only,
         // after the demand fetch is in place, from the part's address.

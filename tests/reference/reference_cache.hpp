@@ -97,8 +97,16 @@ struct TraceRecord {
   std::uint32_t frame = 0;  // index into TraceFacts::nodes_per_level
 };
 
+// One treelet of a frame's map: bytes [first, first + bytes).
+struct Treelet {
+  std::uint64_t first = 0, bytes = 0;
+};
+
 struct TraceFacts {
   std::vector<TraceRecord> records;
+  // Per frame (index as TraceRecord::frame): its treelet map, nullopt when
+  // the frame has none (empty: no frame has one).
+  std::vector<std::optional<std::vector<Treelet>>> treelets;
   std::vector<std::vector<std::uint64_t>> nodes_per_level;  // per frame (empty: no marker counts)
   std::uint32_t frames = 1;
   bool contiguous_levels = true;  // layout bfl (else nodes scattered, dfl)
@@ -128,6 +136,10 @@ struct Config {
   std::uint32_t prefetch_distance = 1;
   bool private_units = false;
   std::optional<L2Config> l2;
+  // --prefetch treelet[:BYTES] (0: the whole treelet); `prefetch_low`:
+  // treelet-low, into the split scheme's low cache only.
+  bool prefetch = false, prefetch_low = false;
+  std::uint64_t prefetch_bytes = 0;
 };
 
 struct Counts {
@@ -135,6 +147,7 @@ struct Counts {
   std::uint64_t high_refs = 0, high_misses = 0, high_loads = 0, low_refs = 0, low_misses = 0;
   std::uint32_t split_level = 0;  // K (of the first frame for the totals)
   std::uint64_t l2_refs = 0, l2_fetches = 0, l2_misses = 0;
+  std::uint64_t prefetches = 0, useful_prefetches = 0;
 };
 
 struct LevelCounts {

@@ -378,14 +378,19 @@ TEST_F(ExperimentsMakeTest, ConvergenceTargetMeasuresErrorAgainstAReferenceAndSt
   const std::string options = "convergence CONV_SCENES=robot CONV_WIDTH=8 CONV_HEIGHT=6 CONV_SPP='1 2 4' "
                               "CONV_REFERENCE_SPP=32";
   const std::string log = make(options, out);
-  EXPECT_EQ(count_lines_with(log, "--integrator path"), 4) << log;  // three runs and the reference
+  // Three runs with each sampler, and the reference.
+  EXPECT_EQ(count_lines_with(log, "--integrator path"), 7) << log;
+  EXPECT_EQ(count_lines_with(log, "--sampler sobol --threads 1"), 3) << log;
   const auto csv = read_file(out / "convergence" / "convergence.csv");
-  EXPECT_TRUE(csv.starts_with("scene,spp,cpu_seconds,rmse,relative_mse,reference_spp,reference_cpu_seconds\n"))
+  EXPECT_TRUE(csv.starts_with("scene,sampler,spp,cpu_seconds,rmse,relative_mse,reference,reference_spp,"
+                              "reference_cpu_seconds\n"))
       << csv;
-  EXPECT_EQ(count_lines_with(csv, "robot,"), 3) << csv;
-  EXPECT_EQ(count_lines_with(csv, ",32,"), 3) << csv;
+  EXPECT_EQ(count_lines_with(csv, "robot,independent,"), 3) << csv;
+  EXPECT_EQ(count_lines_with(csv, "robot,sobol,"), 3) << csv;
+  EXPECT_EQ(count_lines_with(csv, ",independent,32,"), 6) << csv;
   const auto md = read_file(out / "convergence" / "convergence.md");
-  EXPECT_NE(md.find("Slope of log RMSE against log spp: "), std::string::npos) << md;
+  EXPECT_NE(md.find("Slope of log RMSE against log spp, ours, independent: "), std::string::npos) << md;
+  EXPECT_NE(md.find("Slope of log RMSE against log spp, ours, Sobol: "), std::string::npos) << md;
   EXPECT_NE(md.find("(expected -0.5; within"), std::string::npos) << md;
   EXPECT_TRUE(std::filesystem::exists(out / "convergence" / "convergence.png"));
   EXPECT_EQ(make(options, out), "");  // nothing is rendered twice
@@ -393,6 +398,30 @@ TEST_F(ExperimentsMakeTest, ConvergenceTargetMeasuresErrorAgainstAReferenceAndSt
   // none was loaded from (or left in) the tree cache.
   EXPECT_TRUE(!std::filesystem::exists(out / "tree-cache") || std::filesystem::is_empty(out / "tree-cache"));
   EXPECT_EQ(count_lines_with(log, "--tree-cache " + (out / "tree-cache").string()), 0) << log;
+}
+
+// Issue 49: the Cornell box of scripts/cycles/scenes.py, written by the
+// Makefile, rendered by ours with both samplers and by Blender Cycles beside
+// them, against Cycles' reference.
+TEST_F(ExperimentsMakeTest, ConvergenceTargetPutsCyclesBesideOursOnTheCornellBox) {
+  if (run_command("blender --version >/dev/null 2>&1").exit_code != 0) {
+    GTEST_SKIP() << "blender is not installed (scripts/test-cycles.sh installs it)";
+  }
+  const auto out = dir_ / "convergence-cycles";
+  const std::string options = "convergence CONV_SCENES=cornell CONV_WIDTH=16 CONV_HEIGHT=8 CONV_SPP='1 2' "
+                              "CONV_CYCLES_REFERENCE_SPP=16";
+  const std::string log = make(options, out);
+  EXPECT_EQ(count_lines_with(log, "render_cycles.py -- cornell"), 3) << log;  // two runs and the reference
+  EXPECT_EQ(count_lines_with(log, "--integrator path"), 4) << log;            // two runs with each sampler
+  EXPECT_TRUE(std::filesystem::exists(out / "scenes" / "cornell.aff"));
+  const auto csv = read_file(out / "convergence" / "convergence.csv");
+  EXPECT_EQ(count_lines_with(csv, "cornell,cycles,"), 2) << csv;
+  EXPECT_EQ(count_lines_with(csv, "cornell,sobol,"), 2) << csv;
+  EXPECT_EQ(count_lines_with(csv, ",cycles,16,"), 6) << csv;  // every run against Cycles' reference
+  const auto md = read_file(out / "convergence" / "convergence.md");
+  EXPECT_NE(md.find("Reference: Cycles, 16 spp."), std::string::npos) << md;
+  EXPECT_NE(md.find("RMSE at equal CPU time"), std::string::npos) << md;
+  EXPECT_EQ(make(options, out), "");  // nothing is rendered twice
 }
 
 // Issue 47: CONV_REFERENCE_SPP=8 with CONV_SPP up to 8 reported RMSE 0 (the

@@ -8,8 +8,9 @@
 #include <thread>
 #include <utility>
 
-#include "nodetrace/cli/command_line.hpp"
+#include "nodetrace/cachesim/simulation/run_arguments.hpp"
 #include "nodetrace/cli/exit_status.hpp"
+#include "nodetrace/cli/split_words.hpp"
 #include "nodetrace/formats/read/record_pipe.hpp"
 
 namespace nodetrace::tracer::tools {
@@ -21,9 +22,9 @@ namespace nodetrace::tracer::tools {
 struct InRenderSimulation::Layout {
   std::unique_ptr<formats::RecordPipe> pipe;
   std::unique_ptr<formats::TraceReader> reader;
-  std::unique_ptr<cachesim::tools::FedSimulation> fed;
+  std::unique_ptr<cachesim::Simulation> fed;
   std::thread thread;
-  cachesim::tools::TraceOutcome outcome;
+  cachesim::TraceOutcome outcome;
   std::exception_ptr error;
   std::atomic<bool> failed{false};
   bool finished = false;
@@ -82,11 +83,12 @@ class SimulationSink final : public RecordSink {
 
 }  // namespace
 
-InRenderSimulation::InRenderSimulation()
-    : app_("Simulate node caches on the render's records (cachesim run's options, no traces)",
-           "tracer render --simulate") {
-  session_.add_options(app_, false);
-}
+namespace {
+
+// How --simulate's options are named in usage and errors.
+constexpr const char* kSimulateName = "tracer render --simulate";
+
+}  // namespace
 
 InRenderSimulation::~InRenderSimulation() = default;
 
@@ -101,7 +103,7 @@ std::optional<int> InRenderSimulation::parse(const std::string& text, const std:
     if (found == layout_names.end()) {
       std::string names;
       for (const auto& name : layout_names) names += (names.empty() ? "" : ", ") + name;
-      cli::report_error(app_.get_name().c_str(),
+      cli::report_error(kSimulateName,
                         fmt::format("'{}': this render has no layout of that name (its layouts: {})", layout, names)
                             .c_str());
       return 2;
@@ -109,13 +111,19 @@ std::optional<int> InRenderSimulation::parse(const std::string& text, const std:
     only_layout_ = static_cast<std::size_t>(found - layout_names.begin());
     options = text.substr(equals + 1);
   }
-  std::vector<std::string> args = CLI::detail::split_up(options);
-  args.insert(args.begin(), app_.get_name());
-  std::vector<char*> argv;
-  for (auto& arg : args) argv.push_back(arg.data());
-  if (auto status = cli::parse_command_line(app_, static_cast<int>(argv.size()), argv.data())) return status;
-  const int status = cli::exit_status_of(app_.get_name().c_str(), [&] {
-    session_.prepare(app_);
+  cachesim::SimulationOptions parsed;
+  std::vector<std::string> words;
+  int status = cli::exit_status_of(kSimulateName, [&] {
+    words = cli::split_words(options, "--simulate");
+    return 0;
+  });
+  if (status != 0) return status;
+  const cachesim::RunArgumentsSyntax syntax{
+      kSimulateName, "Simulate node caches on the render's records (cachesim run's options, no traces)",
+      /*traces=*/false};
+  if (auto parse_status = cachesim::parse_run_arguments(words, syntax, parsed)) return parse_status;
+  status = cli::exit_status_of(kSimulateName, [&] {
+    plan_.emplace(std::move(parsed));
     return 0;
   });
   if (status != 0) return status;
@@ -130,12 +138,12 @@ RecordSinkMaker InRenderSimulation::sink_maker(std::vector<std::string> trace_na
     Layout* simulated = layout.get();
     layout->pipe = std::make_unique<formats::RecordPipe>(name, start.header, start.writer);
     layout->reader = layout->pipe->reader();
-    const cachesim::tools::RunMode mode = session_.mode_for({layout->reader.get()});
+    const cachesim::SimulationMode mode = plan_->mode_for({layout->reader.get()});
     if (!mode_) mode_ = mode;
     // Fed as the records are handed over, on that thread, where the mode
     // allows: a thread of its own cost more CPU in hand-overs, wake-ups and
     // records moved between cores than the simulation itself.
-    layout->fed = session_.fed_simulation(mode, *layout->reader, name);
+    layout->fed = plan_->start(mode, *layout->reader, name);
     if (layout->fed) {
       layout->pipe->feed_to([simulated](const formats::RecordBatch& batch) { simulated->fed->feed(batch); });
       layouts_.push_back(layout);
@@ -144,7 +152,7 @@ RecordSinkMaker InRenderSimulation::sink_maker(std::vector<std::string> trace_na
     // The other modes read the pipe on a thread of their own.
     layout->thread = std::thread([this, simulated, mode, name] {
       try {
-        simulated->outcome = session_.simulate(mode, *simulated->reader, name);
+        simulated->outcome = plan_->simulate(mode, *simulated->reader, name);
       } catch (...) {
         simulated->error = std::current_exception();
         simulated->pipe->stop_reading();
@@ -157,20 +165,20 @@ RecordSinkMaker InRenderSimulation::sink_maker(std::vector<std::string> trace_na
 }
 
 std::vector<cli::NamedOutput> InRenderSimulation::table_files() const {
-  const cachesim::tools::RunCommandLine& line = session_.line();
+  const cachesim::SimulationOptions& line = plan_->options();
   std::vector<cli::NamedOutput> files;
   for (const auto& [option, path] : {std::pair{"--per-level", &line.per_level},
-                                     std::pair{"--per-frame", &line.per_animation_frame},
+                                     std::pair{"--per-frame", &line.per_frame},
                                      std::pair{"--per-unit", &line.per_unit}}) {
     if (!path->empty() && *path != "-") files.push_back({fmt::format("--simulate's {}", option), *path});
   }
   return files;
 }
 
-cachesim::tools::RunReport InRenderSimulation::report() const {
-  std::vector<cachesim::tools::TraceOutcome> outcomes;
+cachesim::SimulationReport InRenderSimulation::report() const {
+  std::vector<cachesim::TraceOutcome> outcomes;
   for (const auto& layout : layouts_) outcomes.push_back(layout->outcome);
-  return session_.report(mode_.value_or(cachesim::tools::RunMode::Sweep), outcomes);
+  return plan_->report(mode_.value_or(cachesim::SimulationMode::Sweep), outcomes);
 }
 
 }  // namespace nodetrace::tracer::tools

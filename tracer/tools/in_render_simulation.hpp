@@ -2,7 +2,8 @@
 // run's simulation of each layout's records in this process, fed by a
 // record sink per layout through a formats::RecordPipe (no text), on a
 // thread per layout while the render goes on. The options are parsed and
-// checked by cachesim run's own code, and the report is the one cachesim
+// checked by cachesim run's own parser and
+// checks (cachesim's simulation API), and the report is the one cachesim
 // run prints for the container traces the render would write.
 #pragma once
 
@@ -11,19 +12,16 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
+#include "nodetrace/cachesim/simulation/simulation.hpp"
 #include "nodetrace/cli/distinct_outputs.hpp"
 #include "nodetrace/tracer/render/record_sink.hpp"
 #include "nodetrace/tracer/render/trace_job.hpp"
-#include "run_session.hpp"
 
 namespace nodetrace::tracer::tools {
 
 // One --simulate "[LAYOUT=]OPTIONS" of a render.
 class InRenderSimulation {
  public:
-  InRenderSimulation();
   ~InRenderSimulation();
   // Parses and checks `text` as cachesim run does (errors say
   // "tracer render --simulate: " and cachesim's message); the exit status
@@ -39,16 +37,15 @@ class InRenderSimulation {
   // which is the report's), each named "--simulate's OPTION".
   std::vector<cli::NamedOutput> table_files() const;
   // After the job: the report of every layout, in order.
-  cachesim::tools::RunReport report() const;
+  cachesim::SimulationReport report() const;
 
   // One layout's simulation (its sink's and the report's).
   struct Layout;
 
  private:
-  CLI::App app_;
   std::optional<std::size_t> only_layout_;
-  cachesim::tools::RunSession session_;
-  std::optional<cachesim::tools::RunMode> mode_;
+  std::optional<cachesim::SimulationPlan> plan_;
+  std::optional<cachesim::SimulationMode> mode_;
   std::vector<std::shared_ptr<Layout>> layouts_;
 };
 

@@ -160,7 +160,7 @@ struct RenderCommand {
   void check_outputs(const TraceJobOptions& options, const std::vector<cli::NamedOutput>& tables) const;
   std::vector<std::string> trace_names(const TraceJobOptions& options) const;
   void check_simulations() const;
-  void write_report(const std::string& path, const cachesim::tools::RunReport& text) const;
+  void write_report(const std::string& path, const cachesim::SimulationReport& text) const;
 };
 
 // The trace column of each layout's simulation: its trace file, or the
@@ -196,7 +196,7 @@ void RenderCommand::check_simulations() const {
 
 // The report as cachesim run prints it: its standard output in --report
 // (written whole or not at all), its notes on standard error.
-void RenderCommand::write_report(const std::string& path, const cachesim::tools::RunReport& text) const {
+void RenderCommand::write_report(const std::string& path, const cachesim::SimulationReport& text) const {
   if (path == "-") {
     std::fwrite(text.out.data(), 1, text.out.size(), stdout);
     std::fflush(stdout);

@@ -20,6 +20,7 @@
 #include "models/policy_cache.hpp"
 #include "models/replacement_policies.hpp"
 #include "models/retained_blocks.hpp"
+#include "models/treelet_prefetcher.hpp"
 
 namespace nodetrace::cachesim {
 
@@ -85,6 +86,8 @@ class AnyCache {
   bool access(std::uint64_t block) { return model_->access(block); }
   void invalidate(std::uint64_t block) { model_->invalidate(block); }
   std::uint64_t deferred_misses() const { return model_->deferred_misses(); }
+  void begin_treelets(const formats::TreeletMap* map) { model_->begin_treelets(map); }
+  PrefetchCounts prefetch_counts() const { return model_->prefetch_counts(); }
 
  private:
   struct Interface {
@@ -92,6 +95,8 @@ class AnyCache {
     virtual bool access(std::uint64_t block) = 0;
     virtual void invalidate(std::uint64_t block) = 0;
     virtual std::uint64_t deferred_misses() const = 0;
+    virtual void begin_treelets(const formats::TreeletMap* map) = 0;
+    virtual PrefetchCounts prefetch_counts() const = 0;
   };
   template <typename Model>
   struct Holder final : Interface {
@@ -103,6 +108,16 @@ class AnyCache {
         return model.misses();
       } else {
         return 0;
+      }
+    }
+    void begin_treelets(const formats::TreeletMap* map) override {
+      if constexpr (requires { model.begin_treelets(map); }) model.begin_treelets(map);
+    }
+    PrefetchCounts prefetch_counts() const override {
+      if constexpr (requires { model.prefetch_counts(); }) {
+        return model.prefetch_counts();
+      } else {
+        return {};
       }
     }
     Model model;
@@ -159,6 +174,39 @@ std::uint64_t deferred_misses(const Model& model) {
     return model.deferred_misses();
   } else {
     return 0;
+  }
+}
+
+// A treelet prefetcher's counts (none for the other models).
+template <typename Model>
+PrefetchCounts prefetch_counts(const Model& model) {
+  if constexpr (requires { model.prefetch_counts(); }) {
+    return model.prefetch_counts();
+  } else {
+    return {};
+  }
+}
+
+// Gives a treelet prefetcher its animation frame's map (the other models have none).
+template <typename Model>
+void begin_treelets(Model& model, const formats::TreeletMap* map) {
+  if constexpr (requires { model.begin_treelets(map); }) model.begin_treelets(map);
+}
+
+// Calls `use` with a treelet prefetcher of `geometry` (any policy but opt,
+// which callers refuse before).
+template <typename Use>
+auto with_treelet_prefetcher(const CacheGeometry& geometry, std::uint64_t limit_bytes, Use&& use) {
+  validate_geometry(geometry, "cache");
+  // One way: every policy replaces the set's block (random's draws choose among one).
+  if (geometry.assoc == 1) return use(TreeletPrefetcher<DirectMappedSlots>(geometry, limit_bytes));
+  switch (geometry.replacement) {
+    case ReplacementPolicy::Random: return use(TreeletPrefetcher<PolicyCache<DrawnOrder>>(geometry, limit_bytes));
+    case ReplacementPolicy::Plru: return use(TreeletPrefetcher<PolicyCache<TreePlru>>(geometry, limit_bytes));
+    case ReplacementPolicy::Srrip:
+    case ReplacementPolicy::Brrip:
+    case ReplacementPolicy::Drrip: return use(TreeletPrefetcher<PolicyCache<Rrip>>(geometry, limit_bytes));
+    default: return use(TreeletPrefetcher<PolicyCache<RecencyOrder>>(geometry, limit_bytes));
   }
 }
 

@@ -46,20 +46,53 @@ class PolicyCache {
     return true;
   }
 
-  void invalidate(std::uint64_t block) {
+  // As access(); `slot` is then where the block is (set * ways + way), so
+  // a caller can keep a mark per resident block (the treelet prefetcher).
+  bool access(std::uint64_t block, std::uint64_t& slot) {
+    const std::uint64_t set = block & set_mask_;
+    std::uint64_t* const ways = tags_.data() + set * assoc_;
+    std::uint32_t way = find(ways, set, block);
+    const bool miss = way == kNone;
+    if (!miss) [[likely]] {
+      policy_.hit(set, way);
+    } else {
+      way = fill(block, set, ways);
+    }
+    slot = set * assoc_ + way;
+    return miss;
+  }
+
+  // Places `block` as a miss would (the policy's insertion), unless it is
+  // resident: then nothing changes. Returns its slot, or kNoSlot when it was resident.
+  static constexpr std::uint64_t kNoSlot = ~std::uint64_t{0};
+  std::uint64_t place(std::uint64_t block) {
+    const std::uint64_t set = block & set_mask_;
+    std::uint64_t* const ways = tags_.data() + set * assoc_;
+    if (find(ways, set, block) != kNone) return kNoSlot;
+    return set * assoc_ + fill(block, set, ways);
+  }
+
+  void invalidate(std::uint64_t block) { invalidate_slot(block); }
+
+  // invalidate(); returns the slot the block left, or kNoSlot when it was not resident.
+  std::uint64_t invalidate_slot(std::uint64_t block) {
     const std::uint64_t set = block & set_mask_;
     std::uint64_t* const ways = tags_.data() + set * assoc_;
     const std::uint32_t way = find(ways, set, block);
-    if (way == kNone) return;
+    if (way == kNone) return kNoSlot;
     ways[way] = kInvalid;
     --filled_[set];
     if (index_) index_->erase(block);
     policy_.invalidate(set, way);
+    return set * assoc_ + way;
   }
+
+  std::uint64_t slots() const { return tags_.size(); }
 
  private:
   // A miss: `block` takes the lowest invalid way of its set, or the policy's victim.
-  [[gnu::noinline]] void fill(std::uint64_t block, std::uint64_t set, std::uint64_t* ways) {
+  // Returns the way it took.
+  [[gnu::noinline]] std::uint32_t fill(std::uint64_t block, std::uint64_t set, std::uint64_t* ways) {
     std::uint32_t way = 0;
     if (filled_[set] < assoc_) {
       while (ways[way] != kInvalid) ++way;
@@ -71,6 +104,7 @@ class PolicyCache {
     ways[way] = block;
     if (index_) index_->insert(block, static_cast<std::uint32_t>(set * assoc_ + way));
     policy_.fill(set, way);
+    return way;
   }
 
   static const CacheGeometry& validated(const CacheGeometry& geometry) {

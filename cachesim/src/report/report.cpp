@@ -252,13 +252,44 @@ const std::vector<std::string>& second_level_columns() {
   return columns;
 }
 
+const std::vector<std::string>& prefetch_columns() {
+  static const std::vector<std::string> columns = {
+      "prefetch",          "prefetches",        "useful_prefetches", "prefetch_accuracy", "misses_without_prefetch",
+      "prefetch_coverage", "bytes_per_ray"};
+  return columns;
+}
+
+std::vector<std::string> prefetch_cells(const ResultRow& row) {
+  const PrefetchColumns prefetch = row.prefetch.value_or(PrefetchColumns{});
+  const std::uint64_t base = prefetch.misses_without_prefetch;
+  std::string coverage;
+  if (base > 0) {
+    const bool fewer = row.misses <= base;
+    coverage = miss_ratio_text(fewer ? base - row.misses : row.misses - base, base);
+    if (!fewer) coverage = "-" + coverage;
+  }
+  return {prefetch_name(prefetch.spec),
+          std::to_string(prefetch.counts.prefetches),
+          std::to_string(prefetch.counts.useful),
+          miss_ratio_text(prefetch.counts.useful, prefetch.counts.prefetches),
+          std::to_string(base),
+          coverage,
+          prefetch.rays ? miss_ratio_text(prefetch.fetched_blocks * row.config.block, *prefetch.rays) : std::string()};
+}
+
 std::string format_rows(const std::vector<ResultRow>& rows, ReportFormat format) {
   std::vector<std::vector<std::string>> cells;
   cells.reserve(rows.size());
-  // A run with a second-level cache has its columns in every row.
+  // A run with a second-level cache has its columns in every row; one with
+  // --prefetch its prefetch columns after them.
   const bool second_level = !rows.empty() && rows.front().l2.has_value();
+  const bool prefetch = !rows.empty() && rows.front().prefetch.has_value();
   for (const ResultRow& row : rows) {
     std::vector<std::string>& row_cells = cells.emplace_back(report_cells(row));
+    if (prefetch && !second_level) {
+      const std::vector<std::string> more = prefetch_cells(row);
+      row_cells.insert(row_cells.end(), more.begin(), more.end());
+    }
     if (!second_level) continue;
     const SecondLevelCounts l2 = row.l2.value_or(SecondLevelCounts{});
     for (const std::uint64_t value : {l2.size, std::uint64_t{l2.block}, std::uint64_t{l2.assoc}, l2.refs, l2.fetches,
@@ -267,8 +298,9 @@ std::string format_rows(const std::vector<ResultRow>& rows, ReportFormat format)
     }
     row_cells.push_back(miss_ratio_text(l2.misses, l2.fetches));
   }
-  if (!second_level) return format_cells(report_columns(), cells, format, is_text_column);
   std::vector<std::string> columns = report_columns();
+  if (prefetch && !second_level) columns.insert(columns.end(), prefetch_columns().begin(), prefetch_columns().end());
+  if (!second_level) return format_cells(columns, cells, format, is_text_column);
   columns.insert(columns.end(), second_level_columns().begin(), second_level_columns().end());
   return format_cells(columns, cells, format, is_text_column);
 }

@@ -68,7 +68,18 @@ std::vector<Configuration> expand_configurations(const SweepOptions& options) {
                                    fetch_policy_name(options.fetch), options.prefetch_distance));
     }
   }
+  const bool treelets = std::any_of(options.prefetches.begin(), options.prefetches.end(),
+                                   [](const PrefetchSpec& spec) { return spec.kind != TreeletPrefetch::None; });
+  if (treelets && options.fetch != FetchPolicy::Demand) {
+    throw UsageError(fmt::format("--prefetch treelet with --fetch {}: the treelet prefetcher runs with demand "
+                                 "fetch only; give one of them",
+                                 fetch_policy_name(options.fetch)));
+  }
   for (const ReplacementPolicy policy : options.policies) {
+    if (treelets && policy == ReplacementPolicy::Opt) {
+      throw UsageError("--policy opt with --prefetch treelet: the treelet prefetcher runs with lru, fifo, random, "
+                       "plru, srrip, brrip and drrip (MIN looks ahead at demand fetches only)");
+    }
     if (!dinero_has_policy(policy) && options.fetch != FetchPolicy::Demand) {
       throw UsageError(fmt::format("--policy {} with --fetch {}: prefetching is simulated with Dinero IV's "
                                    "policies only (lru, fifo, random); give --fetch demand",
@@ -154,7 +165,20 @@ std::vector<Configuration> expand_configurations(const SweepOptions& options) {
       }
     }
   }
-  return configs;
+  if (options.prefetches.size() == 1 && options.prefetches.front().kind == TreeletPrefetch::None) return configs;
+  std::vector<Configuration> prefetching;
+  for (const Configuration& config : configs) {
+    for (const PrefetchSpec& spec : options.prefetches) {
+      prefetching.push_back(config);
+      prefetching.back().prefetch = spec;
+    }
+  }
+  return prefetching;
+}
+
+bool has_treelet_prefetch(const std::vector<Configuration>& configs) {
+  return std::any_of(configs.begin(), configs.end(),
+                     [](const Configuration& config) { return config.prefetch.kind != TreeletPrefetch::None; });
 }
 
 TraceContext trace_context(const formats::TraceReader& reader, std::string trace_column) {

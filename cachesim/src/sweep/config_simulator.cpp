@@ -117,6 +117,11 @@ class Simulator final : public ConfigSimulator {
     if constexpr (kRetain) high_.begin_animation_frame();
   }
 
+  void begin_treelets(const formats::TreeletMap* map) override {
+    cachesim::begin_treelets(low_, map);
+    cachesim::begin_treelets(high_, map);
+  }
+
   void feed(const Record* records, std::size_t count, std::uint64_t first_record,
             const PreparedBatch& prepared) override {
     if constexpr (kTogether) {
@@ -159,6 +164,13 @@ class Simulator final : public ConfigSimulator {
       if constexpr (kRetain) row.high_loads = c.high_loads;
       row.low_refs = c.low_refs;
       row.low_misses = low_misses;
+    }
+    if (config_.prefetch.kind != TreeletPrefetch::None) {
+      PrefetchColumns prefetch;
+      prefetch.spec = config_.prefetch;
+      prefetch.counts = prefetch_counts(low_);
+      prefetch.counts += prefetch_counts(high_);
+      row.prefetch = prefetch;
     }
     return row;
   }
@@ -464,7 +476,8 @@ std::vector<std::unique_ptr<ConfigSimulator>> together(const std::vector<Configu
 
 std::string together_key(const Configuration& config, bool per_level) {
   if (per_level || config.scheme != Scheme::Split || config.assoc != 1 ||
-      config.policy == ReplacementPolicy::Opt || config.fetch != FetchPolicy::Demand) {
+      config.policy == ReplacementPolicy::Opt || config.fetch != FetchPolicy::Demand ||
+      config.prefetch.kind != TreeletPrefetch::None) {
     return {};
   }
   if (config.high_policy == HighPolicy::Cache && config.high_assoc != 1) return {};
@@ -512,6 +525,22 @@ std::unique_ptr<ConfigSimulator> make_simulator(const Configuration& config,
   const bool high_is_opt = opt && config.scheme == Scheme::Split && config.high_policy == HighPolicy::Cache;
   const OptSource high_opt =
       high_is_opt ? opt_source(opt_streams, fmt::format("high/{}/{}", config.block, k_rule)) : OptSource{};
+  if (config.prefetch.kind != TreeletPrefetch::None) {
+    return with_treelet_prefetcher(low, config.prefetch.bytes, [&](auto low_model) {
+      // `treelet`: the high cache under `cache` prefetches too; a retained
+      // one loads each block once per frame whatever is prefetched.
+      if (config.scheme == Scheme::Split && config.high_policy == HighPolicy::Cache &&
+          config.prefetch.kind == TreeletPrefetch::Treelet) {
+        return with_treelet_prefetcher(
+            {config.high_size, config.block, config.high_assoc, config.policy}, config.prefetch.bytes,
+            [&](auto high_model) {
+              return compose<SplitRouter>(config, split_level, context, per_level, std::move(low_model),
+                                          AnyCache(std::move(high_model)));
+            });
+      }
+      return with_high(config, split_level, context, per_level, std::move(low_model), high_opt);
+    });
+  }
   if (config.fetch != FetchPolicy::Demand) {
     return with_high(config, split_level, context, per_level,
                      PrefetchingCache(low, config.fetch, config.prefetch_distance), high_opt);

@@ -24,6 +24,9 @@ class ConfigSimulator {
                     const PreparedBatch& prepared) = 0;
   virtual ResultRow result() const = 0;
   virtual void append_level_rows(std::vector<LevelRow>& rows) const = 0;
+  // The treelet map of the animation frame that begins (nullptr: none);
+  // only treelet prefetchers use it.
+  virtual void begin_treelets(const formats::TreeletMap*) {}
 
 };
 

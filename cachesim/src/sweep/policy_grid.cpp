@@ -270,7 +270,10 @@ class GridMember final : public ConfigSimulator {
 }  // namespace
 
 std::string policy_grid_key(const Configuration& config, bool per_level) {
-  if (per_level || config.scheme != Scheme::Single || config.fetch != FetchPolicy::Demand) return {};
+  if (per_level || config.scheme != Scheme::Single || config.fetch != FetchPolicy::Demand ||
+      config.prefetch.kind != TreeletPrefetch::None) {
+    return {};
+  }
   if (misses_as_lru(config.policy, config.assoc)) return {};  // set stacks answer it
   const bool packed_policy = config.policy == ReplacementPolicy::Plru || config.policy == ReplacementPolicy::Srrip ||
                              config.policy == ReplacementPolicy::Brrip || config.policy == ReplacementPolicy::Drrip;

@@ -422,7 +422,10 @@ class StackMember final : public ConfigSimulator {
 
 std::string stack_group_key(const Configuration& config) {
   // Stacks answer demand fetches only: a prefetching cache is simulated alone.
-  if (config.fetch != FetchPolicy::Demand || !stackable(config.assoc, config.policy)) return {};
+  if (config.fetch != FetchPolicy::Demand || config.prefetch.kind != TreeletPrefetch::None ||
+      !stackable(config.assoc, config.policy)) {
+    return {};
+  }
   if (config.scheme == Scheme::Single) return fmt::format("single/{}", config.block);
   if (config.high_policy == HighPolicy::Cache && !stackable(config.high_assoc, config.policy)) {
     return {};

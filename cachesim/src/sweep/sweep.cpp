@@ -42,6 +42,19 @@ Sweep::Sweep(std::vector<Configuration> configs, TraceContext context, bool per_
                                  [](const Configuration& config) { return config.block == 1; });
   prefetching_ = std::any_of(configs_.begin(), configs_.end(),
                              [](const Configuration& config) { return config.fetch != FetchPolicy::Demand; });
+  reported_ = configs_.size();
+  treelet_prefetch_ = has_treelet_prefetch(configs_);
+  if (treelet_prefetch_) {
+    // Coverage compares each configuration's misses with its own without
+    // the prefetcher: simulated alongside, unless it is reported anyway.
+    for (std::size_t c = 0; c < reported_; ++c) {
+      Configuration without = configs_[c];
+      without.prefetch = PrefetchSpec{};
+      const auto found = std::find(configs_.begin(), configs_.end(), without);
+      without_prefetch_.push_back(static_cast<std::size_t>(found - configs_.begin()));
+      if (found == configs_.end()) configs_.push_back(without);
+    }
+  }
 }
 
 Sweep::~Sweep() = default;
@@ -81,6 +94,14 @@ double thread_cpu_seconds() {
 
 void Sweep::start(const formats::RecordBatch& first_batch) {
   started_ = true;
+  // A trace that carries treelet maps carries one with every animation
+  // frame's marker, its first batch's included.
+  if (treelet_prefetch_ && !(first_batch.marker && first_batch.marker->treelets)) {
+    throw base::UsageError(fmt::format(
+        "--prefetch treelet: {} carries no treelet map (its first animation frame's marker has none); traces "
+        "rendered with `tracer render --layout treelet` carry one",
+        context_.source_name));
+  }
   plan_ = std::make_unique<SplitLevelPlan>(configs_, context_);
   plan_->begin_animation_frame(first_batch.marker ? &*first_batch.marker : nullptr);
   // Units fed by one loop: a stack group (configurations that set stacks
@@ -321,6 +342,9 @@ void Sweep::begin_batch(const formats::RecordBatch& batch) {
           context_.source_name, batch.first_record + i + 1, batch.records[i].address));
     }
   }
+  if (treelet_prefetch_ && batch.marker && batch.marker->treelets) {
+    check_treelet_map(*batch.marker->treelets, batch.marker->frame, context_.source_name);
+  }
   if (!started_) {
     start(batch);
   } else if (batch.marker) {
@@ -338,6 +362,13 @@ void Sweep::begin_batch(const formats::RecordBatch& batch) {
 }
 
 namespace {
+
+// The blocks a row's caches fetched from memory on demand: its misses, a
+// retained high cache's loads whether they count as misses or not.
+std::uint64_t demand_blocks_fetched(const ResultRow& row) {
+  if (row.config.scheme == Scheme::Single) return row.misses;
+  return row.low_misses + (row.config.high_policy == HighPolicy::Retain ? row.high_loads.value_or(0) : row.high_misses);
+}
 
 ResultRow counts_since(const ResultRow& now, const ResultRow& before) {
   ResultRow row = now;
@@ -371,6 +402,7 @@ void Sweep::change_frame(std::size_t s, const formats::AnimationFrameMarker* mar
     open.split_level =
         config.scheme == Scheme::Split ? simulated_split_level(config, marker, context_) : 0;
     simulators_[s]->begin_animation_frame(marker->frame, open.split_level);
+    simulators_[s]->begin_treelets(marker->treelets ? &*marker->treelets : nullptr);
   }
   open.open = true;
   if (per_animation_frame_) open.at_start = simulators_[s]->result();
@@ -457,8 +489,8 @@ void Sweep::prepare(const Record* records, std::size_t count, std::uint64_t firs
 
 std::vector<ResultRow> Sweep::counts() const {
   std::vector<ResultRow> rows;
-  rows.reserve(simulators_.size());
-  for (std::size_t s = 0; s < simulators_.size(); ++s) {
+  rows.reserve(reported_);
+  for (std::size_t s = 0; s < std::min(reported_, simulators_.size()); ++s) {
     rows.push_back(simulators_[s]->result());
     rows.back().split_level = plan_->first(s);
   }
@@ -472,7 +504,7 @@ TraceResult Sweep::finish() {
     ResultRow row = simulators_[s]->result();
     row.split_level = plan_->first(s);
     result.rows.push_back(std::move(row));
-    if (per_level_) {
+    if (per_level_ && s < reported_) {
       const std::size_t first = result.level_rows.size();
       simulators_[s]->append_level_rows(result.level_rows);
       for (std::size_t r = first; r < result.level_rows.size(); ++r) {
@@ -488,13 +520,23 @@ TraceResult Sweep::finish() {
     // Every simulator saw the same frames: frame by frame, configurations in order.
     const std::size_t frames = animation_frame_rows_.empty() ? 0 : animation_frame_rows_[0].size();
     for (std::size_t f = 0; f < frames; ++f) {
-      for (const auto& rows : animation_frame_rows_) result.animation_frame_rows.push_back(rows[f]);
+      for (std::size_t s = 0; s < reported_; ++s) result.animation_frame_rows.push_back(animation_frame_rows_[s][f]);
     }
   }
+  if (treelet_prefetch_) {
+    for (std::size_t s = 0; s < reported_; ++s) {
+      ResultRow& row = result.rows[s];
+      if (!row.prefetch) row.prefetch = PrefetchColumns{};
+      row.prefetch->misses_without_prefetch = result.rows[without_prefetch_[s]].misses;
+      row.prefetch->fetched_blocks = demand_blocks_fetched(row) + row.prefetch->counts.prefetches;
+    }
+  }
+  result.rows.resize(reported_);
   // Every part sees every record; part 0's count is the trace's.
   const std::uint64_t other_stream_records = parts_.empty() ? 0 : parts_[0].other_stream_records;
   result.other_stream_records = other_stream_records;
   result.notes = plan_->notes();
+  if (treelet_prefetch_) result.notes.push_back(treelet_prefetch_note());
   if (other_stream_records > 0) {
     result.notes.push_back(other_streams_note(context_.trace, other_stream_records));
   }

@@ -10,9 +10,11 @@
 
 namespace nodetrace::cachesim {
 
-TraceResult run_sweep(formats::TraceReader& reader, const std::vector<Configuration>& configs,
-                      const std::string& trace_column, bool per_level,
-                      const SweepProgress& progress, bool per_animation_frame) {
+namespace {
+
+TraceResult simulate_sweep(formats::TraceReader& reader, const std::vector<Configuration>& configs,
+                           const std::string& trace_column, bool per_level, const SweepProgress& progress,
+                           bool per_animation_frame) {
   Sweep sweep(configs, trace_context(reader, trace_column), per_level, per_animation_frame);
   const std::size_t cores = std::max(1u, std::thread::hardware_concurrency());
   // As many parts as cores (the reader's decoding threads share them): a
@@ -102,6 +104,22 @@ TraceResult run_sweep(formats::TraceReader& reader, const std::vector<Configurat
     simulate(groups[current]);
   }
   return sweep.finish();
+}
+
+}  // namespace
+
+TraceResult run_sweep(formats::TraceReader& reader, const std::vector<Configuration>& configs,
+                      const std::string& trace_column, bool per_level,
+                      const SweepProgress& progress, bool per_animation_frame) {
+  TraceResult result = simulate_sweep(reader, configs, trace_column, per_level, progress, per_animation_frame);
+  // Bytes per ray: the trailer, read by now, says the rays.
+  if (has_treelet_prefetch(configs)) {
+    const std::optional<std::uint64_t> rays = trace_rays(reader);
+    for (ResultRow& row : result.rows) {
+      if (row.prefetch) row.prefetch->rays = rays;
+    }
+  }
+  return result;
 }
 
 }  // namespace nodetrace::cachesim

@@ -42,6 +42,28 @@ TEST(RunUsageMessages, UnitsPrivateWithPerLevelNamesWhatWasGiven) {
   EXPECT_EQ(l2.err.find("--units private"), std::string::npos) << l2.err;
 }
 
+// Issue 51: --prefetch on a trace without treelet maps names the layout that
+// carries them; bad values and combinations name the option.
+TEST(RunUsageMessages, PrefetchNamesTheLayoutWithMapsAndTheOption) {
+  testing::TempDir dir;
+  const std::string trace = trace_of_units(dir);
+  for (const auto& [options, says] : std::vector<std::pair<std::string, std::string>>{
+           {"--prefetch treelet", "carries no treelet map (its first animation frame's marker has none); traces "
+                                  "rendered with `tracer render --layout treelet` carry one"},
+           {"--prefetch treelet:3k", "cachesim run: --prefetch treelet:3k: 3072 bytes is not a positive power of two"},
+           {"--prefetch treelet:0", "cachesim run: --prefetch: '0' is not a size"},
+           {"--prefetch treelet:x", "cachesim run: --prefetch: 'x' is not a size"},
+           {"--prefetch tree", "cachesim run: --prefetch: 'tree' is not a prefetcher"},
+           {"--prefetch treelet --policy lru,opt", "--policy opt with --prefetch treelet"},
+           {"--prefetch treelet --fetch tagged", "--prefetch treelet with --fetch tagged"},
+           {"--prefetch treelet --units private", "--prefetch: not with --units"},
+           {"--prefetch treelet,treelet:64 --per-frame f.csv", "--prefetch with more than one value: not with"}}) {
+    const auto result = run_command(cachesim() + " run " + shell_quoted(trace) + " " + options);
+    EXPECT_EQ(result.exit_code, 2) << options;
+    EXPECT_NE(result.err.find(says), std::string::npos) << options << ": " << result.err;
+  }
+}
+
 // Issue 47: --size 7k and --assoc 0 did not name the option.
 TEST(RunUsageMessages, SizeBlockAndAssociativityErrorsNameTheOption) {
   testing::TempDir dir;

@@ -43,15 +43,46 @@ class PathRandom {
   // A uniform float in [0, 1): the top 24 bits of the word, exactly.
   float uniform(std::uint32_t bounce, std::uint32_t dimension) const {
     if (sampler_ == PathSampler::Sobol) return sobol(bounce, dimension);
+    return to_unit(philox_words(bounce, dimension)[dimension % 4]);
+  }
+
+  // uniform(bounce, first) and uniform(bounce, first + 1), the two numbers of
+  // a 2D pair (the point in the pixel, a bounce direction, a point on an
+  // emitter), drawn together: one Philox call (both words are of one block
+  // of four) and, for Sobol, one set of hashes and one permuted index.
+  struct Pair {
+    float first, second;
+  };
+  Pair uniform_pair(std::uint32_t bounce, std::uint32_t first) const {
+    if (sampler_ == PathSampler::Sobol) {
+      const r123::Philox4x32::ctr_type hashes = pair_hashes(bounce, first);
+      const std::uint32_t index = permuted(sample_, spp_, hashes[0]);
+      return {to_unit(owen_scramble(sobol_bits(index, 0), hashes[1])),
+              to_unit(owen_scramble(sobol_bits(index, 1), hashes[2]))};
+    }
+    const r123::Philox4x32::ctr_type words = philox_words(bounce, first);
+    return {to_unit(words[first % 4]), to_unit(words[(first + 1) % 4])};
+  }
+
+ private:
+  static float to_unit(std::uint32_t word) { return static_cast<float>(word >> 8) * 0x1p-24f; }
+
+  r123::Philox4x32::ctr_type philox_words(std::uint32_t bounce, std::uint32_t dimension) const {
     const r123::Philox4x32 philox;
     const r123::Philox4x32::ctr_type counter = {
         {pixel_, sample_, (bounce << 16) | (dimension / 4), static_cast<std::uint32_t>(frame_)}};
     const r123::Philox4x32::key_type key = {{kPathSeed, static_cast<std::uint32_t>(frame_ >> 32)}};
-    const std::uint32_t word = philox(counter, key)[dimension % 4];
-    return static_cast<float>(word >> 8) * 0x1p-24f;
+    return philox(counter, key);
   }
 
- private:
+  // The hashes of a Sobol pair: Philox of (pixel, bounce, pair, frame), not of the sample.
+  r123::Philox4x32::ctr_type pair_hashes(std::uint32_t bounce, std::uint32_t pair) const {
+    const r123::Philox4x32 philox;
+    const r123::Philox4x32::ctr_type counter = {{pixel_, bounce, pair, static_cast<std::uint32_t>(frame_)}};
+    const r123::Philox4x32::key_type key = {{kSobolSeed, static_cast<std::uint32_t>(frame_ >> 32)}};
+    return philox(counter, key);
+  }
+
   // The second number of a 2D pair: Sobol dimension 1, with its first's index.
   static bool second_of_pair(std::uint32_t bounce, std::uint32_t dimension) {
     return bounce == 0 ? dimension == kPixelY : dimension == kDirection2 || dimension == kEmitterV;
@@ -60,14 +91,9 @@ class PathRandom {
   float sobol(std::uint32_t bounce, std::uint32_t dimension) const {
     const bool second = second_of_pair(bounce, dimension);
     const std::uint32_t pair = second ? dimension - 1 : dimension;
-    // The pair's hashes: Philox of (pixel, bounce, pair, frame), not of the sample.
-    const r123::Philox4x32 philox;
-    const r123::Philox4x32::ctr_type counter = {{pixel_, bounce, pair, static_cast<std::uint32_t>(frame_)}};
-    const r123::Philox4x32::key_type key = {{kSobolSeed, static_cast<std::uint32_t>(frame_ >> 32)}};
-    const r123::Philox4x32::ctr_type hashes = philox(counter, key);
+    const r123::Philox4x32::ctr_type hashes = pair_hashes(bounce, pair);
     const std::uint32_t index = permuted(sample_, spp_, hashes[0]);
-    const std::uint32_t bits = owen_scramble(sobol_bits(index, second ? 1 : 0), hashes[second ? 2 : 1]);
-    return static_cast<float>(bits >> 8) * 0x1p-24f;
+    return to_unit(owen_scramble(sobol_bits(index, second ? 1 : 0), hashes[second ? 2 : 1]));
   }
 
   std::uint64_t frame_;

@@ -72,8 +72,8 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
   const detail::PathRandom random(options_.animation_frame, pixel, sample, options_.path.sampler,
                                   options_.path.samples_per_pixel);
   const std::uint32_t width = static_cast<std::uint32_t>(options_.width);
-  Ray ray = pinhole_.ray_through(float(pixel % width) + random.uniform(0, detail::kPixelX),
-                                 float(pixel / width) + random.uniform(0, detail::kPixelY));
+  const auto in_pixel = random.uniform_pair(0, detail::kPixelX);
+  Ray ray = pinhole_.ray_through(float(pixel % width) + in_pixel.first, float(pixel / width) + in_pixel.second);
   RayKind kind = RayKind::Primary;
   Vec3 radiance, throughput{1, 1, 1};
   // Next-event estimation to emitters happens at each diffuse or glossy hit
@@ -130,8 +130,8 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
     }
     const auto next_ray = static_cast<std::uint32_t>(bounce + 1);
     if ((w.diffuse > 0 || w.glossy > 0) && sample_emitters) {
-      const detail::Emitters::Sample e =
-          emitters_->sample(random.uniform(next_ray, detail::kEmitterU), random.uniform(next_ray, detail::kEmitterV));
+      const auto on_emitter = random.uniform_pair(next_ray, detail::kEmitterU);
+      const detail::Emitters::Sample e = emitters_->sample(on_emitter.first, on_emitter.second);
       const Vec3 to_emitter = e.point - at.surface.point;
       const float distance2 = dot(to_emitter, to_emitter);
       if (dot(to_emitter, at.facing) > 0 && distance2 > 0 &&
@@ -173,7 +173,7 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
     }
     const int lobe = choose_lobe({w.diffuse, w.glossy, w.mirror, w.dielectric},
                                  random.uniform(next, detail::kLobe) * total);
-    const float u1 = random.uniform(next, detail::kDirection1), u2 = random.uniform(next, detail::kDirection2);
+    const auto [u1, u2] = random.uniform_pair(next, detail::kDirection1);
     Vec3 direction, weight;
     bool leaves_front = true;  // the ray leaves on the side the path came from
     bounce_density = 0;

@@ -53,7 +53,13 @@ std::string format_cells(const std::vector<std::string>& columns,
 // low_misses, in every row: its geometry, the first-level fetches it saw,
 // its fetches, misses and miss ratio (six decimals, empty without fetches).
 const std::vector<std::string>& second_level_columns();
-// The main table alone (with the second-level columns when its rows have them).
+// Runs with --prefetch (docs/guide/caches.md) append these last, in every
+// row: the prefetcher (none, treelet[:BYTES], treelet-low[:BYTES]), its
+// prefetches, the useful ones, accuracy (useful / prefetches), the misses of
+// the same configuration without it, coverage ((those - misses) / those,
+// signed), and bytes fetched per ray (empty when the trace has no ray count).
+const std::vector<std::string>& prefetch_columns();
+// The main table alone (with the second-level or prefetch columns when its rows have them).
 std::string format_rows(const std::vector<ResultRow>& rows, ReportFormat format);
 // The per-level table alone.
 std::string format_level_rows(const std::vector<LevelRow>& rows, ReportFormat format);

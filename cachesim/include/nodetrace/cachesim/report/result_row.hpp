@@ -40,6 +40,8 @@ struct ResultRow {
   std::uint64_t low_misses = 0;
   // Runs with a second-level cache only: its own columns after low_misses.
   std::optional<SecondLevelCounts> l2;
+  // Runs with --prefetch only: the prefetch columns, last.
+  std::optional<PrefetchColumns> prefetch;
 };
 
 // `--per-level`: references and misses of one node level in one configuration

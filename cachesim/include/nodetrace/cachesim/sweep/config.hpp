@@ -12,6 +12,7 @@
 
 #include "nodetrace/cachesim/dinero/engine.hpp"
 #include "nodetrace/cachesim/models/set_associative_cache.hpp"
+#include "nodetrace/cachesim/sweep/treelet_prefetch.hpp"
 #include "nodetrace/formats/container/metadata.hpp"
 #include "nodetrace/base/split_level.hpp"
 #include "nodetrace/formats/read/trace_reader.hpp"
@@ -48,9 +49,15 @@ struct Configuration {
   // and its prefetch distance in blocks.
   FetchPolicy fetch = FetchPolicy::Demand;
   std::uint32_t prefetch_distance = 1;
+  // The treelet prefetcher (--prefetch; demand fetch only).
+  PrefetchSpec prefetch;
 
   friend bool operator==(const Configuration&, const Configuration&) = default;
 };
+
+// Whether some configuration prefetches treelets (the report then has the
+// prefetch columns).
+bool has_treelet_prefetch(const std::vector<Configuration>& configs);
 
 // The command-line lists of `cachesim run` / `dinero-wrap run`.
 struct SweepOptions {
@@ -67,12 +74,14 @@ struct SweepOptions {
   bool count_loads = false;
   FetchPolicy fetch = FetchPolicy::Demand;  // other than demand: --scheme single only
   std::uint32_t prefetch_distance = 1;
+  // --prefetch (list, innermost of the expansion): none, or a treelet prefetcher.
+  std::vector<PrefetchSpec> prefetches{PrefetchSpec{}};
   bool per_level = false;
   bool per_animation_frame = false;
 };
 
 // Every combination, in report order (size, block, assoc, policy, scheme,
-// split level, high policy; innermost last). Validates each geometry; throws
+// split level, high policy, prefetch; innermost last). Validates each geometry; throws
 // base::UsageError.
 std::vector<Configuration> expand_configurations(const SweepOptions& options);
 

@@ -107,6 +107,12 @@ class Sweep {
   bool needs_levels_ = false;
   bool one_byte_blocks_ = false;  // then every batch is checked for block number 2^64 - 1
   bool prefetching_ = false;      // a --fetch other than demand: Dinero IV's engine, 32-bit addresses
+  // --prefetch treelet: configs_ holds the reported configurations, then
+  // those without the prefetcher that are not among them (for coverage);
+  // without_prefetch_[c] is where reported configuration c's is.
+  bool treelet_prefetch_ = false;
+  std::size_t reported_ = 0;
+  std::vector<std::size_t> without_prefetch_;
   bool started_ = false;
   std::size_t requested_parts_ = 1;
   std::vector<WorkUnit> units_;

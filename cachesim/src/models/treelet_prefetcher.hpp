@@ -1,0 +1,126 @@
+// Internal: a cache that prefetches treelets (`cachesim run --prefetch
+// treelet`, nodetrace/cachesim/sweep/treelet_prefetch.hpp). A PolicyCache of
+// any policy but opt, with a mark per slot for a block that a prefetch
+// placed and no demand fetch has used yet: a demand hit on a marked block is
+// a useful prefetch. Prefetched blocks enter as the policy inserts a missed
+// one (LRU: most recent; FIFO, random: newest filled; PLRU: the tree points
+// away; RRIP: the insertion value, counting towards BRRIP's every 32nd).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "models/policy_cache.hpp"
+#include "nodetrace/cachesim/sweep/treelet_prefetch.hpp"
+#include "nodetrace/formats/container/treelet_map.hpp"
+
+namespace nodetrace::cachesim {
+
+// The byte range [first, end) a miss on the block at `block_first` (of
+// `block_bytes` bytes) prefetches under `map` and `limit` (0: none): from the
+// block's first byte to the end of its treelet, cut at `limit` bytes from the
+// block's first byte. Its treelet holds the block's first byte, or else is
+// the first one that begins inside the block. nullopt: no treelet there.
+struct PrefetchRange {
+  std::uint64_t first = 0;
+  std::uint64_t end = 0;
+};
+std::optional<PrefetchRange> treelet_prefetch_range(const formats::TreeletMap& map, std::uint64_t block_first,
+                                                    std::uint64_t block_bytes, std::uint64_t limit);
+
+// The cache of a direct-mapped treelet prefetcher: one way per set, so every
+// policy is the same (a miss replaces the set's block), at a table's cost.
+class DirectMappedSlots {
+ public:
+  static constexpr std::uint64_t kNoSlot = ~std::uint64_t{0};
+  explicit DirectMappedSlots(const CacheGeometry& geometry)
+      : tags_(geometry.size / geometry.block_size, kNoSlot), mask_(tags_.size() - 1) {}
+  bool access(std::uint64_t block, std::uint64_t& slot) {
+    slot = block & mask_;
+    const bool miss = tags_[slot] != block;
+    tags_[slot] = block;
+    return miss;
+  }
+  std::uint64_t place(std::uint64_t block) {
+    const std::uint64_t slot = block & mask_;
+    if (tags_[slot] == block) return kNoSlot;
+    tags_[slot] = block;
+    return slot;
+  }
+  std::uint64_t invalidate_slot(std::uint64_t block) {
+    const std::uint64_t slot = block & mask_;
+    if (tags_[slot] != block) return kNoSlot;
+    tags_[slot] = kNoSlot;
+    return slot;
+  }
+  std::uint64_t slots() const { return tags_.size(); }
+
+ private:
+  std::vector<std::uint64_t> tags_;  // kNoSlot when free (block 2^64 - 1 is refused before)
+  std::uint64_t mask_;
+};
+
+// `Cache`: a PolicyCache, or DirectMappedSlots for one way.
+template <typename Cache>
+class TreeletPrefetcher {
+ public:
+  TreeletPrefetcher(const CacheGeometry& geometry, std::uint64_t limit_bytes)
+      : cache_(geometry),
+        unused_(cache_.slots(), 0),
+        shift_(static_cast<unsigned>(std::countr_zero(geometry.block_size))),
+        limit_(limit_bytes) {}
+
+  // A demand fetch; true on a miss, which prefetches the rest of its treelet.
+  bool access(std::uint64_t block) {
+    std::uint64_t slot = 0;
+    if (!cache_.access(block, slot)) [[likely]] {
+      if (unused_[slot] != 0) [[unlikely]] {
+        unused_[slot] = 0;
+        ++counts_.useful;
+      }
+      return false;
+    }
+    unused_[slot] = 0;
+    if (has_map_) prefetch_after(block);
+    return true;
+  }
+
+  void invalidate(std::uint64_t block) {
+    if (const std::uint64_t slot = cache_.invalidate_slot(block); slot != Cache::kNoSlot) {
+      unused_[slot] = 0;
+    }
+  }
+
+  // The animation frame's map (nullptr: the frame has none, nothing is prefetched).
+  void begin_treelets(const formats::TreeletMap* map) {
+    has_map_ = map != nullptr;
+    if (map != nullptr) map_ = *map;
+  }
+
+  const PrefetchCounts& prefetch_counts() const { return counts_; }
+
+ private:
+  [[gnu::noinline]] void prefetch_after(std::uint64_t block) {
+    const std::optional<PrefetchRange> range =
+        treelet_prefetch_range(map_, block << shift_, std::uint64_t{1} << shift_, limit_);
+    if (!range) return;
+    const std::uint64_t last = (range->end - 1) >> shift_;
+    for (std::uint64_t next = block + 1; next <= last; ++next) {
+      const std::uint64_t slot = cache_.place(next);
+      if (slot == Cache::kNoSlot) continue;
+      unused_[slot] = 1;
+      ++counts_.prefetches;
+    }
+  }
+
+  Cache cache_;
+  std::vector<std::uint8_t> unused_;  // per slot: a prefetched block no demand fetch has used
+  unsigned shift_;
+  std::uint64_t limit_;
+  formats::TreeletMap map_;
+  bool has_map_ = false;
+  PrefetchCounts counts_;
+};
+
+}  // namespace nodetrace::cachesim
