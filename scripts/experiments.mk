@@ -173,6 +173,24 @@ POLICY_SINGLE ?= lru plru srrip drrip opt
 POLICY_SPLIT ?= lru drrip opt
 POLICY_WIDTH ?= 400
 POLICY_HEIGHT ?= 300
+# Treelet prefetching (the prefetch target): on one trace per scene,
+# structure, integrator and treelet size (--layout treelet, treelets of each
+# of PREFETCH_TREELET_BYTES), Table 1's sizes (SIZES) at PREFETCH_ASSOCS ways
+# and PREFETCH_BLOCK-byte blocks, single and split (K auto, high cache
+# retained), with no prefetch, the treelet prefetcher (whole treelet) and,
+# single only, Dinero IV's tagged prefetch. Path tracing at PREFETCH_SPP
+# samples per pixel. At 400x300 the whole study took 16.8 minutes of wall
+# time (409 s of CPU) with -j2 on the 2-core machine shared with other work,
+# 200x150 3.1 minutes (docs/guide/studies.md).
+PREFETCH_SCENES ?= robot kitchen
+PREFETCH_ACCELS ?= kdtree bvh2 cwbvh8
+PREFETCH_INTEGRATORS ?= whitted path
+PREFETCH_SPP ?= 1
+PREFETCH_WIDTH ?= 400
+PREFETCH_HEIGHT ?= 300
+PREFETCH_BLOCK ?= 64
+PREFETCH_ASSOCS ?= 1 4
+PREFETCH_TREELET_BYTES ?= 256 1024
 # Rays in flight: traversal units of INFLIGHT_RAYS ray slots each, every
 # unit its own node caches of each size of SIZES (per unit), and a second
 # level shared by the units behind them. Pixels dealt to the units in 8x8
@@ -418,12 +436,12 @@ endif
 endif
 
 .PHONY: help all table1 baselines assoc levels sensitivity calibration calibration-grid interpretations \
-  interpretations-grid frames sampling accel inflight policies workloads convergence clean FORCE
+  interpretations-grid frames sampling accel inflight policies prefetch workloads convergence clean FORCE
 .DELETE_ON_ERROR:
 
 # Every study; `all` makes them (a new study adds its target here and its section below).
 ALL_TARGETS := table1 baselines assoc levels sensitivity calibration interpretations frames sampling accel inflight \
-  policies workloads convergence
+  policies prefetch workloads convergence
 all: $(ALL_TARGETS)
 
 # Each study's line is its section's "# --- NAME: ..." heading below (or in path-tracing.mk).
@@ -702,6 +720,30 @@ policies_lines := $(common_params) param;policy_width=$(POLICY_WIDTH) param;poli
   join_commas,$(POLICY_SINGLE)) --scheme single);split=$(call pol_sim,$s,$a,$z,$b,--policy $(call \
   join_commas,$(POLICY_SPLIT)) --scheme split --split-level auto)))))
 $(eval $(call study_rule,policies))
+endif
+
+# --- prefetch: treelet prefetching and Dinero IV's tagged prefetch beside the split --
+# One trace per scene, structure, integrator and treelet size, in the
+# treelet layout (the only one whose trace carries treelet maps); on it one
+# run of single and split without and with the treelet prefetcher, and one
+# of the single cache under --fetch tagged (Dinero IV's fetch policies are
+# the single scheme's only).
+prefetch_figures := prefetch.png
+ifneq ($(call wanted,prefetch),)
+prefetch_integrator = $(if $(filter whitted,$1),--max-depth $(DEPTH),$(if $(filter path,$1),--integrator path --spp \
+  $(PREFETCH_SPP),$(error PREFETCH_INTEGRATORS: '$1' is neither whitted nor path)))
+prefetch_render = --width $(PREFETCH_WIDTH) --height $(PREFETCH_HEIGHT) --frame $(FRAME) $(kd_default) $(call \
+  prefetch_integrator,$1)$(if $(filter kdtree,$2),, --accel $2) --treelet-bytes $3 --layout treelet
+prefetch_grid = --size $(call join_commas,$(SIZES)) --block $(PREFETCH_BLOCK) --assoc $(call join_commas,$(PREFETCH_ASSOCS))
+prefetch_trace = $(call trace,$1,$(call prefetch_render,$2,$3,$4))
+prefetch_lines := $(common_params) param;prefetch_width=$(PREFETCH_WIDTH) param;prefetch_height=$(PREFETCH_HEIGHT) \
+  param;prefetch_block=$(PREFETCH_BLOCK) param;prefetch_spp=$(PREFETCH_SPP) \
+  $(foreach s,$(PREFETCH_SCENES),$(foreach a,$(PREFETCH_ACCELS),$(foreach i,$(PREFETCH_INTEGRATORS),$(foreach \
+  t,$(PREFETCH_TREELET_BYTES),row;scene=$s;accel=$a;integrator=$i;treelet_bytes=$t;trace=$(call \
+  prefetch_trace,$s,$i,$a,$t);treelet=$(call sim,prefetch,$(call prefetch_trace,$s,$i,$a,$t),$(prefetch_grid) \
+  --scheme single$(comma)split --split-level auto --prefetch none$(comma)treelet);tagged=$(call sim,prefetch,$(call \
+  prefetch_trace,$s,$i,$a,$t),$(prefetch_grid) --scheme single --fetch tagged)))))
+$(eval $(call study_rule,prefetch))
 endif
 
 # The path-tracing studies (workloads, convergence).

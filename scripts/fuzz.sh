@@ -80,6 +80,12 @@ else
   printf '\0r 100 4\nw 200 8 3\n' >"$seeds/xdin/small"
   printf -- '-l1-dsize\n8k\n-l1-dbsize\n8\n-l1-dassoc\n1\n' >"$seeds/dinero_cli/small"
 fi
+# A container with a treelet map after its animation frame's marker
+# (formats/FORMAT.md 2.2.2): a tiny treelet-layout render, small enough for
+# -max_len to hold the whole of it.
+cmake --build "$build" -j "$(nproc)" --target tracer >/dev/null
+"$build/bin/tracer" render mountain:6 --width 8 --height 6 --layout treelet --threads 1 -q \
+  -o "$seeds/container/treelet.din.zst"
 if [ -d "$shared/scenes" ]; then
   find "$shared/scenes" -name '*.aff' -size -16k -exec cp {} "$seeds/aff/" \;
 fi

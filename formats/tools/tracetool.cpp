@@ -72,8 +72,28 @@ void warn_of_dropped_fields(const formats::TraceReader& reader) {
              reader.form() == formats::RecordForm::ExtendedDin ? "size" : "address");
 }
 
+// One animation frame's treelet map as info shows it.
+nlohmann::json treelet_map_info(const formats::AnimationFrameMarker& marker) {
+  return {{"frame", marker.frame},
+          {"treelets", marker.treelets->treelets.size()},
+          {"bytes", formats::treelet_map_frame_bytes(*marker.treelets)}};
+}
+
+// The treelet maps of a seekable container, read without its data frames.
+nlohmann::json treelet_maps_of(const std::string& path, formats::ReaderOptions options) {
+  options.keep_data_frame = [](const formats::DataFrameIndexEntry&) { return false; };
+  auto reader = formats::TraceReader::open(path, options);
+  nlohmann::json maps = nlohmann::json::array();
+  formats::RecordBatch batch;
+  while (reader->next(batch)) {
+    if (batch.marker && batch.marker->treelets) maps.push_back(treelet_map_info(*batch.marker));
+  }
+  return maps;
+}
+
 int run_info(const std::string& path, const std::string& format, bool tags_are_levels, const std::string& form) {
   auto reader = formats::TraceReader::open(path, reader_options(tags_are_levels, form_option(form)));
+  const bool maps = reader->header().carries_treelet_maps();
   nlohmann::json info = nlohmann::json::object();
   info["file"] = reader->source_name();
   info["kind"] = std::string(reader->input_kind());
@@ -101,10 +121,16 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
     info["data_frames"] = trailer->index.size();
     info["decompressed_bytes"] = trailer->totals["record_bytes"];
     info["totals"] = trailer->totals;
+    if (maps) info["treelet_maps"] = treelet_maps_of(path, reader_options(tags_are_levels, form_option(form)));
   } else {
     formats::ObservedTotals seen;
     formats::RecordBatch batch;
-    while (reader->next(batch)) seen.add(batch);
+    nlohmann::json treelet_maps = nlohmann::json::array();
+    while (reader->next(batch)) {
+      seen.add(batch);
+      if (batch.marker && batch.marker->treelets) treelet_maps.push_back(treelet_map_info(*batch.marker));
+    }
+    if (maps) info["treelet_maps"] = treelet_maps;
     info["records"] = seen.summary().records();
     info["records_per_tag"] = seen.summary().records_per_tag();
     info["records_per_type"] = seen.summary().records_per_type();
@@ -119,6 +145,11 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
   const auto records = info["records"].get<std::uint64_t>();
   if (info.contains("file_bytes") && records > 0) {
     info["bytes_per_record"] = static_cast<double>(file_size) / static_cast<double>(records);
+  }
+  if (info.contains("treelet_maps")) {
+    std::uint64_t map_bytes = 0;
+    for (const auto& map : info["treelet_maps"]) map_bytes += map["bytes"].get<std::uint64_t>();
+    info["treelet_map_bytes"] = map_bytes;
   }
   if (format == "json") {
     fmt::print("{}\n", info.dump(2));
@@ -144,6 +175,14 @@ int run_info(const std::string& path, const std::string& format, bool tags_are_l
   if (info.contains("file_bytes")) row("file bytes", info["file_bytes"].dump());
   row("decompressed bytes", info["decompressed_bytes"].dump());
   if (info.contains("bytes_per_record")) row("bytes per record", fmt::format("{:.3f}", info["bytes_per_record"].get<double>()));
+  if (info.contains("treelet_maps")) {
+    row("treelet map bytes", info["treelet_map_bytes"].dump());
+    fmt::print("treelet maps\n");
+    for (const auto& map : info["treelet_maps"]) {
+      fmt::print("  frame {:<12} {} treelets, {} bytes\n", map["frame"].dump(), map["treelets"].dump(),
+                 map["bytes"].dump());
+    }
+  }
   fmt::print("records per type\n");
   for (const auto& [key, value] : info["records_per_type"].items()) fmt::print("  {:<18} {}\n", key, value.dump());
   fmt::print("records per tag\n");
@@ -226,14 +265,21 @@ int run_verify(const std::string& path, bool tags_are_levels, const std::string&
   auto reader = formats::TraceReader::open(path, reader_options(tags_are_levels, form_option(form)));
   formats::RecordBatch batch;
   formats::ObservedTotals seen;
-  while (reader->next(batch)) seen.add(batch);
+  std::uint64_t treelet_maps = 0;  // each checked by the reader (FORMAT.md 2.2.2)
+  while (reader->next(batch)) {
+    seen.add(batch);
+    treelet_maps += batch.marker && batch.marker->treelets;
+  }
   seen.check_trailer(*reader);
   const std::uint64_t records = seen.summary().records();
   const std::uint64_t animation_frames = animation_frame_count(seen.animation_frame_markers());
   if (reader->input_kind() == "container") {
     const std::uint64_t data_frames = reader->trailer() ? reader->trailer()->index.size() : 0;
-    fmt::print("OK: {} records, {} animation frame{}, {} data frame{}\n", records, animation_frames,
-               animation_frames == 1 ? "" : "s", data_frames, data_frames == 1 ? "" : "s");
+    fmt::print("OK: {} records, {} animation frame{}, {} data frame{}{}\n", records, animation_frames,
+               animation_frames == 1 ? "" : "s", data_frames, data_frames == 1 ? "" : "s",
+               reader->header().carries_treelet_maps()
+                   ? fmt::format(", {} treelet map{}", treelet_maps, treelet_maps == 1 ? "" : "s")
+                   : "");
   } else {
     const std::string form_words = reader->form() == formats::RecordForm::Binary ? "Dinero binary"
                                                                                  : std::string(formats::form_name(reader->form())) + " text";
@@ -272,6 +318,8 @@ int run_convert(const std::string& in, const std::string& out, const ConvertOpti
   options.tags_are_levels = reader->tags_are_levels();
   options.units = reader->units();
   options.address_digits = convert.address16 ? 16 : 8;
+  // A container keeps the treelet maps; plain output drops them (losses say so).
+  options.treelet_maps = output.container && reader->header().carries_treelet_maps();
   if (convert.archive) formats::use_archive_setting(options);
   // The producer's part of the header travels along; the writer sets the rest.
   nlohmann::json header = reader->header().json;

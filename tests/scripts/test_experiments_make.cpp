@@ -338,6 +338,40 @@ TEST_F(ExperimentsMakeTest, AccelTargetCoversEveryStructureLayoutAndConfiguratio
   }
 }
 
+// The prefetch target at a tiny size: per structure, integrator and treelet
+// size one treelet-layout render simulating, inside it, single and split
+// without and with the treelet prefetcher and the single cache under tagged
+// prefetch; the table, the answer and the figure.
+TEST_F(ExperimentsMakeTest, PrefetchTargetCoversEveryPrefetcherSchemeAndTreeletSize) {
+  const auto out = dir_ / "prefetch";
+  const std::string options = "prefetch PREFETCH_SCENES=robot PREFETCH_WIDTH=16 PREFETCH_HEIGHT=12 "
+                              "PREFETCH_ACCELS='kdtree bvh2' PREFETCH_TREELET_BYTES='256 1024'";
+  const std::string log = make(options, out);
+  // Two structures x Whitted and path x two treelet sizes: 8 renders, no trace written.
+  EXPECT_EQ(count_lines_with(log, "render-layouts.sh"), 8) << log;
+  EXPECT_EQ(count_lines_with(log, "cachesim run"), 0) << log;
+  const auto csv = read_file(out / "prefetch" / "prefetch.csv");
+  EXPECT_EQ(one_csv_table(csv), "");
+  EXPECT_TRUE(csv.starts_with("scene,accel,integrator,treelet_bytes,scheme,size,block,assoc,prefetch,split_level,rays,"
+                              "fetches,misses,miss_percent,prefetches,useful_prefetches,prefetch_accuracy,"
+                              "prefetch_coverage,bytes_per_ray,bytes_per_ray_counts_prefetches\n"))
+      << csv;
+  // Per render: single and split x two sizes x two associativities x (none,
+  // treelet), and the single cache's four under tagged.
+  EXPECT_EQ(count_lines_with(csv, "robot,"), 8 * (16 + 4)) << csv;
+  EXPECT_EQ(count_lines_with(csv, ",single,4096,64,4,tagged,"), 8) << csv;
+  EXPECT_EQ(count_lines_with(csv, ",split,1024,64,1,treelet,"), 8) << csv;
+  EXPECT_EQ(count_lines_with(csv, ",split,1024,64,1,tagged,"), 0) << csv;
+  EXPECT_EQ(count_lines_with(csv, "robot,bvh2,path,1024,"), 20) << csv;
+  const auto md = read_file(out / "prefetch" / "prefetch.md");
+  for (const std::string stated : {"16x12", "## The answer", "the split misses less than the single cache in",
+                                   "bytes per ray", "tagged", "path, 1 spp", "256, 1024 bytes"}) {
+    EXPECT_NE(md.find(stated), std::string::npos) << stated << " is not stated: " << md;
+  }
+  EXPECT_TRUE(std::filesystem::exists(out / "prefetch" / "prefetch.png"));
+  EXPECT_EQ(make(options, out), "");  // nothing is rendered or simulated twice
+}
+
 TEST_F(ExperimentsMakeTest, WorkloadsTargetCoversEveryIntegratorStructureRaysInFlightAndCache) {
   const auto out = dir_ / "workloads";
   const std::string options = "workloads WORKLOADS_SCENES=robot WORKLOADS_WIDTH=16 WORKLOADS_HEIGHT=12 "
@@ -468,6 +502,8 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
       " ACCEL_LAYOUTS=treelet ACCEL_SIZES=4k"
       " INFLIGHT_SCENES=robot INFLIGHT_WIDTH=16 INFLIGHT_HEIGHT=12 INFLIGHT_RAYS='1 4' INFLIGHT_UNITS='1 2'"
       " POLICY_SCENES=robot POLICY_SIZES=4k POLICY_ASSOCS='1 4' POLICY_WIDTH=16 POLICY_HEIGHT=12"
+      " PREFETCH_SCENES=robot PREFETCH_WIDTH=16 PREFETCH_HEIGHT=12 PREFETCH_ACCELS=bvh2 PREFETCH_INTEGRATORS=whitted"
+      " PREFETCH_TREELET_BYTES=256"
       " WORKLOADS_SCENES=robot WORKLOADS_WIDTH=16 WORKLOADS_HEIGHT=12 WORKLOADS_SPP=1 WORKLOADS_ACCELS=bvh2"
       " WORKLOADS_RAYS=1 CONV_SCENES=robot CONV_WIDTH=8 CONV_HEIGHT=6 CONV_SPP='1 2' CONV_REFERENCE_SPP=8 2>&1");
   ASSERT_EQ(result.exit_code, 0) << result.out;
@@ -482,6 +518,7 @@ TEST_F(ExperimentsMakeTest, EveryTargetRunsAtATinySize) {
         "interpretations/interpretations-cells.csv", "interpretations/interpretations.png", "accel/accel.md",
         "accel/accel.csv", "accel/accel.png", "inflight/inflight.md", "inflight/inflight.csv",
         "inflight/inflight.png", "policies/policies.md", "policies/policies.csv", "policies/policies.png",
+        "prefetch/prefetch.md", "prefetch/prefetch.csv", "prefetch/prefetch.png",
         "workloads/workloads.md", "workloads/workloads.csv", "workloads/workloads.png",
         "convergence/convergence.md", "convergence/convergence.csv", "convergence/convergence.png"}) {
     EXPECT_TRUE(std::filesystem::exists(out / file)) << file;

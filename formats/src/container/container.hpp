@@ -13,6 +13,7 @@ namespace nodetrace::formats::detail {
 inline constexpr std::uint32_t kHeaderMagic = 0x184D2A50;
 inline constexpr std::uint32_t kMarkerMagic = 0x184D2A51;
 inline constexpr std::uint32_t kWindowMagic = 0x184D2A52;
+inline constexpr std::uint32_t kTreeletMapMagic = 0x184D2A53;  // follows its animation frame's marker
 inline constexpr std::uint32_t kTrailerMagic = 0x184D2A5E;
 inline constexpr std::uint32_t kSkippableMask = 0xFFFFFFF0;  // 0x184D2A50..5F are skippable
 inline constexpr std::uint32_t kZstdMagic = 0xFD2FB528;

@@ -168,6 +168,11 @@ bool TraceHeader::announces_trailer() const {
   return found != json.end() && found->is_boolean() && found->get<bool>();
 }
 
+bool TraceHeader::carries_treelet_maps() const {
+  const auto found = json.find("treelet_map");
+  return found != json.end() && found->is_boolean() && found->get<bool>();
+}
+
 LayoutInfo TraceHeader::layout() const {
   LayoutInfo info;
   if (!json.is_object()) return info;

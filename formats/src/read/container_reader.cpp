@@ -13,6 +13,7 @@
 #include <cstring>
 
 #include "container/container.hpp"
+#include "container/treelet_map_codec.hpp"
 #include "nodetrace/base/error.hpp"
 #include "read/data_frame_decoder.hpp"
 #include "read/reader_kinds.hpp"
@@ -110,6 +111,10 @@ class ContainerReader final : public PipelinedReader {
         fail(fmt::format("damaged header: key \"{}\" holds \"node-level\", the value of \"tag\"", key));
       }
     }
+    if (const auto maps = header_.json.find("treelet_map"); maps != header_.json.end() && !maps->is_boolean()) {
+      fail(fmt::format("damaged header: \"treelet_map\" is {}, not true or false", maps->dump().substr(0, 40)));
+    }
+    layout_ = header_.layout();
     settings_.form = *form;
     settings_.tags_are_levels = options_.tags_are_levels || header_.tags_are_levels();
     try {
@@ -276,12 +281,19 @@ class ContainerReader final : public PipelinedReader {
       read_stream_trailer(offset);
       return;
     }
-    const char* what = magic == kMarkerMagic   ? "animation frame marker"
-                       : magic == kWindowMagic ? "sample window marker"
-                                                       : "skippable frame";
+    const char* what = magic == kMarkerMagic       ? "animation frame marker"
+                       : magic == kWindowMagic     ? "sample window marker"
+                       : magic == kTreeletMapMagic ? "treelet map"
+                                                   : "skippable frame";
     std::string payload;
     read_skippable(payload, what);
     if (magic == kHeaderMagic) fail(joined_traces_message(offset));
+    // In a trace without maps a 0x184D2A53 frame is someone else's (FORMAT.md 2.5).
+    if (magic == kTreeletMapMagic && header_.carries_treelet_maps()) {
+      fail(fmt::format("treelet map at byte {} does not follow an animation frame marker (FORMAT.md 2.2.2: each "
+                       "stands right after its marker)",
+                       offset));
+    }
     if (magic != kMarkerMagic && magic != kWindowMagic) return;  // someone else's skippable frame
     DecodeUnit unit;
     try {
@@ -298,8 +310,32 @@ class ContainerReader final : public PipelinedReader {
     } catch (const base::FormatError& error) {
       fail(fmt::format("at byte {}: {}", offset, error.what()));
     }
-    if (unit.kind == DecodeUnit::Kind::AnimationFrameMarker) ++markers_;
+    if (unit.kind == DecodeUnit::Kind::AnimationFrameMarker) {
+      if (header_.carries_treelet_maps()) unit.marker.treelets = read_treelet_map(unit.marker, offset);
+      ++markers_;
+    }
     pipeline_->push_ready(std::move(unit));
+  }
+
+  // The treelet map that must follow the marker at `marker_offset`, checked
+  // against the frame's node addresses (FORMAT.md 2.2.2).
+  TreeletMap read_treelet_map(const AnimationFrameMarker& marker, std::uint64_t marker_offset) {
+    const std::uint64_t offset = input_->offset();
+    if (!input_->ensure(4) || load_le32(input_->data()) != kTreeletMapMagic) {
+      fail(fmt::format("animation frame {} (marker at byte {}) has no treelet map at byte {}: the header says "
+                       "every marker is followed by one",
+                       marker.frame, marker_offset, offset));
+    }
+    std::string payload;
+    read_skippable(payload, "treelet map");
+    const std::string where = fmt::format("treelet map of animation frame {} at byte {}", marker.frame, offset);
+    try {
+      TreeletMap map = decode_treelet_map(payload, offset + kSkippableHeaderSize, marker.nodes);
+      check_treelet_map(map, node_address_range(layout_.node_base, marker.nodes, layout_.node_size));
+      return map;
+    } catch (const base::FormatError& error) {
+      fail(fmt::format("{}: {}", where, error.what()));
+    }
   }
 
   // keep_data_frame: when the index's next data frame starts here and is not
@@ -449,6 +485,7 @@ class ContainerReader final : public PipelinedReader {
   std::uint64_t data_frames_decompressed_ = 0;
   std::uint64_t data_frames_skipped_ = 0;
   std::uint64_t header_end_ = 0;
+  LayoutInfo layout_;  // the header's: where a frame's treelet map may point
   std::uint64_t data_frames_ = 0;
   std::uint64_t markers_ = 0;
   std::uint64_t records_read_ = 0;  // records in the data frames handed over so far

@@ -36,6 +36,7 @@ void ConversionLosses::count(const RecordBatch& batch) {
   if (header_lost_) {
     markers_lost_ += batch.marker.has_value();
     windows_lost_ += batch.window.has_value();
+    treelet_maps_lost_ += batch.marker && batch.marker->treelets;
   }
   count(batch.records);
 }
@@ -69,6 +70,10 @@ std::vector<std::string> ConversionLosses::warnings() const {
     if (markers_lost_ > 0) {
       lost.push_back(fmt::format("{} animation-frame marker{} (per-frame K and --per-frame need them)", markers_lost_,
                                  markers_lost_ == 1 ? "" : "s"));
+    }
+    if (treelet_maps_lost_ > 0) {
+      lost.push_back(fmt::format("{} treelet map{} (cachesim --prefetch treelet needs them)", treelet_maps_lost_,
+                                 treelet_maps_lost_ == 1 ? "" : "s"));
     }
     if (windows_lost_ > 0) {
       lost.push_back(fmt::format("{} sample-window marker{}", windows_lost_, windows_lost_ == 1 ? "" : "s"));

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "container/container.hpp"
+#include "container/treelet_map_codec.hpp"
 #include "nodetrace/base/error.hpp"
 #include "nodetrace/base/output_file.hpp"
 #include "nodetrace/formats/record/record_summary.hpp"
@@ -88,6 +89,9 @@ nlohmann::json container_header(nlohmann::json header, const WriterOptions& opti
   if (options.window_log != 0) {
     header["compression"] = {{"level", options.zstd_level}, {"window_log", options.window_log}};
   }
+  // Only traces with maps say so, so other traces keep their bytes.
+  header.erase("treelet_map");
+  if (options.treelet_maps) header["treelet_map"] = true;
   return header;
 }
 
@@ -131,6 +135,7 @@ class Writer final : public TraceWriter {
     out_ = std::make_unique<base::OutputFile>(path_);
     if (container_) {
       header = container_header(std::move(header), options_);
+      layout_ = TraceHeader{header}.layout();
       emit(detail::skippable_frame(detail::kHeaderMagic, header.dump()), true);
     }
     reserve_pending_text();
@@ -144,7 +149,7 @@ class Writer final : public TraceWriter {
 
   void begin_animation_frame(const AnimationFrameMarker& marker) override {
     check_open();
-    queue_marker(detail::kMarkerMagic, marker.to_json());
+    queue_marker(detail::kMarkerMagic, marker.to_json(), treelet_map_frame(marker));
     ++markers_;  // after queue_marker: the data frame it ends belongs to the previous animation frame
   }
 
@@ -273,13 +278,34 @@ class Writer final : public TraceWriter {
     }
   }
 
+  // The frame holding the marker's treelet map, checked against the frame's
+  // node addresses; empty when the trace carries no maps.
+  std::string treelet_map_frame(const AnimationFrameMarker& marker) const {
+    if (!container_) return {};
+    if (marker.treelets.has_value() != options_.treelet_maps) {
+      throw base::UsageError(fmt::format(
+          "{}: animation frame {}: {}", name_, marker.frame,
+          options_.treelet_maps ? "the trace carries a treelet map per animation frame, but this marker has none"
+                                : "the marker has a treelet map, but the writer was not asked to carry maps "
+                                  "(WriterOptions::treelet_maps)"));
+    }
+    if (!marker.treelets) return {};
+    try {
+      check_treelet_map(*marker.treelets, node_address_range(layout_.node_base, marker.nodes, layout_.node_size));
+    } catch (const base::FormatError& error) {
+      fail(fmt::format("treelet map of animation frame {}: {}", marker.frame, error.what()));
+    }
+    return detail::skippable_frame(detail::kTreeletMapMagic, detail::encode_treelet_map(*marker.treelets));
+  }
+
   // A marker ends the pending data frame (a marker never splits one) and,
-  // in a container, follows it in the file.
-  void queue_marker(std::uint32_t magic, const nlohmann::json& json) {
+  // in a container, follows it in the file, with what goes right after it
+  // (`after`: a treelet map).
+  void queue_marker(std::uint32_t magic, const nlohmann::json& json, std::string after = {}) {
     submit_pending();
     if (!container_) return;
     Item item;
-    item.ready = detail::skippable_frame(magic, json.dump());
+    item.ready = detail::skippable_frame(magic, json.dump()) + after;
     pipeline_->push_ready(std::move(item));
     drain(false);
   }
@@ -366,6 +392,7 @@ class Writer final : public TraceWriter {
   WriterOptions options_;
   bool container_ = false;
   bool levels_ = false;
+  LayoutInfo layout_;  // the header's: where a treelet map may point
   unsigned unit_digits_ = 0;  // 0: no unit field
   bool finished_ = false;
   std::unique_ptr<base::OutputFile> out_;

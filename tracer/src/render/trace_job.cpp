@@ -12,6 +12,7 @@
 #include "render/relocation.hpp"
 #include "render/trace_header.hpp"
 #include "render/trace_writer_sink.hpp"
+#include "render/treelet_map.hpp"
 #include "render/window_marker.hpp"
 
 namespace nodetrace::tracer {
@@ -204,7 +205,9 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
                                                   result.plan, frames.size(), tree.stats().depth_limit);
         if (!result.notes.empty()) header["render"]["notes"] = result.notes;
         if (t == 0) result.header = header;
-        const TraceStart start{t, targets[t], header, writer};
+        formats::WriterOptions layout_writer = writer;
+        layout_writer.treelet_maps = targets[t].layout == LayoutKind::Treelet;
+        const TraceStart start{t, targets[t], header, layout_writer};
         if (auto trace_writer = make_trace_writer_sink(start)) sinks[t].push_back(std::move(trace_writer));
         for (const auto& make_sink : options.sink_makers) {
           if (auto sink = make_sink(start)) sinks[t].push_back(std::move(sink));
@@ -212,12 +215,16 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
         any_sink = any_sink || !sinks[t].empty();
       }
     }
-    // For each other layout with sinks: the address of the node in each slot of `layout`.
+    // For each other layout with sinks: the address of the node in each slot
+    // of `layout`; and each layout's treelet map (treelet layouts).
     std::vector<std::vector<std::uint64_t>> relocations(targets.size());
+    std::vector<std::optional<formats::TreeletMap>> treelet_maps(targets.size());
+    treelet_maps[0] = treelet_map_of(layout, r.addresses);
     for (std::size_t t = 1; t < targets.size(); ++t) {
       if (sinks[t].empty()) continue;
-      relocations[t] = relocation(
-          layout, make_layout(tree.shape(), targets[t].layout, split_levels[t], treelet_nodes), r.addresses);
+      const Layout other = make_layout(tree.shape(), targets[t].layout, split_levels[t], treelet_nodes);
+      relocations[t] = relocation(layout, other, r.addresses);
+      treelet_maps[t] = treelet_map_of(other, r.addresses);
     }
     for (std::size_t t = 0; t < targets.size(); ++t) {
       if (sinks[t].empty()) continue;
@@ -231,6 +238,7 @@ TraceJobResult run_trace_job(const SceneSource& source, const TraceJobOptions& o
       marker.extra = {{"triangles", scene.triangles.size()},
                       {"empty_leaves", tree.stats().empty_leaves}};
       if (targets[t].layout == LayoutKind::Hybrid) marker.extra["split_level"] = split_levels[t];
+      marker.treelets = std::move(treelet_maps[t]);
       for (const auto& sink : sinks[t]) sink->begin_animation_frame(marker);
     }
     Image image;

@@ -88,6 +88,9 @@ struct TraceHeader {
   unsigned units() const;
   // True when the header announces a trailer (a missing one is truncation).
   bool announces_trailer() const;
+  // True when the header says `"treelet_map": true`: every animation-frame
+  // marker is followed by its frame's treelet map (FORMAT.md 2.2.2).
+  bool carries_treelet_maps() const;
   // The "layout" object; defaults (node_size 8, base 0, no name) for what it
   // does not say or when absent.
   LayoutInfo layout() const;

@@ -1,6 +1,7 @@
 // What a conversion drops (tracetool convert and cat): a form without a field
 // the input filled (din has no size, binary no tag or unit), and plain output,
-// which keeps no header, animation-frame markers or sample windows. Nothing
+// which keeps no header, animation-frame markers (nor their treelet maps) or
+// sample windows. Nothing
 // is dropped without a word (docs/ARCHITECTURE.md "Trace records").
 #pragma once
 
@@ -41,6 +42,7 @@ class ConversionLosses {
   std::uint64_t units_lost_ = 0;   // binary output: records of units above 0
   std::uint64_t markers_lost_ = 0;
   std::uint64_t windows_lost_ = 0;
+  std::uint64_t treelet_maps_lost_ = 0;
 };
 
 }  // namespace nodetrace::formats

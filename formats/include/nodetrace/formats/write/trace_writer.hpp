@@ -36,11 +36,16 @@ struct WriterOptions {
   // `"units": N` (only then: one unit writes what it always wrote). Binary
   // records cannot carry one.
   unsigned units = 1;
+  // Containers: every animation-frame marker carries its frame's treelet map
+  // (AnimationFrameMarker::treelets, required then and refused otherwise),
+  // written after the marker, and the header says `"treelet_map": true`
+  // (FORMAT.md 2.2.2). Plain output drops the maps with the markers.
+  bool treelet_maps = false;
 };
 
 // The header of a container written with `options`: `header`, the
 // producer's part, with the writer's own keys (container, records, tag,
-// units, trailer, compression).
+// units, trailer, compression, treelet_map).
 nlohmann::json container_header(nlohmann::json header, const WriterOptions& options);
 
 // The archive setting (`--archive`): compressed for size rather than speed.
