@@ -10,11 +10,12 @@ wall and CPU seconds of the process during that render: scene
 synchronisation, BVH build and the samples; Blender's start-up and this
 script's set-up are left out). --our-bounces B: Cycles' bounces that match
 our --max-bounces B for this scene's light (scenes.py). --turn T: the
-environment map rotated by T of a turn about +Z (the control). The same triangles as ours (no axis conversion: the vertices are
-set here, not read by Blender's OBJ importer, which turns Y up into Z up),
-the camera by eye, look-at, up and vertical field of view, a box pixel
-filter of width 1, the Standard view transform, no denoising, no clamping,
-no adaptive sampling, no glossy filter, no light threshold.
+environment map rotated by T of a turn about +Z (the control). The same
+triangles as ours (no axis conversion: the vertices are set here, not read
+by Blender's OBJ importer, which turns Y up into Z up), the camera by eye,
+look-at, up and vertical field of view, a box pixel filter of width 1, the
+Standard view transform, no denoising, no clamping, no adaptive sampling, no
+glossy filter, no light threshold.
 """
 
 import math
@@ -201,6 +202,9 @@ def main():
     seeds = [int(s) for s in (options["seeds"] or ",".join(str(s) for s in range(data.seeds))).split(",")]
     spp = int(options["spp"] or data.spp // len(seeds))
     if options["turn"] is not None:
+        if data.environment is None:
+            print(f"render_cycles.py: --turn: scene {data.name} has no environment map", file=sys.stderr)
+            sys.exit(2)
         data.environment.turn = float(options["turn"])
     bounces = data.cycles_bounces
     if options["bounces"] is not None:

@@ -241,7 +241,8 @@ def aff_text(scene):
 def main(argv):
     if len(argv) < 2 or argv[1] in ("-h", "--help"):
         print("scenes.py: writes a scene of test-cycles.sh as an AFF file for our tracer\n"
-              "  /usr/bin/python3 scripts/cycles/scenes.py NAME FILE.aff [MAP.pfm]   (NAME: " + ", ".join(SCENES) + ")\n"
+              "  /usr/bin/python3 scripts/cycles/scenes.py NAME FILE.aff [MAP.pfm]\n"
+              "    NAME: " + ", ".join(SCENES) + "\n"
               "    MAP.pfm: the scene's environment map, for --environment\n"
               "  /usr/bin/python3 scripts/cycles/scenes.py --list          the names, one a line")
         return 0
