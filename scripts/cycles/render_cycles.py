@@ -3,17 +3,19 @@ image written as a colour PFM (linear radiance, the mean of the samples):
 
   blender -b --factory-startup --python scripts/cycles/render_cycles.py -- \\
       NAME OUT_PREFIX --spp N --seeds 1,2,3 [--bounces B | --our-bounces B] [--threads T]
-      [--width W --height H]
+      [--width W --height H] [--turn T]
 
 writes OUT_PREFIX-seedS.pfm for each seed S and OUT_PREFIX-times.csv (seed,
 wall and CPU seconds of the process during that render: scene
 synchronisation, BVH build and the samples; Blender's start-up and this
 script's set-up are left out). --our-bounces B: Cycles' bounces that match
-our --max-bounces B for this scene's light (scenes.py). The same triangles as ours (no axis conversion: the vertices are
-set here, not read by Blender's OBJ importer, which turns Y up into Z up),
-the camera by eye, look-at, up and vertical field of view, a box pixel
-filter of width 1, the Standard view transform, no denoising, no clamping,
-no adaptive sampling, no glossy filter, no light threshold.
+our --max-bounces B for this scene's light (scenes.py). --turn T: the
+environment map rotated by T of a turn about +Z (the control). The same
+triangles as ours (no axis conversion: the vertices are set here, not read
+by Blender's OBJ importer, which turns Y up into Z up), the camera by eye,
+look-at, up and vertical field of view, a box pixel filter of width 1, the
+Standard view transform, no denoising, no clamping, no adaptive sampling, no
+glossy filter, no light threshold.
 """
 
 import math
@@ -35,7 +37,7 @@ def arguments():
         print(__doc__)
         sys.exit(0 if argv and argv[0] in ("-h", "--help") else 2)
     options = {"name": argv[0], "prefix": argv[1], "spp": None, "seeds": None, "bounces": None,
-               "our-bounces": None, "threads": 0, "width": None, "height": None}
+               "our-bounces": None, "turn": None, "threads": 0, "width": None, "height": None}
     i = 2
     while i < len(argv):
         key = argv[i][2:]
@@ -90,6 +92,22 @@ def shader(nodes, links, material):
     return total
 
 
+def environment(world, data):
+    """The map as the World's Environment Texture (equirectangular, no
+    Mapping node, Closest: ours is constant over each pixel) of an image made
+    here from the same numbers as ours, Non-Color so no transform applies;
+    rotated by data.turn about +Z (the control)."""
+    image = bpy.data.images.new("environment", data.width, data.height, alpha=False, float_buffer=True)
+    image.colorspace_settings.name = "Non-Color"
+    image.pixels.foreach_set(numpy.array([(*p, 1.0) for p in data.turned()], dtype=numpy.float32).ravel())
+    image.update()
+    texture = world.node_tree.nodes.new("ShaderNodeTexEnvironment")
+    texture.image = image
+    texture.projection = "EQUIRECTANGULAR"
+    texture.interpolation = "Closest"
+    world.node_tree.links.new(texture.outputs["Color"], world.node_tree.nodes["Background"].inputs["Color"])
+
+
 def build(scene_data, width, height):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
@@ -117,6 +135,8 @@ def build(scene_data, width, height):
     background = world.node_tree.nodes["Background"]
     background.inputs["Color"].default_value = (*scene_data.background, 1)
     background.inputs["Strength"].default_value = 1
+    if scene_data.environment is not None:
+        environment(world, scene_data.environment)
     scene.world = world
 
     camera_data = bpy.data.cameras.new("camera")
@@ -181,6 +201,11 @@ def main():
     height = int(options["height"] or data.height)
     seeds = [int(s) for s in (options["seeds"] or ",".join(str(s) for s in range(data.seeds))).split(",")]
     spp = int(options["spp"] or data.spp // len(seeds))
+    if options["turn"] is not None:
+        if data.environment is None:
+            print(f"render_cycles.py: --turn: scene {data.name} has no environment map", file=sys.stderr)
+            sys.exit(2)
+        data.environment.turn = float(options["turn"])
     bounces = data.cycles_bounces
     if options["bounces"] is not None:
         bounces = int(options["bounces"])

@@ -21,6 +21,7 @@ background) gets one bounce fewer: there ours is Cycles' B - 1
 """
 
 import math
+import struct
 import sys
 
 
@@ -42,6 +43,7 @@ class Scene:
         # Ours renders spp samples; Cycles spp / seeds samples with each of `seeds` seeds.
         self.spp, self.seeds = spp, seeds
         self.width, self.height = width, height
+        self.environment = None  # or an Environment, which replaces the background
 
 
 def quad(a, b, c, d, material):
@@ -141,8 +143,75 @@ def glass_scene():
                  background=(1, 1, 1), our_bounces=8, cycles_bounces=7, spp=2048, seeds=8)
 
 
-# The list test-cycles.sh runs, in order (an environment map is one more entry).
-SCENES = {s.name: s for s in (sphere_scene(), cornell_box(), mirror_scene(), glass_scene())}
+class Environment:
+    """An equirectangular map of linear RGB radiance: `pixels` holds
+    width x height RGB triples, the bottom row first (PFM's order and
+    Blender's image.pixels'), read by ours from a PFM file (--environment)
+    and given to Cycles' Environment Texture as they are. `turn`: the share
+    of a turn about +Z by which Cycles' copy is rotated (the control)."""
+
+    def __init__(self, width, height, pixels, turn=0.0):
+        self.width, self.height, self.pixels, self.turn = width, height, pixels, turn
+
+    def turned(self):
+        """The pixels rotated by `turn` about +Z: the columns rolled (exact
+        for a whole number of columns)."""
+        shift = round(self.turn * self.width) % self.width
+        rows = [self.pixels[r * self.width:(r + 1) * self.width] for r in range(self.height)]
+        return [p for row in rows for p in row[-shift:] + row[:-shift]] if shift else list(self.pixels)
+
+    def pfm_bytes(self):
+        """The map (unturned) as a little-endian colour PFM for --environment."""
+        values = [c for p in self.pixels for c in p]
+        return (f"PF\n{self.width} {self.height}\n-1.0\n".encode("ascii") +
+                struct.pack(f"<{len(values)}f", *values))
+
+
+def sky_map(width=48, height=24):
+    """A sky over a dark ground: a gradient from a pale horizon to a deep
+    blue zenith, a brown ground below the horizon, and one bright warm pixel
+    of sun (radiance 60) at about 41 degrees of elevation, to the camera's
+    right and in front of the objects, so their shadows fall behind them."""
+    pixels = []
+    for row in range(height):  # bottom first: row 0 looks straight down
+        elevation = (row + 0.5) / height - 0.5  # in half turns: -0.5 .. 0.5
+        for column in range(width):
+            if elevation < 0:
+                pixels.append((0.3, 0.22, 0.15))
+            else:
+                t = 2 * elevation  # 0 at the horizon, 1 at the zenith
+                pixels.append((0.9 - 0.7 * t, 0.95 - 0.5 * t, 1.0))
+    sun_row, sun_column = 17, 30
+    pixels[sun_row * width + sun_column] = (60.0, 55.0, 45.0)
+    return Environment(width, height, pixels)
+
+
+def z_up(point):
+    """Y up to Z up: a quarter turn about +X, (x, y, z) -> (x, -z, y), which
+    keeps the triangles' winding."""
+    return (point[0], -point[2], point[1])
+
+
+def environment_scene(turn=0.0):
+    """A mirror sphere beside a grey Lambertian one on a grey ground, lit by
+    sky_map() alone (no lights, no emitters), modelled with +Z up so the
+    map's zenith is the sky's. Bounces: the map is sampled at every diffuse
+    hit (next-event estimation), like an emitter, so ours and Cycles' are the
+    same B; they differ only where the last hit is the mirror (Cycles' ray
+    from it still meets the sky, ours casts none), which is light of 6
+    bounces: too little to show."""
+    materials = [Material(mirror=0.9), Material(diffuse=(0.5, 0.5, 0.5)), Material(diffuse=(0.5, 0.5, 0.5))]
+    triangles = [(z_up(a), z_up(b), z_up(c), m) for a, b, c, m in
+                 sphere((-0.9, 1.0, 0), 1.0, 12, 24, 0) + sphere((1.2, 0.7, 0.6), 0.7, 12, 24, 1) + ground(6, 2)]
+    scene = Scene("environment", materials, triangles, eye=z_up((0.5, 2.2, 6)), look_at=z_up((0, 0.8, 0)),
+                  up=(0, 0, 1), fov=36, background=(0, 0, 0), our_bounces=5, cycles_bounces=5, spp=2048, seeds=8)
+    scene.environment = sky_map()
+    scene.environment.turn = turn
+    return scene
+
+
+# The list test-cycles.sh runs, in order.
+SCENES = {s.name: s for s in (sphere_scene(), cornell_box(), mirror_scene(), glass_scene(), environment_scene())}
 
 
 def aff_text(scene):
@@ -172,17 +241,26 @@ def aff_text(scene):
 def main(argv):
     if len(argv) < 2 or argv[1] in ("-h", "--help"):
         print("scenes.py: writes a scene of test-cycles.sh as an AFF file for our tracer\n"
-              "  /usr/bin/python3 scripts/cycles/scenes.py NAME FILE.aff   (NAME: " + ", ".join(SCENES) + ")\n"
+              "  /usr/bin/python3 scripts/cycles/scenes.py NAME FILE.aff [MAP.pfm]\n"
+              "    NAME: " + ", ".join(SCENES) + "\n"
+              "    MAP.pfm: the scene's environment map, for --environment\n"
               "  /usr/bin/python3 scripts/cycles/scenes.py --list          the names, one a line")
         return 0
     if argv[1] == "--list":
         print("\n".join(SCENES))
         return 0
-    if len(argv) != 3 or argv[1] not in SCENES:
-        print(f"scenes.py: expected NAME FILE.aff with NAME one of {', '.join(SCENES)}", file=sys.stderr)
+    if len(argv) not in (3, 4) or argv[1] not in SCENES:
+        print(f"scenes.py: expected NAME FILE.aff [MAP.pfm] with NAME one of {', '.join(SCENES)}", file=sys.stderr)
+        return 2
+    scene = SCENES[argv[1]]
+    if len(argv) == 4 and scene.environment is None:
+        print(f"scenes.py: scene {argv[1]} has no environment map to write to {argv[3]}", file=sys.stderr)
         return 2
     with open(argv[2], "w", encoding="ascii") as out:
-        out.write(aff_text(SCENES[argv[1]]))
+        out.write(aff_text(scene))
+    if len(argv) == 4:
+        with open(argv[3], "wb") as out:
+            out.write(scene.environment.pfm_bytes())
     return 0
 
 

@@ -7,8 +7,10 @@ channel, must agree within 3 standard errors (ours from the variance image,
 Cycles' from the spread of each pixel over the seeds). With 144 tests a scene
 a few land beyond 3 by chance (0.27% each), so a scene with such blocks is
 rendered again with other random numbers (ours with --sampler sobol, Cycles
-with other seeds), and a block disagrees when it is beyond 3 in both. Then a
-control that must disagree: the Cornell box with one bounce more in Cycles. Exit 1 on disagreement (or a control that agrees)."""
+with other seeds), and a block disagrees when it is beyond 3 in both. Then the
+controls, which must disagree: the Cornell box with one bounce more in Cycles,
+and the environment scene with Cycles' map turned half a turn about +Z. Exit 1
+on disagreement (or a control that agrees)."""
 
 import argparse
 import math
@@ -53,11 +55,16 @@ def run(command, log):
 
 
 def render_ours(args, scene, aff, prefix, bounces, sampler):
+    environment = []
+    if scene.environment is not None:
+        environment = ["--environment", os.path.splitext(aff)[0] + ".pfm"]
+        with open(environment[1], "wb") as out:
+            out.write(scene.environment.pfm_bytes())
     started = time.monotonic()
     run([os.path.join(args.build_dir, "bin", "tracer"), "render", aff, "--integrator", "path", "--spp", str(scene.spp),
          "--max-bounces", str(bounces), "--sampler", sampler, "--width", str(scene.width), "--height",
          str(scene.height), "--threads", str(args.threads), "--pfm", prefix + ".pfm", "--variance-pfm",
-         prefix + ".var.pfm", "-q"], prefix + ".log")
+         prefix + ".var.pfm", "-q", *environment], prefix + ".log")
     return time.monotonic() - started
 
 
@@ -66,7 +73,9 @@ def render_cycles(args, scene, prefix, bounces, first_seed):
     started = time.monotonic()
     run([args.blender, "-b", "--factory-startup", "--python", os.path.join(HERE, "render_cycles.py"), "--",
          scene.name, prefix, "--spp", str(scene.spp // scene.seeds), "--seeds", ",".join(map(str, seeds)),
-         "--bounces", str(bounces), "--threads", str(args.threads)], prefix + ".blender.log")
+         "--bounces", str(bounces), "--threads", str(args.threads),
+         *(["--turn", repr(scene.environment.turn)] if scene.environment is not None else [])],
+        prefix + ".blender.log")
     return time.monotonic() - started, [f"{prefix}-seed{s}.pfm" for s in seeds]
 
 
@@ -121,6 +130,8 @@ def main():
             return (*compare(scene, ours_prefix, files), ours_time, cycles_time)
 
         tag = "" if cycles_bounces == scene.cycles_bounces else f"-cycles{cycles_bounces}"
+        if scene.environment is not None and scene.environment.turn:
+            tag += f"-turn{scene.environment.turn:g}"
         z, ours_mean, cycles_mean, ours_time, cycles_time = render_and_compare(tag, "independent", 1)
         beyond = numpy.abs(z) > LIMIT
         again = "-"
@@ -139,11 +150,17 @@ def main():
         scene = scenes.SCENES[name]
         if check(scene, scene.cycles_bounces, name):
             failed.append(name)
-    control_agrees = False
+    agreeing_controls = []
     if "cornell" in names:
         # Power: a bounce of light more in Cycles must show.
         control = scenes.cornell_box()
-        control_agrees = check(control, control.cycles_bounces + 1, "control: cornell, Cycles a bounce more") == 0
+        if check(control, control.cycles_bounces + 1, "control: cornell, Cycles a bounce more") == 0:
+            agreeing_controls.append("the test cannot tell a bounce of light missing")
+    if "environment" in names:
+        # Orientation: the map turned half a turn about +Z in Cycles must show.
+        control = scenes.environment_scene(turn=0.5)
+        if check(control, control.cycles_bounces, "control: environment, Cycles' map a half turn") == 0:
+            agreeing_controls.append("the test cannot tell the environment map turned half a turn")
     print(common.markdown_table(header, rows), end="")
     print(f"Blocks of {BLOCK}x{BLOCK} pixels, each channel a test, agreeing within {LIMIT:g} combined standard errors; "
           "a scene with tests beyond is rendered again with other random numbers (ours --sampler sobol, whose "
@@ -151,9 +168,9 @@ def main():
           "s: wall seconds of each renderer (Cycles: Blender's start-up included).")
     if failed:
         print(f"test-cycles: DISAGREE with Cycles: {', '.join(failed)}")
-    if control_agrees:
-        print("test-cycles: the control agrees: the test cannot tell a bounce of light missing")
-    return 1 if failed or control_agrees else 0
+    for what in agreeing_controls:
+        print(f"test-cycles: a control agrees: {what}")
+    return 1 if failed or agreeing_controls else 0
 
 
 if __name__ == "__main__":
