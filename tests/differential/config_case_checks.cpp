@@ -77,7 +77,11 @@ std::string prefetch_properties(const Config& config, const reference::Counts& w
     if (found == row.end() || found->second.empty()) return std::nullopt;
     return std::stod(found->second);
   };
-  auto near = [](std::optional<double> got, double want) { return got && std::abs(*got - want) <= 5e-7 * std::max(1.0, std::abs(want)); };
+  // The columns have six decimals, rounded half up: off by at most 5e-7
+  // (a tie, such as 3/384, is off by exactly that), plus double's error.
+  auto near = [](std::optional<double> got, double want) {
+    return got && std::abs(*got - want) <= 5e-7 + 1e-12 * std::max(1.0, std::abs(want));
+  };
   const auto accuracy = value("prefetch_accuracy");
   if (with.prefetches == 0) {
     if (accuracy) out += " prefetch_accuracy given without prefetches";

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <set>
 
-#include <unistd.h>
 
 #include "nodetrace/formats/read/trace_reader.hpp"
 #include "nodetrace/formats/write/trace_writer.hpp"
@@ -201,19 +200,6 @@ void draw_treelet_maps(Draw& draw, ConfigCase& c) {
   }
 }
 
-// Asks the writer to carry each frame's treelet map (WriterOptions::
-// treelet_maps); false where formats has no such option yet (before
-// issue51-trace merges: then the generator draws no maps).
-template <typename Options>
-bool ask_for_treelet_maps(Options& options) {
-  if constexpr (requires { options.treelet_maps = true; }) {
-    options.treelet_maps = true;
-    return true;
-  } else {
-    return false;
-  }
-}
-
 std::vector<std::vector<std::uint64_t>> make_nodes_per_level(const ConfigCase& c) {
   std::vector<std::vector<std::uint64_t>> frames;
   for (std::uint32_t f = 0; f < c.facts.frames; ++f) {
@@ -241,7 +227,7 @@ ConfigCase make_config_case(std::uint64_t seed, const ConfigCaseOptions& options
   c.facts.frames = c.container ? static_cast<std::uint32_t>(draw.between(1, 3)) : 1;
   c.facts.contiguous_levels = draw.chance(70);
   if (c.container) c.facts.nodes_per_level = make_nodes_per_level(c);
-  if (c.container && containers_carry_treelet_maps() && draw.chance(50)) {
+  if (c.container && draw.chance(50)) {
     c.treelet_maps = true;
     draw_treelet_maps(draw, c);
     if (draw.chance(70)) c.rays = draw.between(1, 5000);
@@ -352,7 +338,7 @@ void write_config_case_trace(const ConfigCase& c, const std::filesystem::path& f
   options.address_digits = 16;
   nlohmann::json header;
   header["layout"] = {{"name", c.facts.contiguous_levels ? "bfl" : "dfl"}, {"node_size", 8}, {"node_base", 0}};
-  if (c.treelet_maps) ask_for_treelet_maps(options);
+  options.treelet_maps = c.treelet_maps;
   auto writer = formats::TraceWriter::create(file.string(), header, options);
   std::uint32_t frame = ~std::uint32_t{0};
   for (const TraceRecord& r : c.facts.records) {
@@ -383,42 +369,6 @@ void write_config_case_trace(const ConfigCase& c, const std::filesystem::path& f
   }
   if (c.rays) writer->add_totals({{"rays", {{"primary", *c.rays}}}});
   writer->finish();
-}
-
-bool containers_carry_treelet_maps() {
-  static const bool carried = [] {
-    const auto file = std::filesystem::temp_directory_path() / fmt::format("treelet-map-probe-{}.xdin.zst", ::getpid());
-    formats::WriterOptions options;
-    options.form = formats::RecordForm::ExtendedDin;
-    options.kind = formats::OutputKind::Container;
-    options.threads = 1;
-    bool found = false;
-    if (!ask_for_treelet_maps(options)) return false;
-    try {
-      nlohmann::json header;
-      header["layout"] = {{"name", "treelet"}, {"node_size", 8}, {"node_base", 0}};
-      auto writer = formats::TraceWriter::create(file.string(), header, options);
-      formats::AnimationFrameMarker marker;
-      marker.nodes_per_level = {1};
-      marker.nodes = 1;
-      marker.depth = 1;
-      marker.treelets = formats::TreeletMap{{{0, 8}}};
-      writer->begin_animation_frame(marker);
-      formats::Record record;
-      record.size = 8;
-      record.tag = 0;
-      writer->write(record);
-      writer->finish();
-      auto reader = formats::TraceReader::open(file.string());
-      formats::RecordBatch batch;
-      while (!found && reader->next(batch)) found = batch.marker && batch.marker->treelets;
-    } catch (const std::exception&) {
-      found = false;
-    }
-    std::filesystem::remove(file);
-    return found;
-  }();
-  return carried;
 }
 
 }  // namespace nodetrace::testing

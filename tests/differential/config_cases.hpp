@@ -60,9 +60,7 @@ struct ConfigCase {
   bool per_level = false, per_frame = false;
   bool sampling_allowed = false;  // the list's options go with --sample-windows / --sample-sets
   // The container carries a random treelet map with every animation frame's
-  // marker (facts.treelets), so the lists may draw --prefetch treelet; only
-  // where the container writer and reader carry maps
-  // (containers_carry_treelet_maps).
+  // marker (facts.treelets), so the lists may draw --prefetch treelet.
   bool treelet_maps = false;
   bool prefetch_columns = false;   // the list has --prefetch treelet: its rows have the prefetch columns
   std::optional<std::uint64_t> rays;  // the trailer's totals "rays" (primary), when written
@@ -76,11 +74,6 @@ struct ConfigCase {
 };
 
 ConfigCase make_config_case(std::uint64_t seed, const ConfigCaseOptions& options);
-
-// Whether formats' container writer and reader carry an animation frame's
-// treelet map (AnimationFrameMarker::treelets): found once by writing and
-// reading one.
-bool containers_carry_treelet_maps();
 
 // Writes the case's trace to `file` (plain records, or a container).
 void write_config_case_trace(const ConfigCase& c, const std::filesystem::path& file);
