@@ -260,9 +260,12 @@ ConfigCase make_config_case(std::uint64_t seed, const ConfigCaseOptions& options
   c.list_args = arguments(lists, texts(lists.sizes), texts(lists.blocks), assoc_texts(lists.assocs), lists.policies,
                           lists.schemes, lists.split_levels, lists.high_policies);
 
-  // Odd seeds sample sets (even ones windows), unless (g) is avoided and a reference spans blocks.
+  // Odd seeds sample sets (even ones windows), unless (g) is avoided and a
+  // reference spans blocks of some listed size.
   const bool spans = std::any_of(c.facts.records.begin(), c.facts.records.end(), [&](const TraceRecord& r) {
-    return r.type != 4 && r.type != 5 && !r.other_stream && r.address % lists.blocks[0] + r.size > lists.blocks[0];
+    return r.type != 4 && r.type != 5 && !r.other_stream &&
+           std::any_of(lists.blocks.begin(), lists.blocks.end(),
+                       [&](std::uint64_t block) { return r.address % block + r.size > block; });
   });
   c.sample_sets = c.sampling_allowed && c.seed % 2 == 1 && !(options.avoids('g') && spans);
   if (c.sample_sets && spans) c.known_defect_triggers.push_back("(g) --sample-sets with references that span blocks");

@@ -367,9 +367,14 @@ class SampledRun {
 
   // A reference whose blocks lie in two sets is routed whole, so set
   // sampling would count it in one set's group only: refused, naming it.
+  // An invalidation acts on its address's block alone and a copy-back
+  // changes no count, so neither spans.
   void refuse_spanning_reference(const formats::Record& record, std::uint64_t block_size,
                                  std::uint64_t record_number) const {
-    if (record.type == formats::AccessType::Invalidate || is_other_stream(record.tag)) return;
+    if (record.type == formats::AccessType::Invalidate || record.type == formats::AccessType::CopyBack ||
+        is_other_stream(record.tag)) {
+      return;
+    }
     const formats::Record view = formats::dinero_view(record, form_);
     const std::uint64_t last = view.address + (view.size == 0 ? 0 : view.size - 1);
     if (view.address / block_size == last / block_size && last >= view.address) return;

@@ -61,6 +61,23 @@ class SamplingCommand : public ::testing::Test {
   std::filesystem::path trace_ = dir_ / "walks.din.zst";
 };
 
+// A copy-back or an invalidation that reaches past its block changes no
+// count of another block, so set sampling takes it (harness seed 7001923:
+// `c fffffffffffffff7 8` was refused) and, at 1/1, gives the full run's rows.
+TEST_F(SamplingCommand, CopyBackAndInvalidationThatReachPastTheirBlockAreTakenBySetSampling) {
+  const auto trace = dir_ / "cv.xdin";
+  testing::write_file(trace, "r 0 8\nc fffffffffffffff7 8\nr 8 8\nv c 8\nr 0 8\nr 10 8\n");
+  const std::string options = " --size 64 --block 8 --assoc 2 --format csv";
+  const auto full = run_command(cachesim() + " run " + shell_quoted(trace) + options);
+  const auto sampled = run_command(cachesim() + " run " + shell_quoted(trace) + options + " --sample-sets 1/1");
+  ASSERT_EQ(full.exit_code, 0) << full.err;
+  ASSERT_EQ(sampled.exit_code, 0) << sampled.err;
+  const Csv whole = parse_csv(full.out), by_sets = parse_csv(sampled.out);
+  ASSERT_EQ(whole.rows.size(), 1u);
+  ASSERT_GE(by_sets.rows.size(), 1u);
+  EXPECT_EQ(std::vector<std::string>(by_sets.rows[0].begin(), by_sets.rows[0].begin() + 19), whole.rows[0]);
+}
+
 TEST_F(SamplingCommand, FullCoverageEqualsTheFullRunWithZeroError) {
   const Csv full = parse_csv(run(kConfigs));
   for (const std::string sampling :
