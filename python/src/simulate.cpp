@@ -7,6 +7,7 @@
 #include <pybind11/stl/filesystem.h>
 
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -28,39 +29,29 @@ namespace py = pybind11;
 
 namespace nodetrace::python {
 
-namespace {
-
-constexpr const char* kName = "nodetrace.simulate";
-
-// The options as cachesim run's words: a text as --simulate takes it, a
-// list of words, or a dict, then the keywords.
-std::vector<std::string> simulation_words(const py::object& options, const py::kwargs& keywords) {
+std::vector<std::string> simulation_words(const py::object& options, const std::string& name) {
   std::vector<std::string> words;
   if (py::isinstance<py::str>(options)) {
-    words = cli::split_words(options.cast<std::string>(), "options");
+    words = cli::split_words(options.cast<std::string>(), name.c_str());
   } else if (py::isinstance<py::list>(options) || py::isinstance<py::tuple>(options)) {
     words = options.cast<std::vector<std::string>>();  // words as a command line gives them
   } else if (py::isinstance<py::dict>(options)) {
     words = option_words(options.cast<py::dict>());
   } else if (!options.is_none()) {
-    throw base::UsageError("options: expected cachesim run's options as a text, a list of words or a dict");
+    throw base::UsageError(name + ": expected cachesim run's options as a text, a list of words or a dict");
   }
-  const std::vector<std::string> more = option_words(keywords);
-  words.insert(words.end(), more.begin(), more.end());
   return words;
 }
 
-// Parsed by cachesim run's parser; its parse error, which it prints, raised.
-cachesim::SimulationOptions parse_options(const std::vector<std::string>& words) {
+cachesim::SimulationOptions parse_simulation_options(
+    const std::string& name, const std::function<std::optional<int>(cachesim::SimulationOptions&)>& parse) {
   cachesim::SimulationOptions options;
-  const cachesim::RunArgumentsSyntax syntax(kName, "cachesim run's options, for simulate()", /*traces=*/false);
   std::string printed;
-  const std::optional<int> status =
-      capture_stderr(printed, [&] { return cachesim::parse_run_arguments(words, syntax, options); });
+  const std::optional<int> status = capture_stderr(printed, [&] { return parse(options); });
   if (status) {
-    // "nodetrace.simulate: MESSAGE\nRun with --help ...": the message alone.
+    // "NAME: MESSAGE\nRun with --help ...": the message alone.
     std::string message = printed.substr(0, printed.find('\n'));
-    const std::string prefix = std::string(kName) + ": ";
+    const std::string prefix = name + ": ";
     if (message.rfind(prefix, 0) == 0) message.erase(0, prefix.size());
     throw base::UsageError(*status == 0 ? "--help: the options are cachesim run's (cachesim run --help)" : message);
   }
@@ -90,6 +81,17 @@ py::object report_rows(const cachesim::SimulationReport& report) {
   return py::module_::import("nodetrace").attr("SimulationRows")(rows, columns, notes);
 }
 
+namespace {
+
+constexpr const char* kName = "nodetrace.simulate";
+
+// Parsed by cachesim run's parser; its parse error, which it prints, raised.
+cachesim::SimulationOptions parse_options(const std::vector<std::string>& words) {
+  const cachesim::RunArgumentsSyntax syntax(kName, "cachesim run's options, for simulate()", /*traces=*/false);
+  return parse_simulation_options(
+      kName, [&](cachesim::SimulationOptions& options) { return cachesim::parse_run_arguments(words, syntax, options); });
+}
+
 }  // namespace
 
 void bind_simulate(py::module_& module) {
@@ -116,7 +118,10 @@ class SimulationRows(list):
       "simulate",
       [](const py::object& input, const py::object& options, std::optional<std::string> name,
          const py::kwargs& keywords) {
-        cachesim::SimulationOptions parsed = parse_options(simulation_words(options, keywords));
+        std::vector<std::string> words = simulation_words(options, "options");
+        const std::vector<std::string> more = option_words(keywords);
+        words.insert(words.end(), more.begin(), more.end());
+        cachesim::SimulationOptions parsed = parse_options(words);
         std::unique_ptr<formats::TraceReader> reader;
         std::string column;
         std::optional<py::array_t<ArrayRecord>> held;  // the arrays a reader reads in place

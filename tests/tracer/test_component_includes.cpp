@@ -43,13 +43,15 @@ const std::vector<fs::path>& public_include_folders() {
   static const std::vector<fs::path> folders = {kSource / "base/include", kSource / "cli/include",
                                                 kSource / "formats/include", kSource / "tracer/include",
                                                 kSource / "tracer/options/include",
+                                                kSource / "tracer/simulate/include",
                                                 kSource / "cachesim/include"};
   return folders;
 }
 
-TEST(ComponentIncludes, TracerProgramIncludesOnlyItsOwnAndPublicHeaders) {
-  const fs::path tools = kSource / "tracer/tools";
-  const std::vector<Include> includes = quoted_includes(tools);
+// Every quoted include under `folder` is beside the including file or in a
+// library's public include/ folder.
+void expect_only_own_and_public_headers(const fs::path& folder) {
+  const std::vector<Include> includes = quoted_includes(folder);
   ASSERT_FALSE(includes.empty());
   for (const Include& include : includes) {
     // A quoted include resolves beside the including file first.
@@ -61,9 +63,20 @@ TEST(ComponentIncludes, TracerProgramIncludesOnlyItsOwnAndPublicHeaders) {
       if (fs::exists(kSource / hidden / include.header)) hidden_in = hidden;
     }
     EXPECT_TRUE(in_public) << include.file << ": \"" << include.header
-                           << "\" is neither in tracer/tools nor in a library's include/ folder"
+                           << "\" is neither beside it nor in a library's include/ folder"
                            << (hidden_in.empty() ? "" : " (it is a header of " + hidden_in + ")");
   }
+}
+
+TEST(ComponentIncludes, TracerProgramIncludesOnlyItsOwnAndPublicHeaders) {
+  expect_only_own_and_public_headers(kSource / "tracer/tools");
+}
+
+// The in-render simulation joins the tracer and cachesim through their
+// public headers; the Python module binds the libraries the same way.
+TEST(ComponentIncludes, InRenderSimulationAndPythonModuleIncludeOnlyPublicHeaders) {
+  expect_only_own_and_public_headers(kSource / "tracer/simulate");
+  expect_only_own_and_public_headers(kSource / "python/src");
 }
 
 TEST(ComponentIncludes, TracerLibraryIncludesNoCachesim) {

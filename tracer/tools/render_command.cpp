@@ -26,8 +26,8 @@
 #include "nodetrace/base/standard_output.hpp"
 #include "nodetrace/formats/write/trace_output.hpp"
 #include "nodetrace/tracer/scene/scene_loader.hpp"
+#include "nodetrace/tracer/simulate/in_render_simulation.hpp"
 #include "nodetrace/tracer/render/trace_job.hpp"
-#include "in_render_simulation.hpp"
 #include "trace_info_output.hpp"
 #include "nodetrace/base/output_file.hpp"
 #include "nodetrace/tracer/options/render_options.hpp"
@@ -157,22 +157,9 @@ struct RenderCommand {
 
  private:
   void check_outputs(const TraceJobOptions& options, const std::vector<cli::NamedOutput>& tables) const;
-  std::vector<std::string> trace_names(const TraceJobOptions& options) const;
   void check_simulations() const;
   void write_report(const std::string& path, const cachesim::SimulationReport& text) const;
 };
-
-// The trace column of each layout's simulation: its trace file, or the
-// name {layout} would give it when none is written.
-std::vector<std::string> RenderCommand::trace_names(const TraceJobOptions& options) const {
-  std::vector<std::string> names;
-  const std::vector<LayoutChoice> choices = layout_choices(render_options);
-  for (std::size_t i = 0; i < choices.size(); ++i) {
-    const std::string& file = i == 0 ? options.output : options.other_layouts[i - 1].output;
-    names.push_back(file.empty() ? choices[i].name : file);
-  }
-  return names;
-}
 
 // Each --simulate has its --report; standard output holds one stream.
 void RenderCommand::check_simulations() const {
@@ -338,14 +325,14 @@ int RenderCommand::run() const {
       refuse_layouts_for_nothing(layout_choices(render_options));
     }
     TraceJobOptions options = make_job_options(render_options, scene_options, trace_output.output, traces_optional);
-    std::vector<std::unique_ptr<InRenderSimulation>> simulated;
+    std::vector<std::unique_ptr<simulate::InRenderSimulation>> simulated;
     const std::vector<LayoutChoice> choices = layout_choices(render_options);
     std::vector<std::string> layout_names;
     for (const auto& choice : choices) layout_names.push_back(choice.name);
     for (const auto& text : simulations) {
-      simulated.push_back(std::make_unique<InRenderSimulation>());
+      simulated.push_back(std::make_unique<simulate::InRenderSimulation>());
       if (const std::optional<int> status = simulated.back()->parse(text, layout_names)) return *status;
-      options.sink_makers.push_back(simulated.back()->sink_maker(trace_names(options)));
+      options.sink_makers.push_back(simulated.back()->sink_maker(simulate::InRenderSimulation::trace_names(options, layout_names)));
     }
     std::vector<cli::NamedOutput> tables;
     for (const auto& simulation : simulated) {

@@ -4,7 +4,9 @@
 // thread per layout while the render goes on. The options are parsed and
 // checked by cachesim run's own parser and
 // checks (cachesim's simulation API), and the report is the one cachesim
-// run prints for the container traces the render would write.
+// run prints for the container traces the render would write. A library of
+// its own (the tracer library never includes cachesim): `tracer render` and
+// the Python module's render(simulate=...) share it.
 #pragma once
 
 #include <memory>
@@ -17,7 +19,7 @@
 #include "nodetrace/tracer/render/record_sink.hpp"
 #include "nodetrace/tracer/render/trace_job.hpp"
 
-namespace nodetrace::tracer::tools {
+namespace nodetrace::tracer::simulate {
 
 // One --simulate "[LAYOUT=]OPTIONS" of a render.
 class InRenderSimulation {
@@ -29,6 +31,13 @@ class InRenderSimulation {
   // "LAYOUT=OPTIONS" simulates that layout only (a name of `layout_names`,
   // the {layout} names of the render's layouts); else every layout.
   std::optional<int> parse(const std::string& text, const std::vector<std::string>& layout_names);
+  // The options as already-split words (every layout): parsed by cachesim
+  // run's parser under the same name, its error printed; the exit status
+  // when they end the run, else nullopt with `options` set.
+  static std::optional<int> parse_words(const std::vector<std::string>& words, cachesim::SimulationOptions& options);
+  // Simulates every layout with options already parsed; throws the
+  // simulation plan's error (base::UsageError) for options it refuses.
+  void plan(cachesim::SimulationOptions options);
   // The sinks' maker; `trace_names[i]`: layout i's trace column (its file,
   // or its {layout} name when none is written). What the simulation sees is
   // the container trace of each layout, whatever form -o writes.
@@ -38,6 +47,11 @@ class InRenderSimulation {
   std::vector<cli::NamedOutput> table_files() const;
   // After the job: the report of every layout, in order.
   cachesim::SimulationReport report() const;
+
+  // The trace column of each layout's simulation: its trace file in
+  // `options`, or its {layout} name (`layout_names[i]`) when none is written.
+  static std::vector<std::string> trace_names(const TraceJobOptions& options,
+                                              const std::vector<std::string>& layout_names);
 
   // One layout's simulation (its sink's and the report's).
   struct Layout;
@@ -49,4 +63,4 @@ class InRenderSimulation {
   std::vector<std::shared_ptr<Layout>> layouts_;
 };
 
-}  // namespace nodetrace::tracer::tools
+}  // namespace nodetrace::tracer::simulate

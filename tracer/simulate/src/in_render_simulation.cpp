@@ -1,4 +1,4 @@
-#include "in_render_simulation.hpp"
+#include "nodetrace/tracer/simulate/in_render_simulation.hpp"
 
 #include <fmt/format.h>
 
@@ -13,7 +13,7 @@
 #include "nodetrace/cli/split_words.hpp"
 #include "nodetrace/formats/read/record_pipe.hpp"
 
-namespace nodetrace::tracer::tools {
+namespace nodetrace::tracer::simulate {
 
 // One layout's simulation: the pipe its sink fills, and either the sweep
 // the pipe feeds on the render's thread that hands over the records, or
@@ -111,23 +111,40 @@ std::optional<int> InRenderSimulation::parse(const std::string& text, const std:
     only_layout_ = static_cast<std::size_t>(found - layout_names.begin());
     options = text.substr(equals + 1);
   }
-  cachesim::SimulationOptions parsed;
   std::vector<std::string> words;
-  int status = cli::exit_status_of(kSimulateName, [&] {
+  const int status = cli::exit_status_of(kSimulateName, [&] {
     words = cli::split_words(options, "--simulate");
     return 0;
   });
   if (status != 0) return status;
+  cachesim::SimulationOptions parsed;
+  if (auto parse_status = parse_words(words, parsed)) return parse_status;
+  const int plan_status = cli::exit_status_of(kSimulateName, [&] {
+    plan(std::move(parsed));
+    return 0;
+  });
+  if (plan_status != 0) return plan_status;
+  return std::nullopt;
+}
+
+std::optional<int> InRenderSimulation::parse_words(const std::vector<std::string>& words,
+                                                   cachesim::SimulationOptions& options) {
   const cachesim::RunArgumentsSyntax syntax{
       kSimulateName, "Simulate node caches on the render's records (cachesim run's options, no traces)",
       /*traces=*/false};
-  if (auto parse_status = cachesim::parse_run_arguments(words, syntax, parsed)) return parse_status;
-  status = cli::exit_status_of(kSimulateName, [&] {
-    plan_.emplace(std::move(parsed));
-    return 0;
-  });
-  if (status != 0) return status;
-  return std::nullopt;
+  return cachesim::parse_run_arguments(words, syntax, options);
+}
+
+void InRenderSimulation::plan(cachesim::SimulationOptions options) { plan_.emplace(std::move(options)); }
+
+std::vector<std::string> InRenderSimulation::trace_names(const TraceJobOptions& options,
+                                                         const std::vector<std::string>& layout_names) {
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < layout_names.size(); ++i) {
+    const std::string& file = i == 0 ? options.output : options.other_layouts[i - 1].output;
+    names.push_back(file.empty() ? layout_names[i] : file);
+  }
+  return names;
 }
 
 RecordSinkMaker InRenderSimulation::sink_maker(std::vector<std::string> trace_names) {
@@ -181,4 +198,4 @@ cachesim::SimulationReport InRenderSimulation::report() const {
   return plan_->report(mode_.value_or(cachesim::SimulationMode::Sweep), outcomes);
 }
 
-}  // namespace nodetrace::tracer::tools
+}  // namespace nodetrace::tracer::simulate
