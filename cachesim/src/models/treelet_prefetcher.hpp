@@ -96,16 +96,27 @@ class TreeletPrefetcher {
   void begin_treelets(const formats::TreeletMap* map) {
     has_map_ = map != nullptr;
     if (map != nullptr) map_ = *map;
+    build_block_ends();
   }
 
   const PrefetchCounts& prefetch_counts() const { return counts_; }
 
  private:
   [[gnu::noinline]] void prefetch_after(std::uint64_t block) {
-    const std::optional<PrefetchRange> range =
-        treelet_prefetch_range(map_, block << shift_, std::uint64_t{1} << shift_, limit_);
-    if (!range) return;
-    const std::uint64_t last = (range->end - 1) >> shift_;
+    std::uint64_t end = 0;
+    if (!block_ends_.empty()) {
+      if (block < first_block_ || block - first_block_ >= block_ends_.size()) return;
+      end = block_ends_[block - first_block_];
+      if (end == 0) return;
+      const std::uint64_t block_first = block << shift_;
+      if (limit_ != 0 && end - block_first > limit_) end = block_first + limit_;
+    } else {
+      const std::optional<PrefetchRange> range =
+          treelet_prefetch_range(map_, block << shift_, std::uint64_t{1} << shift_, limit_);
+      if (!range) return;
+      end = range->end;
+    }
+    const std::uint64_t last = (end - 1) >> shift_;
     for (std::uint64_t next = block + 1; next <= last; ++next) {
       const std::uint64_t slot = cache_.place(next);
       if (slot == Cache::kNoSlot) continue;
@@ -120,6 +131,28 @@ class TreeletPrefetcher {
   std::uint64_t limit_;
   formats::TreeletMap map_;
   bool has_map_ = false;
+  // Per block from first_block_: the end of the first treelet that overlaps
+  // it (0: none), so a miss reads its treelet's end instead of searching the
+  // map; empty when the map spans too many blocks (then it is searched).
+  std::vector<std::uint64_t> block_ends_;
+  std::uint64_t first_block_ = 0;
+  static constexpr std::uint64_t kMostTableBlocks = std::uint64_t{1} << 22;
+
+  void build_block_ends() {
+    block_ends_.clear();
+    if (!has_map_ || map_.treelets.empty()) return;
+    const std::uint64_t first = map_.treelets.front().first >> shift_;
+    const formats::TreeletRange& back = map_.treelets.back();
+    const std::uint64_t last = (back.first + back.bytes - 1) >> shift_;
+    if (last - first >= kMostTableBlocks) return;
+    first_block_ = first;
+    block_ends_.assign(last - first + 1, 0);
+    // Earlier treelets win a block they share with later ones.
+    for (auto t = map_.treelets.rbegin(); t != map_.treelets.rend(); ++t) {
+      const std::uint64_t end = t->first + t->bytes;
+      for (std::uint64_t b = t->first >> shift_; b <= (end - 1) >> shift_; ++b) block_ends_[b - first] = end;
+    }
+  }
   PrefetchCounts counts_;
 };
 
