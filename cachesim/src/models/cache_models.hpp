@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "nodetrace/cachesim/models/set_associative_cache.hpp"
+#include "models/marked_recency_sets.hpp"
 #include "models/opt_cache.hpp"
 #include "models/policy_cache.hpp"
 #include "models/replacement_policies.hpp"
@@ -199,14 +200,23 @@ template <typename Use>
 auto with_treelet_prefetcher(const CacheGeometry& geometry, std::uint64_t limit_bytes, Use&& use) {
   validate_geometry(geometry, "cache");
   // One way: every policy replaces the set's block (random's draws choose among one).
-  if (geometry.assoc == 1) return use(TreeletPrefetcher<DirectMappedSlots>(geometry, limit_bytes));
+  if (geometry.assoc == 1) return use(TreeletPrefetcher<SlotMarkedCache<DirectMappedSlots>>(geometry, limit_bytes));
   switch (geometry.replacement) {
-    case ReplacementPolicy::Random: return use(TreeletPrefetcher<PolicyCache<DrawnOrder>>(geometry, limit_bytes));
-    case ReplacementPolicy::Plru: return use(TreeletPrefetcher<PolicyCache<TreePlru>>(geometry, limit_bytes));
+    case ReplacementPolicy::Random:
+      return use(TreeletPrefetcher<SlotMarkedCache<PolicyCache<DrawnOrder>>>(geometry, limit_bytes));
+    case ReplacementPolicy::Plru:
+      return use(TreeletPrefetcher<SlotMarkedCache<PolicyCache<TreePlru>>>(geometry, limit_bytes));
     case ReplacementPolicy::Srrip:
     case ReplacementPolicy::Brrip:
-    case ReplacementPolicy::Drrip: return use(TreeletPrefetcher<PolicyCache<Rrip>>(geometry, limit_bytes));
-    default: return use(TreeletPrefetcher<PolicyCache<RecencyOrder>>(geometry, limit_bytes));
+    case ReplacementPolicy::Drrip:
+      return use(TreeletPrefetcher<SlotMarkedCache<PolicyCache<Rrip>>>(geometry, limit_bytes));
+    default:
+      // LRU and FIFO: shifting arrays while a set is scanned way by way.
+      if (geometry.assoc == 2) return use(TreeletPrefetcher<MarkedRecencySets<2>>(geometry, limit_bytes));
+      if (geometry.assoc == 4) return use(TreeletPrefetcher<MarkedRecencySets<4>>(geometry, limit_bytes));
+      if (geometry.assoc == 8) return use(TreeletPrefetcher<MarkedRecencySets<8>>(geometry, limit_bytes));
+      if (geometry.assoc <= kScanWays) return use(TreeletPrefetcher<MarkedRecencySets<>>(geometry, limit_bytes));
+      return use(TreeletPrefetcher<SlotMarkedCache<PolicyCache<RecencyOrder>>>(geometry, limit_bytes));
   }
 }
 

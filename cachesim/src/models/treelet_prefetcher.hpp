@@ -1,7 +1,8 @@
 // Internal: a cache that prefetches treelets (`cachesim run --prefetch
-// treelet`, nodetrace/cachesim/sweep/treelet_prefetch.hpp). A PolicyCache of
-// any policy but opt, with a mark per slot for a block that a prefetch
-// placed and no demand fetch has used yet: a demand hit on a marked block is
+// treelet`, nodetrace/cachesim/sweep/treelet_prefetch.hpp). A cache of any
+// policy but opt (a PolicyCache, or MarkedRecencySets for LRU and FIFO of
+// few ways), with a mark per block that a prefetch placed and no demand
+// fetch has used yet: a demand hit on a marked block is
 // a useful prefetch. Prefetched blocks enter as the policy inserts a missed
 // one (LRU: most recent; FIFO, random: newest filled; PLRU: the tree points
 // away; RRIP: the insertion value, counting towards BRRIP's every 32nd).
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "models/policy_cache.hpp"
+#include "models/prefetch_demand.hpp"
 #include "nodetrace/cachesim/sweep/treelet_prefetch.hpp"
 #include "nodetrace/formats/container/treelet_map.hpp"
 
@@ -61,36 +63,63 @@ class DirectMappedSlots {
   std::uint64_t mask_;
 };
 
-// `Cache`: a PolicyCache, or DirectMappedSlots for one way.
+// A cache whose blocks stay in their slots (DirectMappedSlots, PolicyCache)
+// with a mark per slot for a block a prefetch placed and no demand fetch has
+// used yet.
 template <typename Cache>
-class TreeletPrefetcher {
+class SlotMarkedCache {
  public:
-  TreeletPrefetcher(const CacheGeometry& geometry, std::uint64_t limit_bytes)
-      : cache_(geometry),
-        unused_(cache_.slots(), 0),
-        shift_(static_cast<unsigned>(std::countr_zero(geometry.block_size))),
-        limit_(limit_bytes) {}
+  explicit SlotMarkedCache(const CacheGeometry& geometry) : cache_(geometry), unused_(cache_.slots(), 0) {}
 
-  // A demand fetch; true on a miss, which prefetches the rest of its treelet.
-  bool access(std::uint64_t block) {
+  PrefetchDemand demand(std::uint64_t block) {
     std::uint64_t slot = 0;
     if (!cache_.access(block, slot)) [[likely]] {
-      if (unused_[slot] != 0) [[unlikely]] {
-        unused_[slot] = 0;
-        ++counts_.useful;
-      }
-      return false;
+      if (unused_[slot] == 0) [[likely]] return PrefetchDemand::Hit;
+      unused_[slot] = 0;
+      return PrefetchDemand::UsefulHit;
     }
     unused_[slot] = 0;
-    if (has_map_) prefetch_after(block);
+    return PrefetchDemand::Miss;
+  }
+
+  // Places `block` as a miss would unless it is resident; true when placed (it is then marked).
+  bool prefetch(std::uint64_t block) {
+    const std::uint64_t slot = cache_.place(block);
+    if (slot == Cache::kNoSlot) return false;
+    unused_[slot] = 1;
     return true;
   }
 
   void invalidate(std::uint64_t block) {
-    if (const std::uint64_t slot = cache_.invalidate_slot(block); slot != Cache::kNoSlot) {
-      unused_[slot] = 0;
-    }
+    if (const std::uint64_t slot = cache_.invalidate_slot(block); slot != Cache::kNoSlot) unused_[slot] = 0;
   }
+
+ private:
+  Cache cache_;
+  std::vector<std::uint8_t> unused_;  // per slot: a prefetched block no demand fetch has used
+};
+
+// `MarkedCache`: SlotMarkedCache<DirectMappedSlots> for one way,
+// MarkedRecencySets for LRU and FIFO of few ways, else SlotMarkedCache<PolicyCache<...>>.
+template <typename MarkedCache>
+class TreeletPrefetcher {
+ public:
+  TreeletPrefetcher(const CacheGeometry& geometry, std::uint64_t limit_bytes)
+      : cache_(geometry), shift_(static_cast<unsigned>(std::countr_zero(geometry.block_size))), limit_(limit_bytes) {}
+
+  // A demand fetch; true on a miss, which prefetches the rest of its treelet.
+  bool access(std::uint64_t block) {
+    const PrefetchDemand demand = cache_.demand(block);
+    if (demand == PrefetchDemand::Hit) [[likely]] return false;
+    if (demand == PrefetchDemand::UsefulHit) {
+      ++counts_.useful;
+      return false;
+    }
+    if (has_map_) prefetch_after(block);
+    return true;
+  }
+
+  void invalidate(std::uint64_t block) { cache_.invalidate(block); }
 
   // The animation frame's map (nullptr: the frame has none, nothing is prefetched).
   void begin_treelets(const formats::TreeletMap* map) {
@@ -118,15 +147,11 @@ class TreeletPrefetcher {
     }
     const std::uint64_t last = (end - 1) >> shift_;
     for (std::uint64_t next = block + 1; next <= last; ++next) {
-      const std::uint64_t slot = cache_.place(next);
-      if (slot == Cache::kNoSlot) continue;
-      unused_[slot] = 1;
-      ++counts_.prefetches;
+      if (cache_.prefetch(next)) ++counts_.prefetches;
     }
   }
 
-  Cache cache_;
-  std::vector<std::uint8_t> unused_;  // per slot: a prefetched block no demand fetch has used
+  MarkedCache cache_;
   unsigned shift_;
   std::uint64_t limit_;
   formats::TreeletMap map_;
