@@ -48,15 +48,42 @@ struct UninitializedAllocator : std::allocator<T> {
 };
 using RecordVector = std::vector<ArrayRecord, UninitializedAllocator<ArrayRecord>>;
 
-inline void append_records(RecordVector& out, std::span<const formats::Record> records,
-                           std::uint64_t frame) {
-  const std::size_t start = out.size();
-  out.resize(start + records.size());
-  ArrayRecord* to = out.data() + start;
+inline void write_records(ArrayRecord* to, std::span<const formats::Record> records, std::uint64_t frame) {
   for (const formats::Record& r : records) {
     *to++ = {r.address, r.size, static_cast<std::uint8_t>(r.type), static_cast<std::uint8_t>(formats::unit_index(r.unit)),
              r.tag, frame};
   }
+}
+
+inline void append_records(RecordVector& out, std::span<const formats::Record> records, std::uint64_t frame) {
+  const std::size_t start = out.size();
+  out.resize(start + records.size());
+  write_records(out.data() + start, records, frame);
+}
+
+// The whole read's array: mapped memory on huge pages, grown in place by
+// mremap when the trace did not say how many records it holds (a plain
+// trace): the kernel moves the pages, where a vector's growth would copy
+// every record and hold both copies at its peak.
+class RecordBuffer {
+ public:
+  explicit RecordBuffer(std::size_t capacity);
+  RecordBuffer(const RecordBuffer&) = delete;
+  RecordBuffer& operator=(const RecordBuffer&) = delete;
+  ~RecordBuffer();
+  void append(std::span<const formats::Record> records, std::uint64_t frame);
+  ArrayRecord* data() const { return data_; }
+  std::size_t size() const { return size_; }
+
+ private:
+  void grow(std::size_t capacity);
+  ArrayRecord* data_ = nullptr;
+  std::size_t size_ = 0;
+  std::size_t capacity_ = 0;
+};
+
+inline void append_records(RecordBuffer& out, std::span<const formats::Record> records, std::uint64_t frame) {
+  out.append(records, frame);
 }
 
 // The records as the inverse: what simulate() takes from arrays.
@@ -70,8 +97,9 @@ inline formats::Record to_record(const ArrayRecord& r) {
   return record;
 }
 
-// The array owns the vector's memory (no copy).
+// The array owns the vector's memory, or the mapping (no copy).
 pybind11::array to_array(RecordVector&& records);
+pybind11::array to_array(std::unique_ptr<RecordBuffer> records);
 
 void register_record_dtype(pybind11::module_& module);
 

@@ -62,9 +62,10 @@ std::shared_ptr<formats::TraceReader> TraceFile::fresh_reader() {
   return reader_;
 }
 
-bool RecordCursor::fill(RecordVector& out, std::size_t limit, const SignalCheck& stop) {
+template <class Records>
+bool RecordCursor::fill(Records& out, std::size_t limit, const SignalCheck& stop) {
   while (out.size() < limit) {
-    if (ended_) return !out.empty();
+    if (ended_) return out.size() != 0;
     if (used_ == batch_.records.size()) {
       stop();
       if (!reader_->next(batch_)) {
@@ -82,18 +83,21 @@ bool RecordCursor::fill(RecordVector& out, std::size_t limit, const SignalCheck&
   return true;
 }
 
+template bool RecordCursor::fill(RecordVector&, std::size_t, const SignalCheck&);
+template bool RecordCursor::fill(RecordBuffer&, std::size_t, const SignalCheck&);
+
 py::array TraceFile::records() {
   std::shared_ptr<formats::TraceReader> reader = fresh_reader();
   return to_array(run_interruptibly([&](const SignalCheck& stop) {
-    RecordVector out;
+    // A container says how many: the array is mapped once, at its size;
+    // otherwise it starts at 4096 records (a short trace maps little) and
+    // doubles in place, at the cost of moving page tables.
     const auto& trailer = reader->trailer();
-    // A container says how many: the array is allocated once, on huge pages
-    // (first touches of 4 KiB pages cost as much as the decoding).
-    if (trailer && trailer->totals.contains("records")) {
-      base::reserve_on_huge_pages(out, trailer->totals["records"].get<std::uint64_t>());
-    }
+    const bool counted = trailer && trailer->totals.contains("records");
+    auto out = std::make_unique<RecordBuffer>(counted ? trailer->totals["records"].get<std::uint64_t>()
+                                                      : std::size_t{1} << 12);
     RecordCursor cursor(reader);
-    cursor.fill(out, SIZE_MAX, stop);
+    cursor.fill(*out, SIZE_MAX, stop);
     return out;
   }));
 }

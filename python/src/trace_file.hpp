@@ -22,7 +22,9 @@ class RecordCursor {
   explicit RecordCursor(std::shared_ptr<formats::TraceReader> reader) : reader_(std::move(reader)) {}
   // Appends records until `out` holds `limit` or the trace ends; false when
   // it ended with nothing appended.
-  bool fill(RecordVector& out, std::size_t limit, const SignalCheck& stop);
+  // (RecordVector or RecordBuffer).
+  template <class Records>
+  bool fill(Records& out, std::size_t limit, const SignalCheck& stop);
 
  private:
   std::shared_ptr<formats::TraceReader> reader_;
