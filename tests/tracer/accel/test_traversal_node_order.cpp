@@ -77,9 +77,11 @@ class ReferenceWalk {
         }
         continue;
       }
+      // The plain walk tests every listed triangle, each time it is listed.
+      detail::NoTestedTriangles every_time;
       const bool hit_here =
-          any_hit ? leaf.visit<true>(node.first, node.count, best, hit, tests)
-                  : leaf.visit<false>(node.first, node.count, best, hit, tests);
+          any_hit ? leaf.visit<true>(node.first, node.count, best, hit, tests, every_time)
+                  : leaf.visit<false>(node.first, node.count, best, hit, tests, every_time);
       if (hit_here) found = true;
       if (any_hit && found) break;
       if (found && best <= t_far) break;
@@ -191,6 +193,19 @@ void expect_same_walks(const Scene& scene, std::uint32_t seed, int count) {
     if (::testing::Test::HasFailure()) return;  // one ray's report is enough
   }
   EXPECT_GT(hits, 0);
+}
+
+// The fast walk skips a triangle it tested in an earlier leaf (the walks
+// above hold its hits, records and test counts to the plain walk's); what
+// it remembers is the last eight ids.
+TEST(TraversalNodeOrderTest, TestedTrianglesRememberTheLastEightIds) {
+  detail::TestedTriangles tested;
+  EXPECT_FALSE(tested.contains(0));
+  EXPECT_FALSE(tested.contains(~std::uint32_t{0} - 1));
+  for (std::uint32_t id = 100; id < 110; ++id) tested.add(id);
+  for (std::uint32_t id = 100; id < 102; ++id) EXPECT_FALSE(tested.contains(id)) << id;
+  for (std::uint32_t id = 102; id < 110; ++id) EXPECT_TRUE(tested.contains(id)) << id;
+  EXPECT_FALSE(tested.contains(110));
 }
 
 TEST(TraversalNodeOrderTest, RandomTrianglesMatchOriginSideWalk) {

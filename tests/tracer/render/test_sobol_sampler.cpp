@@ -111,14 +111,52 @@ TEST(SobolSampler, LowersTheErrorOfADirectlyLitPlaneToAtMostSixTenths) {
   EXPECT_LE(sobol, 0.6 * independent) << "sobol " << sobol << " independent " << independent;
 }
 
-TEST(SobolSampler, SameRaysWhateverTheThreadsAndPixelOrder) {
+// The Cornell box under a dim blue sky.
+Scene lit_cornell_box() {
   Scene scene = test_scenes::cornell_box();
   scene.background = {0.1f, 0.1f, 0.2f};
+  return scene;
+}
+
+RenderOptions path_options(int width, int height, std::uint32_t spp) {
   RenderOptions options;
   options.integrator = Integrator::Path;
-  options.width = 20;
-  options.height = 15;
-  options.path.samples_per_pixel = 4;
+  options.width = width;
+  options.height = height;
+  options.path.samples_per_pixel = spp;
+  return options;
+}
+
+// The hashes a render worker keeps for its pixel (SobolHashCache) give the
+// numbers computed afresh, whatever order pixels, samples and bounces come
+// in, beyond the kept bounces and pairs too.
+TEST(SobolSampler, KeptHashesGiveTheNumbersComputedAfresh) {
+  detail::SobolHashCache kept;
+  int compared = 0;
+  for (const std::uint64_t frame : {std::uint64_t{0}, std::uint64_t{3} << 32}) {
+    for (const std::uint32_t pixel : {5u, 6u, 5u, 1000u}) {
+      for (std::uint32_t sample = 0; sample < 8; ++sample) {
+        const detail::PathRandom fresh(frame, pixel, sample, PathSampler::Sobol, 8);
+        const detail::PathRandom cached(frame, pixel, sample, PathSampler::Sobol, 8, &kept);
+        for (const std::uint32_t bounce : {0u, 1u, 2u, 63u, 64u, 70u}) {
+          for (std::uint32_t dimension = 0; dimension < 20; ++dimension) {
+            ASSERT_EQ(cached.uniform(bounce, dimension), fresh.uniform(bounce, dimension))
+                << frame << " " << pixel << " " << sample << " " << bounce << " " << dimension;
+            const auto a = cached.uniform_pair(bounce, dimension), b = fresh.uniform_pair(bounce, dimension);
+            ASSERT_EQ(a.first, b.first);
+            ASSERT_EQ(a.second, b.second);
+            ++compared;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_EQ(compared, 2 * 4 * 8 * 6 * 20);
+}
+
+TEST(SobolSampler, SameRaysWhateverTheThreadsAndPixelOrder) {
+  const Scene scene = lit_cornell_box();
+  RenderOptions options = path_options(20, 15, 4);
   options.path.sampler = PathSampler::Sobol;
   options.pixels_per_chunk = 13;
   options.threads = 1;

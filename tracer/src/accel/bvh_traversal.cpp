@@ -91,6 +91,7 @@ bool BvhTraversal::traverse(const std::vector<WideNode<W>>& nodes, const Ray& ra
   float best = t_max;
   bool found = false;
   std::uint64_t fetches = 0, leaves = 0, tests = 0;
+  detail::NoTestedTriangles no_tested;
   while (true) {
     if (current.count == 0) {
       ++fetches;
@@ -133,7 +134,7 @@ bool BvhTraversal::traverse(const std::vector<WideNode<W>>& nodes, const Ray& ra
       }
     } else {
       ++leaves;
-      if (leaf.visit<AnyHit>(current.index, current.count, best, hit, tests)) found = true;
+      if (leaf.visit<AnyHit>(current.index, current.count, best, hit, tests, no_tested)) found = true;
       if constexpr (AnyHit) {
         if (found) break;
       }

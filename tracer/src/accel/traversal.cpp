@@ -88,6 +88,7 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
   float best = t_max;
   bool found = false;
   std::uint64_t fetches = 0, leaves = 0, tests = 0;
+  detail::TestedTriangles tested;
 
   while (true) {
     const CompactNode node = nodes[node_index];
@@ -161,7 +162,7 @@ bool Traversal::traverse(const Ray& ray, float t_max, Hit& hit, std::vector<Reco
       continue;
     } else {
       ++leaves;
-      if (leaf.visit<AnyHit>(node.first, node.bits >> 2, best, hit, tests)) found = true;
+      if (leaf.visit<AnyHit>(node.first, node.bits >> 2, best, hit, tests, tested)) found = true;
     }
     if constexpr (AnyHit) {
       if (found) break;

@@ -14,6 +14,7 @@
 
 #include "nodetrace/tracer/render/integrator.hpp"
 #include "render/sobol.hpp"
+#include "render/sobol_hash_cache.hpp"
 
 namespace nodetrace::tracer::detail {
 
@@ -42,8 +43,14 @@ enum PathDimension : std::uint32_t {
 class PathRandom {
  public:
   PathRandom(std::uint64_t animation_frame, std::uint32_t pixel, std::uint32_t sample,
-             PathSampler sampler = PathSampler::Independent, std::uint32_t samples_per_pixel = 1)
-      : frame_(animation_frame), pixel_(pixel), sample_(sample), sampler_(sampler), spp_(samples_per_pixel) {}
+             PathSampler sampler = PathSampler::Independent, std::uint32_t samples_per_pixel = 1,
+             SobolHashCache* sobol_hashes = nullptr)
+      : frame_(animation_frame),
+        pixel_(pixel),
+        sample_(sample),
+        sampler_(sampler),
+        spp_(samples_per_pixel),
+        sobol_hashes_(sobol_hashes) {}
 
   // A uniform float in [0, 1): the top 24 bits of the word, exactly.
   float uniform(std::uint32_t bounce, std::uint32_t dimension) const {
@@ -60,10 +67,9 @@ class PathRandom {
   };
   Pair uniform_pair(std::uint32_t bounce, std::uint32_t first) const {
     if (sampler_ == PathSampler::Sobol) {
-      const r123::Philox4x32::ctr_type hashes = pair_hashes(bounce, first);
-      const std::uint32_t index = permuted(sample_, spp_, hashes[0]);
-      return {to_unit(owen_scramble(sobol_bits(index, 0), hashes[1])),
-              to_unit(owen_scramble(sobol_bits(index, 1), hashes[2]))};
+      const SobolHashes hashes = pair_hashes(bounce, first);
+      const std::uint32_t index = permuted(sample_, spp_, hashes.permutation);
+      return {to_unit(scrambled_sobol(index, 0, hashes.first)), to_unit(scrambled_sobol(index, 1, hashes.second))};
     }
     const r123::Philox4x32::ctr_type words = philox_words(bounce, first);
     return {to_unit(words[first % 4]), to_unit(words[(first + 1) % 4])};
@@ -80,12 +86,17 @@ class PathRandom {
     return philox(counter, key);
   }
 
-  // The hashes of a Sobol pair: Philox of (pixel, bounce, pair, frame), not of the sample.
-  r123::Philox4x32::ctr_type pair_hashes(std::uint32_t bounce, std::uint32_t pair) const {
-    const r123::Philox4x32 philox;
-    const r123::Philox4x32::ctr_type counter = {{pixel_, bounce, pair, static_cast<std::uint32_t>(frame_)}};
-    const r123::Philox4x32::key_type key = {{kSobolSeed, static_cast<std::uint32_t>(frame_ >> 32)}};
-    return philox(counter, key);
+  // The hashes of a Sobol pair: Philox of (pixel, bounce, pair, frame), not
+  // of the sample, so they are kept for the pixel's other samples.
+  SobolHashes pair_hashes(std::uint32_t bounce, std::uint32_t pair) const {
+    const auto compute = [&] {
+      const r123::Philox4x32 philox;
+      const r123::Philox4x32::ctr_type counter = {{pixel_, bounce, pair, static_cast<std::uint32_t>(frame_)}};
+      const r123::Philox4x32::key_type key = {{kSobolSeed, static_cast<std::uint32_t>(frame_ >> 32)}};
+      const r123::Philox4x32::ctr_type words = philox(counter, key);
+      return SobolHashes{words[0], words[1], words[2]};
+    };
+    return sobol_hashes_ ? sobol_hashes_->get(frame_, pixel_, bounce, pair, compute) : compute();
   }
 
   // The second number of a 2D pair: Sobol dimension 1, with its first's index.
@@ -97,15 +108,16 @@ class PathRandom {
   float sobol(std::uint32_t bounce, std::uint32_t dimension) const {
     const bool second = second_of_pair(bounce, dimension);
     const std::uint32_t pair = second ? dimension - 1 : dimension;
-    const r123::Philox4x32::ctr_type hashes = pair_hashes(bounce, pair);
-    const std::uint32_t index = permuted(sample_, spp_, hashes[0]);
-    return to_unit(owen_scramble(sobol_bits(index, second ? 1 : 0), hashes[second ? 2 : 1]));
+    const SobolHashes hashes = pair_hashes(bounce, pair);
+    const std::uint32_t index = permuted(sample_, spp_, hashes.permutation);
+    return to_unit(scrambled_sobol(index, second ? 1 : 0, second ? hashes.second : hashes.first));
   }
 
   std::uint64_t frame_;
   std::uint32_t pixel_, sample_;
   PathSampler sampler_;
   std::uint32_t spp_;
+  SobolHashCache* sobol_hashes_;  // the worker's, or none
 };
 
 }  // namespace nodetrace::tracer::detail

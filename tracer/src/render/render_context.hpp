@@ -11,6 +11,7 @@
 #include "nodetrace/tracer/render/interaction.hpp"
 #include "nodetrace/tracer/render/ray_scheduler.hpp"
 #include "nodetrace/tracer/render/render.hpp"
+#include "render/sobol_hash_cache.hpp"
 
 namespace nodetrace::tracer {
 
@@ -54,6 +55,7 @@ struct Renderer::Context {
   void end_ray(std::uint32_t ray) {
     if (rays) (*rays)[ray].end = static_cast<std::uint32_t>(records->size());
   }
+  detail::SobolHashCache sobol_hashes;  // the path tracer's, for --sampler sobol
 };
 
 // What both integrators know of a hit: its material, the point, and the

@@ -14,6 +14,7 @@
 // Internal header.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 namespace nodetrace::tracer::detail {
@@ -27,26 +28,54 @@ inline std::uint32_t reverse_bits(std::uint32_t v) {
 }
 
 // Point `index` of the Sobol sequence's dimension 0 (van der Corput) or 1
-// (generator matrix: Pascal's triangle mod 2), as a 32-bit fraction.
-inline std::uint32_t sobol_bits(std::uint32_t index, int dimension) {
-  if (dimension == 0) return reverse_bits(index);
-  std::uint32_t result = 0;
-  for (std::uint32_t column = 0x80000000u; index != 0; index >>= 1, column ^= column >> 1) {
-    if (index & 1) result ^= column;
+// (generator matrix: Pascal's triangle mod 2), as a 32-bit fraction with its
+// bits reversed (bit 0 the fraction's first): the form Owen scrambling works
+// on, so neither is reversed twice.
+// Dimension 1 is the XOR of the matrix's columns of the index's set bits,
+// read a byte at a time from a table of each byte's 256 XORs (no branch per
+// bit, which a random index mispredicts half the time).
+inline constexpr auto kSobolDimension1ByByte = [] {
+  std::array<std::array<std::uint32_t, 256>, 4> table{};
+  std::uint32_t column = 1;  // the column of index bit 0, reversed
+  for (int bit = 0; bit < 32; ++bit, column ^= column << 1) {
+    for (std::uint32_t value = 0; value < 256; ++value) {
+      if (value >> (bit % 8) & 1) table[bit / 8][value] ^= column;
+    }
   }
-  return result;
+  return table;
+}();
+
+inline std::uint32_t sobol_bits_reversed(std::uint32_t index, int dimension) {
+  if (dimension == 0) return index;
+  const auto& t = kSobolDimension1ByByte;
+  return t[0][index & 0xffu] ^ t[1][index >> 8 & 0xffu] ^ t[2][index >> 16 & 0xffu] ^ t[3][index >> 24];
 }
 
-// Nested uniform scrambling of a 32-bit fraction, approximated by Burley's
-// hash on the reversed bits (each bit flipped by a hash of the bits above it).
-inline std::uint32_t owen_scramble(std::uint32_t v, std::uint32_t seed) {
-  v = reverse_bits(v);
+// The same point as a 32-bit fraction.
+inline std::uint32_t sobol_bits(std::uint32_t index, int dimension) {
+  return reverse_bits(sobol_bits_reversed(index, dimension));
+}
+
+// Nested uniform scrambling of a 32-bit fraction given with its bits
+// reversed, approximated by Burley's hash (each bit flipped by a hash of the
+// bits above it); returns the scrambled fraction, not reversed.
+inline std::uint32_t owen_scramble_reversed(std::uint32_t v, std::uint32_t seed) {
   v += seed;
   v ^= v * 0x6c50b47cu;
   v ^= v * 0xb82f1e52u;
   v ^= v * 0xc7afe638u;
   v ^= v * 0x8d22f6e6u;
   return reverse_bits(v);
+}
+
+// The same scrambling of a fraction given as it is.
+inline std::uint32_t owen_scramble(std::uint32_t v, std::uint32_t seed) {
+  return owen_scramble_reversed(reverse_bits(v), seed);
+}
+
+// Point `index` of Sobol dimension 0 or 1, Owen-scrambled by `seed`.
+inline std::uint32_t scrambled_sobol(std::uint32_t index, int dimension, std::uint32_t seed) {
+  return owen_scramble_reversed(sobol_bits_reversed(index, dimension), seed);
 }
 
 // A permutation of 0 .. n - 1 chosen by `seed`: element i (Kensler 2013).
