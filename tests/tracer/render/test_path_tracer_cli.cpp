@@ -50,6 +50,9 @@ TEST(PathTracerCli, OptionsThatCannotWorkAreUsageErrorsNamingTheOption) {
       {"--integrator whitted --variance-pfm v.pfm", "--variance-pfm"},
       {"--integrator path --rays primary", "--rays"},
       {"--integrator path --max-depth 4", "--max-depth"},
+      {"--path-seed 3", "--path-seed needs --integrator path"},
+      {"--integrator path --path-seed -1", "--path-seed"},
+      {"--integrator path --path-seed x", "--path-seed"},
   };
   for (const auto& [options, named] : cases) {
     const auto result = run_command(render + options);
@@ -80,6 +83,25 @@ TEST(PathTracerCli, HeaderStatesTheIntegratorAndTheKindsTheSceneCanCast) {
   EXPECT_EQ(totals.at("nonfinite_samples"), 0);
   EXPECT_EQ(totals.at("rays").at("primary"), 32 * 24 * 2);
   EXPECT_GT(totals.at("rays").at("diffuse").get<int>(), 0);
+}
+
+// --path-seed: another set of numbers, stated in the header; 0 is a render
+// without it, header and records alike.
+TEST(PathTracerCli, APathSeedChangesTheNumbersAndTheHeaderSaysSoAndZeroChangesNothing) {
+  TempDir dir;
+  write_file(dir / "matte.aff", matte_scene(true, "0.2 0.3 0.4"));
+  const std::string render = tracer_render((dir / "matte.aff").string()) + "--integrator path --spp 2 ";
+  const auto none = dir / "none.din.zst", zero = dir / "zero.din.zst", seven = dir / "seven.din.zst";
+  ASSERT_EQ(run_command(render + "-o " + none.string()).exit_code, 0);
+  ASSERT_EQ(run_command(render + "--path-seed 0 -o " + zero.string()).exit_code, 0);
+  ASSERT_EQ(run_command(render + "--path-seed 7 -o " + seven.string()).exit_code, 0);
+  EXPECT_EQ(read_file(zero), read_file(none));
+  EXPECT_NE(read_file(seven), read_file(none));
+  const nlohmann::json path = header_of(seven).at("render").at("path");
+  EXPECT_EQ(path.at("seed"), "--path-seed 7: XORed into the keys above");
+  EXPECT_NE(path.at("random").get<std::string>().find("key (0x6e747266, frame >> 32)"), std::string::npos)
+      << path.at("random");
+  EXPECT_FALSE(header_of(none).at("render").at("path").contains("seed"));
 }
 
 TEST(PathTracerCli, WhittedTracesKeepTheirHeaderKeysAndTotals) {

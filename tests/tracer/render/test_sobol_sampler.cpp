@@ -136,8 +136,8 @@ TEST(SobolSampler, KeptHashesGiveTheNumbersComputedAfresh) {
   for (const std::uint64_t frame : {std::uint64_t{0}, std::uint64_t{3} << 32}) {
     for (const std::uint32_t pixel : {5u, 6u, 5u, 1000u}) {
       for (std::uint32_t sample = 0; sample < 8; ++sample) {
-        const detail::PathRandom fresh(frame, pixel, sample, PathSampler::Sobol, 8);
-        const detail::PathRandom cached(frame, pixel, sample, PathSampler::Sobol, 8, &kept);
+        const detail::PathRandom fresh(frame, pixel, sample, PathSampler::Sobol, 8, 9);
+        const detail::PathRandom cached(frame, pixel, sample, PathSampler::Sobol, 8, 9, &kept);
         for (const std::uint32_t bounce : {0u, 1u, 2u, 63u, 64u, 70u}) {
           for (std::uint32_t dimension = 0; dimension < 20; ++dimension) {
             ASSERT_EQ(cached.uniform(bounce, dimension), fresh.uniform(bounce, dimension))
@@ -152,6 +152,34 @@ TEST(SobolSampler, KeptHashesGiveTheNumbersComputedAfresh) {
     }
   }
   EXPECT_EQ(compared, 2 * 4 * 8 * 6 * 20);
+}
+
+// --path-seed: each seed is another render of the same picture, with the
+// same bytes for any thread count.
+TEST(SobolSampler, PathSeedsGiveOtherNumbersOfTheSameMeanWithTheSameBytesForAnyThreads) {
+  const Scene scene = lit_cornell_box();
+  RenderOptions options = path_options(16, 12, 16);
+  for (const PathSampler sampler : {PathSampler::Independent, PathSampler::Sobol}) {
+    options.path.sampler = sampler;
+    options.threads = 1;
+    options.path.seed = 0;
+    const Rendered zero = render(scene, options);
+    options.path.seed = 1;
+    const Rendered one = render(scene, options);
+    options.threads = 2;
+    EXPECT_TRUE(render(scene, options).image.pixels == one.image.pixels);
+    EXPECT_FALSE(one.image.pixels == zero.image.pixels);
+    // The whole image's mean agrees within 3 standard errors (from the
+    // pixels' variances: independent pixels, so they add).
+    double mean_zero = 0, mean_one = 0, variance = 0;
+    const double n = double(zero.image.pixels.size());
+    for (std::size_t i = 0; i < zero.image.pixels.size(); ++i) {
+      mean_zero += zero.image.pixels[i].x / n;
+      mean_one += one.image.pixels[i].x / n;
+      variance += (zero.image.variance[i].x + one.image.variance[i].x) / 16.0 / (n * n);
+    }
+    EXPECT_NEAR(mean_one, mean_zero, 3 * std::sqrt(variance)) << int(sampler);
+  }
 }
 
 TEST(SobolSampler, SameRaysWhateverTheThreadsAndPixelOrder) {

@@ -3,7 +3,7 @@
 // flight or sampled rows). Philox4x32-10 (Salmon et al., "Parallel random
 // numbers: as easy as 1, 2, 3", SC 2011; Random123's header) maps a counter
 // (pixel, sample, bounce << 16 | dimension / 4, animation frame's low 32
-// bits) under the key (kPathSeed, animation frame's high 32 bits) to four
+// bits) under the key (kPathSeed ^ --path-seed, animation frame's high 32 bits) to four
 // 32-bit words; dimension d takes word d % 4. With --sampler sobol the
 // numbers come from sobol.hpp instead, as counter-based. Internal header.
 #pragma once
@@ -44,12 +44,13 @@ class PathRandom {
  public:
   PathRandom(std::uint64_t animation_frame, std::uint32_t pixel, std::uint32_t sample,
              PathSampler sampler = PathSampler::Independent, std::uint32_t samples_per_pixel = 1,
-             SobolHashCache* sobol_hashes = nullptr)
+             std::uint32_t seed = 0, SobolHashCache* sobol_hashes = nullptr)
       : frame_(animation_frame),
         pixel_(pixel),
         sample_(sample),
         sampler_(sampler),
         spp_(samples_per_pixel),
+        seed_(seed),
         sobol_hashes_(sobol_hashes) {}
 
   // A uniform float in [0, 1): the top 24 bits of the word, exactly.
@@ -82,7 +83,7 @@ class PathRandom {
     const r123::Philox4x32 philox;
     const r123::Philox4x32::ctr_type counter = {
         {pixel_, sample_, (bounce << 16) | (dimension / 4), static_cast<std::uint32_t>(frame_)}};
-    const r123::Philox4x32::key_type key = {{kPathSeed, static_cast<std::uint32_t>(frame_ >> 32)}};
+    const r123::Philox4x32::key_type key = {{kPathSeed ^ seed_, static_cast<std::uint32_t>(frame_ >> 32)}};
     return philox(counter, key);
   }
 
@@ -92,7 +93,7 @@ class PathRandom {
     const auto compute = [&] {
       const r123::Philox4x32 philox;
       const r123::Philox4x32::ctr_type counter = {{pixel_, bounce, pair, static_cast<std::uint32_t>(frame_)}};
-      const r123::Philox4x32::key_type key = {{kSobolSeed, static_cast<std::uint32_t>(frame_ >> 32)}};
+      const r123::Philox4x32::key_type key = {{kSobolSeed ^ seed_, static_cast<std::uint32_t>(frame_ >> 32)}};
       const r123::Philox4x32::ctr_type words = philox(counter, key);
       return SobolHashes{words[0], words[1], words[2]};
     };
@@ -117,6 +118,7 @@ class PathRandom {
   std::uint32_t pixel_, sample_;
   PathSampler sampler_;
   std::uint32_t spp_;
+  std::uint32_t seed_;            // --path-seed
   SobolHashCache* sobol_hashes_;  // the worker's, or none
 };
 

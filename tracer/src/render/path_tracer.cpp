@@ -75,7 +75,7 @@ int choose_lobe(const std::array<float, 4>& weights, float pick) {
 
 Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& context) const {
   const detail::PathRandom random(options_.animation_frame, pixel, sample, options_.path.sampler,
-                                  options_.path.samples_per_pixel, &context.sobol_hashes);
+                                  options_.path.samples_per_pixel, options_.path.seed, &context.sobol_hashes);
   const std::uint32_t width = static_cast<std::uint32_t>(options_.width);
   const auto in_pixel = random.uniform_pair(0, detail::kPixelX);
   Ray ray = pinhole_.ray_through(float(pixel % width) + in_pixel.first, float(pixel / width) + in_pixel.second);

@@ -41,7 +41,7 @@ nlohmann::json path_tracing_description(const PathOptions& path) {
           {"camera", "one ray per sample through a uniformly random point of the pixel"},
           {"random", fmt::format("Philox4x32-10, counter (pixel, sample, bounce << 16 | dimension / 4, frame & "
                                  "0xffffffff), key ({:#x}, frame >> 32)",
-                                 detail::kPathSeed)},
+                                 detail::kPathSeed ^ path.seed)},
           {"nonfinite", "a sample whose throughput or radiance becomes NaN or infinite ends, counts as black, and "
                         "is counted in the trailer's totals (nonfinite_samples)"}};
   // Written only for the Sobol sampler, so the independent one's headers are as before.
@@ -50,8 +50,10 @@ nlohmann::json path_tracing_description(const PathOptions& path) {
         "sobol: per pixel and pair of dimensions, the sample number permuted (Kensler 2013) by a hash, indexing "
         "Sobol dimensions 0 and 1, Owen-scrambled (Burley 2020) by hashes; the hashes are Philox4x32-10 of "
         "(pixel, bounce, first dimension of the pair, frame & 0xffffffff), key ({:#x}, frame >> 32)",
-        detail::kSobolSeed);
+        detail::kSobolSeed ^ path.seed);
   }
+  // Written only when given, so the headers of renders without it are as before.
+  if (path.seed != 0) description["seed"] = fmt::format("--path-seed {}: XORed into the keys above", path.seed);
   return description;
 }
 

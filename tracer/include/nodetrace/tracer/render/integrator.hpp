@@ -39,6 +39,9 @@ struct PathOptions {
   std::uint32_t samples_per_pixel = kDefaultSamplesPerPixel;
   int max_bounces = kDefaultMaxBounces;
   PathSampler sampler = PathSampler::Independent;
+  // --path-seed: XORed into both samplers' Philox keys, for independent
+  // renders of one scene (0: the numbers of a render without it).
+  std::uint32_t seed = 0;
 };
 
 }  // namespace nodetrace::tracer

@@ -190,6 +190,7 @@ struct RenderCommandOptions {
   std::optional<std::uint32_t> spp;
   std::optional<int> max_bounces;
   std::optional<std::string> sampler;
+  std::optional<std::uint32_t> path_seed;
   std::optional<std::string> environment;  // --environment FILE.pfm
 };
 
@@ -219,6 +220,10 @@ inline void add_path_options(CLI::App& app, RenderCommandOptions& o) {
                  "sobol (Owen-scrambled Sobol: lower error at the same samples); both give the same bytes for "
                  "any threads, pixel order or rays in flight")
       ->check(CLI::IsMember({"independent", "sobol"}));
+  app.add_option("--path-seed", o.path_seed,
+                 "--integrator path: another set of random numbers for either sampler, for independent renders "
+                 "of one scene (default 0: the numbers of a render without it)")
+      ->type_name("UINT");
   app.add_option("--environment", o.environment,
                  "--integrator path: light from an equirectangular colour PFM map of linear radiance instead of the "
                  "background, oriented as Blender's environment texture (+Z up, +X the middle column), sampled by "
@@ -246,12 +251,16 @@ inline void apply_integrator(const RenderCommandOptions& r, RenderOptions& rende
   if (render.integrator != Integrator::Path) {
     if (r.spp) throw base::UsageError("--spp needs --integrator path (the Whitted tracer casts one ray per pixel)");
     if (r.sampler) throw base::UsageError("--sampler needs --integrator path (the Whitted tracer draws no numbers)");
+    if (r.path_seed) {
+      throw base::UsageError("--path-seed needs --integrator path (the Whitted tracer draws no numbers)");
+    }
     if (r.environment) {
       throw base::UsageError("--environment needs --integrator path (the Whitted tracer shows the background colour)");
     }
     return;
   }
   if (r.sampler) render.path.sampler = *parse_sampler(*r.sampler);
+  render.path.seed = r.path_seed.value_or(0);
   render.path.samples_per_pixel = r.spp.value_or(kDefaultSamplesPerPixel);
   render.path.max_bounces = r.max_bounces.value_or(kDefaultMaxBounces);
 }
