@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Blender Cycles as the image oracle of the path tracer: each scene of
 # scripts/cycles/scenes.py (a Lambertian sphere under a white sky, the Cornell
-# box lit by its emissive quad, a mirror, a dielectric, an environment map)
-# rendered by `tracer render --integrator path` and by Cycles (Debian's
-# blender, headless, installed if missing), every 8x8-pixel block's mean held
-# within 3 standard errors (docs/guide/testing.md). Prints a table per scene;
-# exits 1 on a disagreement. Needs a build (scripts/setup.sh). Blender's
-# output goes to the logs under --out.
+# box lit by its emissive quad, a mirror, a dielectric, an environment map,
+# GGX lobes) rendered by `tracer render --integrator path` and by Cycles
+# (Debian's blender, headless, installed if missing), every 8x8-pixel block's
+# mean held within 3 standard errors (docs/guide/testing.md). Prints a table
+# per scene; exits 1 on a disagreement. Needs a build (scripts/setup.sh).
+# Blender's output goes to the logs under --out.
 #   scripts/test-cycles.sh [--build-dir build] [--out out/test-cycles] [--threads 2] [--scenes sphere,cornell]
 set -euo pipefail
 cd "$(dirname "$0")/.."

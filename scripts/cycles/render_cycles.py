@@ -3,14 +3,18 @@ image written as a colour PFM (linear radiance, the mean of the samples):
 
   blender -b --factory-startup --python scripts/cycles/render_cycles.py -- \\
       NAME OUT_PREFIX --spp N --seeds 1,2,3 [--bounces B | --our-bounces B] [--threads T]
-      [--width W --height H] [--turn T]
+      [--width W --height H] [--turn T] [--roughness-exponent E]
 
 writes OUT_PREFIX-seedS.pfm for each seed S and OUT_PREFIX-times.csv (seed,
 wall and CPU seconds of the process during that render: scene
 synchronisation, BVH build and the samples; Blender's start-up and this
 script's set-up are left out). --our-bounces B: Cycles' bounces that match
 our --max-bounces B for this scene's light (scenes.py). --turn T: the
-environment map rotated by T of a turn about +Z (the control). The same
+environment map rotated by T of a turn about +Z (the control).
+--roughness-exponent E: each GGX lobe's Roughness is ours to the power E
+(0.5 for the control: Cycles' alpha, its Roughness squared, is then our
+roughness, not its square). A GGX lobe is a Glossy BSDF with distribution
+GGX, whose colour is ours (no Fresnel term in either). The same
 triangles as ours (no axis conversion: the vertices are set here, not read
 by Blender's OBJ importer, which turns Y up into Z up), the camera by eye,
 look-at, up and vertical field of view, a box pixel filter of width 1, the
@@ -37,7 +41,8 @@ def arguments():
         print(__doc__)
         sys.exit(0 if argv and argv[0] in ("-h", "--help") else 2)
     options = {"name": argv[0], "prefix": argv[1], "spp": None, "seeds": None, "bounces": None,
-               "our-bounces": None, "turn": None, "threads": 0, "width": None, "height": None}
+               "our-bounces": None, "turn": None, "threads": 0, "width": None, "height": None,
+               "roughness-exponent": None}
     i = 2
     while i < len(argv):
         key = argv[i][2:]
@@ -53,7 +58,7 @@ def arguments():
     return options
 
 
-def shader(nodes, links, material):
+def shader(nodes, links, material, roughness_exponent):
     """The sum of the material's lobes (Add Shader), as ours adds them."""
     parts = []
     if any(c > 0 for c in material.diffuse):
@@ -65,6 +70,12 @@ def shader(nodes, links, material):
         node = nodes.new("ShaderNodeBsdfGlossy")
         node.distribution = "SHARP"
         node.inputs["Color"].default_value = (material.mirror, material.mirror, material.mirror, 1)
+        parts.append(node)
+    if material.roughness > 0:
+        node = nodes.new("ShaderNodeBsdfGlossy")
+        node.distribution = "GGX"
+        node.inputs["Color"].default_value = (*material.ggx, 1)
+        node.inputs["Roughness"].default_value = material.roughness ** roughness_exponent
         parts.append(node)
     if material.glass > 0:
         node = nodes.new("ShaderNodeBsdfGlass")
@@ -124,7 +135,8 @@ def build(scene_data, width, height):
         nodes, links = m.node_tree.nodes, m.node_tree.links
         nodes.clear()
         output = nodes.new("ShaderNodeOutputMaterial")
-        links.new(shader(nodes, links, material).outputs[0], output.inputs["Surface"])
+        links.new(shader(nodes, links, material, scene_data.cycles_roughness_exponent).outputs[0],
+                  output.inputs["Surface"])
         mesh.materials.append(m)
     mesh.polygons.foreach_set("material_index", material_indices)
     mesh.update()
@@ -206,6 +218,8 @@ def main():
             print(f"render_cycles.py: --turn: scene {data.name} has no environment map", file=sys.stderr)
             sys.exit(2)
         data.environment.turn = float(options["turn"])
+    if options["roughness-exponent"] is not None:
+        data.cycles_roughness_exponent = float(options["roughness-exponent"])
     bounces = data.cycles_bounces
     if options["bounces"] is not None:
         bounces = int(options["bounces"])

@@ -7,8 +7,10 @@ Python, no axis conversion).
 Materials are what both renderers have in common: a sum of a Lambertian lobe
 (diffuse colour), a perfect mirror (reflectance), a smooth dielectric
 (transmittance and index of refraction, Fresnel choosing reflection or
-refraction) and emitted radiance (from both faces). Our glossy lobe (modified
-Phong) is not among them: Cycles has no such BSDF (docs/guide/testing.md).
+refraction), a GGX microfacet lobe (colour and roughness: ours is Cycles'
+Glossy BSDF with distribution GGX) and emitted radiance (from both faces).
+Our modified-Phong glossy lobe is not among them: Cycles has no such BSDF
+(docs/guide/testing.md).
 
 Bounces: the scene gives ours and Cycles' separately. Cycles' max_bounces B
 shades B + 1 hits (next-event estimation at each) and lets the last one's
@@ -26,8 +28,11 @@ import sys
 
 
 class Material:
-    def __init__(self, diffuse=(0, 0, 0), mirror=0.0, glass=0.0, ior=1.0, emission=(0, 0, 0)):
+    def __init__(self, diffuse=(0, 0, 0), mirror=0.0, glass=0.0, ior=1.0, emission=(0, 0, 0), ggx=(0, 0, 0),
+                 roughness=0.0):
         self.diffuse, self.mirror, self.glass, self.ior, self.emission = diffuse, mirror, glass, ior, emission
+        # A GGX lobe of colour `ggx` when roughness > 0 (AFF `fg`).
+        self.ggx, self.roughness = ggx, roughness
 
 
 class Scene:
@@ -44,6 +49,9 @@ class Scene:
         self.spp, self.seeds = spp, seeds
         self.width, self.height = width, height
         self.environment = None  # or an Environment, which replaces the background
+        # Cycles' Glossy roughness is ours to this power: 1, or 0.5 for the
+        # control (Cycles' alpha then our roughness, not its square).
+        self.cycles_roughness_exponent = 1.0
 
 
 def quad(a, b, c, d, material):
@@ -210,14 +218,39 @@ def environment_scene(turn=0.0):
     return scene
 
 
+def glossy_scene(cycles_roughness_exponent=1.0):
+    """GGX lobes: a gold GGX sphere of roughness 0.3 beside a grey
+    Lambertian one, on a ground whose left half is a rough GGX lobe (0.6)
+    over a dark diffuse one and whose right half is diffuse, lit by sky_map()
+    (its sun gives the sphere a highlight) and a small emissive quad high
+    on the left; modelled with +Z up as environment_scene(). Both lights are
+    sampled at every hit by next-event estimation, so the bounces are the
+    same B in both."""
+    materials = [Material(ggx=(0.9, 0.65, 0.3), roughness=0.3), Material(diffuse=(0.5, 0.5, 0.5)),
+                 Material(diffuse=(0.15, 0.15, 0.15), ggx=(0.6, 0.6, 0.6), roughness=0.6),
+                 Material(diffuse=(0.5, 0.5, 0.5)), Material(emission=(8, 8, 8))]
+    s = 6
+    ground = (quad((-s, 0, -s), (-s, 0, s), (0, 0, s), (0, 0, -s), 2) +
+              quad((0, 0, -s), (0, 0, s), (s, 0, s), (s, 0, -s), 3))
+    lamp = quad((-3.5, 4, -1.5), (-2.5, 4, -1.5), (-2.5, 4, -0.5), (-3.5, 4, -0.5), 4)
+    triangles = [(z_up(a), z_up(b), z_up(c), m) for a, b, c, m in
+                 sphere((-0.9, 1.0, 0), 1.0, 12, 24, 0) + sphere((1.2, 0.7, 0.6), 0.7, 12, 24, 1) + ground + lamp]
+    scene = Scene("glossy", materials, triangles, eye=z_up((0.5, 2.2, 6)), look_at=z_up((0, 0.8, 0)),
+                  up=(0, 0, 1), fov=36, background=(0, 0, 0), our_bounces=5, cycles_bounces=5, spp=2048, seeds=8)
+    scene.environment = sky_map()
+    scene.cycles_roughness_exponent = cycles_roughness_exponent
+    return scene
+
+
 # The list test-cycles.sh runs, in order.
-SCENES = {s.name: s for s in (sphere_scene(), cornell_box(), mirror_scene(), glass_scene(), environment_scene())}
+SCENES = {s.name: s for s in (sphere_scene(), cornell_box(), mirror_scene(), glass_scene(), environment_scene(),
+                              glossy_scene())}
 
 
 def aff_text(scene):
     """The scene as an AFF file for our tracer: the view, the background, no
-    ambient light, one `fm` material (plus `fe` for an emitter) before its
-    triangles."""
+    ambient light, one `fm` material (plus `fe` for an emitter, `fg` for a
+    GGX lobe) before its triangles."""
     def v(values):
         return " ".join(repr(float(x)) for x in values)
     lines = [f"# {scene.name}: written by scripts/cycles/scenes.py", "v",
@@ -233,6 +266,8 @@ def aff_text(scene):
             lines.append(f"fm 0 0 0 {v(m.diffuse)} {v([m.mirror] * 3)} 0 {float(m.glass)!r} {float(m.ior)!r}")
             if any(e > 0 for e in m.emission):
                 lines.append(f"fe {v(m.emission)}")
+            if m.roughness > 0:
+                lines.append(f"fg {v(m.ggx)} {float(m.roughness)!r}")
             current = material
         lines.append(f"p 3 {v(v0)} {v(v1)} {v(v2)}")
     return "\n".join(lines) + "\n"

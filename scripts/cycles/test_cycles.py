@@ -9,8 +9,10 @@ a few land beyond 3 by chance (0.27% each), so a scene with such blocks is
 rendered again with other random numbers (ours with --sampler sobol, Cycles
 with other seeds), and a block disagrees when it is beyond 3 in both. Then the
 controls, which must disagree: the Cornell box with one bounce more in Cycles,
-and the environment scene with Cycles' map turned half a turn about +Z. Exit 1
-on disagreement (or a control that agrees)."""
+the environment scene with Cycles' map turned half a turn about +Z, and the
+glossy scene with Cycles' GGX alpha our roughness instead of its square. A
+control changes only Cycles' side, so it reuses ours' images of its scene.
+Exit 1 on disagreement (or a control that agrees)."""
 
 import argparse
 import math
@@ -54,7 +56,17 @@ def run(command, log):
                          f"the end of {log}:\n{tail}")
 
 
+# Ours' renders of this run by (AFF text, sampler): a control, which changes
+# only Cycles' side, reuses them.
+OURS_RENDERED = {}
+
+
 def render_ours(args, scene, aff, prefix, bounces, sampler):
+    """The prefix of ours' images and the seconds they took."""
+    with open(aff, encoding="ascii") as text:
+        key = (text.read(), scene.environment.pfm_bytes() if scene.environment is not None else b"", bounces, sampler)
+    if key in OURS_RENDERED:
+        return OURS_RENDERED[key]
     environment = []
     if scene.environment is not None:
         environment = ["--environment", os.path.splitext(aff)[0] + ".pfm"]
@@ -65,7 +77,8 @@ def render_ours(args, scene, aff, prefix, bounces, sampler):
          "--max-bounces", str(bounces), "--sampler", sampler, "--width", str(scene.width), "--height",
          str(scene.height), "--threads", str(args.threads), "--pfm", prefix + ".pfm", "--variance-pfm",
          prefix + ".var.pfm", "-q", *environment], prefix + ".log")
-    return time.monotonic() - started
+    OURS_RENDERED[key] = (prefix, time.monotonic() - started)
+    return OURS_RENDERED[key]
 
 
 def render_cycles(args, scene, prefix, bounces, first_seed):
@@ -74,7 +87,8 @@ def render_cycles(args, scene, prefix, bounces, first_seed):
     run([args.blender, "-b", "--factory-startup", "--python", os.path.join(HERE, "render_cycles.py"), "--",
          scene.name, prefix, "--spp", str(scene.spp // scene.seeds), "--seeds", ",".join(map(str, seeds)),
          "--bounces", str(bounces), "--threads", str(args.threads),
-         *(["--turn", repr(scene.environment.turn)] if scene.environment is not None else [])],
+         *(["--turn", repr(scene.environment.turn)] if scene.environment is not None else []),
+         "--roughness-exponent", repr(scene.cycles_roughness_exponent)],
         prefix + ".blender.log")
     return time.monotonic() - started, [f"{prefix}-seed{s}.pfm" for s in seeds]
 
@@ -123,8 +137,8 @@ def main():
             out.write(scenes.aff_text(scene))
 
         def render_and_compare(tag, sampler, first_seed):
-            ours_prefix = os.path.join(args.out, f"{scene.name}{tag}.ours")
-            ours_time = render_ours(args, scene, aff, ours_prefix, scene.our_bounces, sampler)
+            ours_prefix, ours_time = render_ours(args, scene, aff, os.path.join(args.out, f"{scene.name}{tag}.ours"),
+                                                 scene.our_bounces, sampler)
             cycles_time, files = render_cycles(args, scene, os.path.join(args.out, f"{scene.name}{tag}.cycles"),
                                                cycles_bounces, first_seed)
             return (*compare(scene, ours_prefix, files), ours_time, cycles_time)
@@ -132,6 +146,8 @@ def main():
         tag = "" if cycles_bounces == scene.cycles_bounces else f"-cycles{cycles_bounces}"
         if scene.environment is not None and scene.environment.turn:
             tag += f"-turn{scene.environment.turn:g}"
+        if scene.cycles_roughness_exponent != 1:
+            tag += f"-roughness{scene.cycles_roughness_exponent:g}"
         z, ours_mean, cycles_mean, ours_time, cycles_time = render_and_compare(tag, "independent", 1)
         beyond = numpy.abs(z) > LIMIT
         again = "-"
@@ -161,11 +177,17 @@ def main():
         control = scenes.environment_scene(turn=0.5)
         if check(control, control.cycles_bounces, "control: environment, Cycles' map a half turn") == 0:
             agreeing_controls.append("the test cannot tell the environment map turned half a turn")
+    if "glossy" in names:
+        # The GGX lobe's width: Cycles' alpha our roughness, not its square, must show.
+        control = scenes.glossy_scene(cycles_roughness_exponent=0.5)
+        if check(control, control.cycles_bounces, "control: glossy, Cycles' alpha = roughness") == 0:
+            agreeing_controls.append("the test cannot tell alpha = roughness from alpha = roughness squared")
     print(common.markdown_table(header, rows), end="")
     print(f"Blocks of {BLOCK}x{BLOCK} pixels, each channel a test, agreeing within {LIMIT:g} combined standard errors; "
           "a scene with tests beyond is rendered again with other random numbers (ours --sampler sobol, whose "
           "variance image overstates its error; Cycles other seeds), and a test fails when it is beyond in both. "
-          "s: wall seconds of each renderer (Cycles: Blender's start-up included).")
+          "s: wall seconds of each renderer (Cycles: Blender's start-up included; a control's ours: the reused "
+          "render's).")
     if failed:
         print(f"test-cycles: DISAGREE with Cycles: {', '.join(failed)}")
     for what in agreeing_controls:

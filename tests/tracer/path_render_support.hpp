@@ -23,6 +23,16 @@ struct Rendered {
   Image image;
 };
 
+// Path tracing a side x side image.
+inline RenderOptions path_options(int side, std::uint32_t spp, int max_bounces) {
+  RenderOptions options;
+  options.integrator = Integrator::Path;
+  options.width = options.height = side;
+  options.path.samples_per_pixel = spp;
+  options.path.max_bounces = max_bounces;
+  return options;
+}
+
 // Renders every pixel over a kd-tree in DFL layout, or only `runs` of the
 // pixel sequence when given.
 inline Rendered render(const Scene& scene, const RenderOptions& options,

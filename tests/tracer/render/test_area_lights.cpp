@@ -21,17 +21,9 @@ namespace {
 
 using formats::Record;
 using path_testing::form_factor;
+using path_testing::path_options;
 using path_testing::render;
 using path_testing::Rendered;
-
-RenderOptions path_options(int side, std::uint32_t spp, int max_bounces) {
-  RenderOptions options;
-  options.integrator = Integrator::Path;
-  options.width = options.height = side;
-  options.path.samples_per_pixel = spp;
-  options.path.max_bounces = max_bounces;
-  return options;
-}
 
 // A plane of Kd at z = 0 and, at z = 1, a black rectangle emitting Le
 // downward and upward, seen from the side so the camera never sees it.

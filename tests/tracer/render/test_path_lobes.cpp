@@ -95,6 +95,16 @@ TEST(PathLobes, WeightsAreTheMaterialsAndHostileOnesCountAsZero) {
   EXPECT_EQ(w.dielectric, 0.125f);
   m.shininess = 10;
   EXPECT_EQ(lobe_weights(m).glossy, 0.5f);
+  m.ggx_color = {0.2f, 0.4f, 0.6f};
+  EXPECT_EQ(lobe_weights(m).ggx, 0.0f);  // no roughness: no GGX lobe
+  m.ggx_roughness = 0.5f;
+  EXPECT_FLOAT_EQ(lobe_weights(m).ggx, 0.4f);
+  Material ggx_only;
+  ggx_only.diffuse = {0, 0, 0};
+  ggx_only.ggx_color = {1, 1, 1};
+  ggx_only.ggx_roughness = 0.3f;
+  EXPECT_TRUE(lobe_weights(ggx_only).lit());  // next-event estimation serves it
+  EXPECT_FLOAT_EQ(lobe_weights(ggx_only).total(), 1.0f);
   m.diffuse = {std::numeric_limits<float>::quiet_NaN(), 0, 0};
   m.reflectance = -1;
   w = lobe_weights(m);

@@ -1,6 +1,7 @@
 // Materials that would render negative or made-up radiance are errors
-// naming the file, the line and the value (issue 49 item 4); legal but
-// extreme values still load.
+// naming the file, the line and the value (issue 49 item 4), and so are GGX
+// roughnesses outside (0, 1] (MTL `Pr`, AFF `fg`); legal but extreme values
+// still load.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -32,6 +33,21 @@ void expect_refused(const std::filesystem::path& scene, const BadMaterial& bad) 
   EXPECT_NE(message.find(bad.value), std::string::npos) << bad.text << "\n-> " << message;
 }
 
+// An OBJ file of one triangle whose MTL file is bad.text, refused.
+void expect_mtl_refused(const BadMaterial& bad) {
+  TempDir dir;
+  write_file(dir / "m.mtl", bad.text);
+  write_file(dir / "s.obj", kTriangle);
+  expect_refused(dir / "s.obj", bad);
+}
+
+// An AFF file bad.text, refused.
+void expect_aff_refused(const BadMaterial& bad) {
+  TempDir dir;
+  write_file(dir / "bad.aff", bad.text);
+  expect_refused(dir / "bad.aff", bad);
+}
+
 TEST(BadMaterials, MtlNegativeNanOrZeroIorNameFileLineAndValue) {
   const BadMaterial cases[] = {
       {"newmtl a\nKd 0.5 -0.25 0.5\n", "m.mtl:2:", "-0.25"},
@@ -41,12 +57,7 @@ TEST(BadMaterials, MtlNegativeNanOrZeroIorNameFileLineAndValue) {
       {"newmtl a\nKe 1 1 1e39\n", "m.mtl:2:", "1e39"},
       {"newmtl a\nd -0.5\n", "m.mtl:2:", "-0.5"},
   };
-  for (const auto& bad : cases) {
-    TempDir dir;
-    write_file(dir / "m.mtl", bad.text);
-    write_file(dir / "s.obj", kTriangle);
-    expect_refused(dir / "s.obj", bad);
-  }
+  for (const auto& bad : cases) expect_mtl_refused(bad);
 }
 
 TEST(BadMaterials, AffNegativeColourOrIorNamesFileLineAndValue) {
@@ -57,11 +68,28 @@ TEST(BadMaterials, AffNegativeColourOrIorNamesFileLineAndValue) {
       {"f 1 1 1 0.5 0 1 0 nan\np 3 0 0 0 1 0 0 0 1 0\n", "bad.aff:1:", "'nan'"},
       {"am -0.1 0 0\np 3 0 0 0 1 0 0 0 1 0\n", "bad.aff:1:", "'-0.1'"},
   };
-  for (const auto& bad : cases) {
-    TempDir dir;
-    write_file(dir / "bad.aff", bad.text);
-    expect_refused(dir / "bad.aff", bad);
-  }
+  for (const auto& bad : cases) expect_aff_refused(bad);
+}
+
+TEST(BadMaterials, MtlRoughnessNotAboveZeroAndAtMostOneNamesFileLineAndValue) {
+  const BadMaterial cases[] = {
+      {"newmtl a\nKs 1 1 1\nPr 0\n", "m.mtl:3:", "Pr 0"},  // a smooth mirror is illum 3
+      {"newmtl a\nPr 1.5\n", "m.mtl:2:", "1.5"},
+      {"newmtl a\nPr nan\n", "m.mtl:2:", "nan"},
+      {"newmtl a\nPr -0.25\n", "m.mtl:2:", "-0.25"},
+  };
+  for (const auto& bad : cases) expect_mtl_refused(bad);
+}
+
+TEST(BadMaterials, AffGgxLobeOfBadColourOrRoughnessNamesFileLineAndValue) {
+  const BadMaterial cases[] = {
+      {"f 1 1 1 0.5 0 1 0 1\nfg 1 1 1 0\np 3 0 0 0 1 0 0 0 1 0\n", "bad.aff:2:", "got 0"},
+      {"f 1 1 1 0.5 0 1 0 1\n\nfg 1 1 1 1.5\np 3 0 0 0 1 0 0 0 1 0\n", "bad.aff:3:", "got 1.5"},
+      {"f 1 1 1 0.5 0 1 0 1\nfg 1 1 1 nan\np 3 0 0 0 1 0 0 0 1 0\n", "bad.aff:2:", "'nan'"},
+      {"f 1 1 1 0.5 0 1 0 1\nfg 1 -0.5 1 0.5\np 3 0 0 0 1 0 0 0 1 0\n", "bad.aff:2:", "'-0.5'"},
+      {"fg 1 1 1 0.5\np 3 0 0 0 1 0 0 0 1 0\n", "bad.aff:1:", "'fg' needs a material"},
+  };
+  for (const auto& bad : cases) expect_aff_refused(bad);
 }
 
 TEST(BadMaterials, ExtremeLegalValuesStillLoad) {

@@ -1,7 +1,7 @@
 // One path of the path tracer (--integrator path). The camera ray passes
 // through a random point of the pixel; at each hit, next-event estimation
 // casts one shadow ray per light in front of the surface (as the Whitted
-// tracer does) when the material has a diffuse or glossy lobe, then one
+// tracer does) when the material has a diffuse, glossy or GGX lobe, then one
 // bounce ray from one lobe (path_lobes.hpp) continues the path. A path that
 // escapes collects the background: it is light from every direction (an
 // environment). Point lights follow the scene files' convention that the
@@ -13,16 +13,19 @@
 // Emissive triangles (emitters.hpp) are area lights in physical units: a ray
 // that meets one collects its radiance, and next-event estimation casts one
 // more shadow ray, to a point on an emitter chosen by power; the two
-// estimates of a diffuse or glossy lobe's light are combined with multiple
-// importance sampling (Veach's power heuristic, per lobe: the bounce ray's
-// density is its lobe's choice probability times the lobe's density). Record
-// order: each ray's fetches when it is cast, shadow rays before the bounce
-// ray of their hit, the emitter's after the point lights'.
+// estimates of a diffuse, glossy or GGX lobe's light are combined with
+// multiple importance sampling (Veach's power heuristic, per lobe: the
+// bounce ray's density is its lobe's choice probability times the lobe's
+// density). Record order: each ray's fetches when it is cast, shadow rays
+// before the bounce ray of their hit, the emitter's after the point lights'.
 // An environment map (--environment, environment_map.hpp) replaces the
 // background: a ray that escapes collects the map's radiance in its
 // direction, and next-event estimation casts one more shadow ray, unbounded,
 // in a direction drawn from the map's distribution (after the emitter's),
 // combined with the bounce ray by the same power heuristic.
+// A GGX lobe (ggx.hpp) is lit as the diffuse and glossy lobes are: by the
+// point lights (GgxLobe::point_light), the emitters and the map, each
+// combined with its bounce ray by the power heuristic.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -31,6 +34,7 @@
 #include "nodetrace/tracer/render/render.hpp"
 #include "render/emitters.hpp"
 #include "render/fresnel.hpp"
+#include "render/ggx.hpp"
 #include "render/path_lobes.hpp"
 #include "render/path_random.hpp"
 #include "render/render_context.hpp"
@@ -59,10 +63,10 @@ float phong_cos_power(float cos_alpha, float n) { return cos_alpha > 0 ? math::p
 
 // The bounce's lobe: the first whose share of the weights' running sum
 // reaches `pick`; rounding can never choose a lobe of weight 0.
-int choose_lobe(const std::array<float, 4>& weights, float pick) {
+int choose_lobe(const std::array<float, 5>& weights, float pick) {
   float sum = 0;
   int last = -1;
-  for (int i = 0; i < 4; ++i) {
+  for (int i = 0; i < 5; ++i) {
     if (!(weights[i] > 0)) continue;
     sum += weights[i];
     last = i;
@@ -82,9 +86,9 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
   RayKind kind = RayKind::Primary;
   Vec3 radiance, throughput{1, 1, 1};
   // Next-event estimation to emitters and to the environment map happens at
-  // each diffuse or glossy hit that casts shadow rays; `bounce_density` is
-  // the density (per solid angle) of the last bounce ray's direction when it
-  // came from such a hit and a diffuse or glossy lobe (0: a camera, mirror or
+  // each diffuse, glossy or GGX hit that casts shadow rays; `bounce_density`
+  // is the density (per solid angle) of the last bounce ray's direction when
+  // it came from such a hit and such a lobe (0: a camera, mirror or
   // dielectric ray, whose emitters and map are met only by the ray).
   const bool sample_emitters = emitters_ && !emitters_->empty() && plan_.casts(RayKind::Shadow);
   const EnvironmentMap* environment = options_.environment.get();
@@ -110,6 +114,7 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
     const ShadingPoint at = shading_point(ray, *hit);
     const Material& material = *at.material;
     const detail::LobeWeights w = detail::lobe_weights(material);
+    const detail::GgxLobe ggx(detail::ggx_alpha(material.ggx_roughness), at.normal, at.view);
     radiance += throughput * scene_.ambient * (material.ambient ? *material.ambient : material.diffuse);
     if (detail::emits(material)) {
       float weight = 1;
@@ -121,9 +126,9 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
       radiance += throughput * material.emission * weight;
     }
 
-    // Next-event estimation: the diffuse and glossy lobes' light from each
+    // Next-event estimation: the diffuse, glossy and GGX lobes' light from each
     // point light (the mirror and dielectric lobes see none: a point is never hit).
-    if ((w.diffuse > 0 || w.glossy > 0) && plan_.casts(RayKind::Shadow)) {
+    if (w.lit() && plan_.casts(RayKind::Shadow)) {
       const Vec3 shadow_origin = offset_ray_origin(at.surface, at.facing);
       for (std::size_t i = 0; i < lights_shadowed_; ++i) {
         const PointLight& light = scene_.lights[i];
@@ -140,12 +145,15 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
           reflectance += material.specular * ((n + 2.0f) * 0.5f * math::pow(cos_alpha, n));
         }
         radiance += throughput * light.color * reflectance * (light_scale_ * cos_light);
+        if (w.ggx > 0) {
+          radiance += throughput * light.color * material.ggx_color * (light_scale_ * ggx.point_light(l));
+        }
       }
     }
     const auto next_ray = static_cast<std::uint32_t>(bounce + 1);
     // Where no bounce ray follows, a light sample's estimate is the only one.
     const bool last = bounce >= options_.path.max_bounces;
-    // The diffuse and glossy lobes' BRDF x cos towards a light sample in
+    // The diffuse, glossy and GGX lobes' BRDF x cos towards a light sample in
     // unit direction `l` of density `light_density` (per solid angle), each
     // lobe weighted against its bounce ray.
     const auto weighted_brdf_cos = [&](const Vec3& l, float cos_surface, float light_density) {
@@ -163,9 +171,14 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
         const float weight = last ? 1.0f : power_heuristic(light_density, lobe_density);
         brdf_cos += material.specular * ((n + 2.0f) * lobe * cos_surface * weight);
       }
+      if (w.ggx > 0) {
+        const float lobe_density = w.ggx / total * ggx.pdf(l);
+        const float weight = last ? 1.0f : power_heuristic(light_density, lobe_density);
+        brdf_cos += material.ggx_color * (ggx.brdf_cos(l) * weight);
+      }
       return brdf_cos;
     };
-    if ((w.diffuse > 0 || w.glossy > 0) && sample_emitters) {
+    if (w.lit() && sample_emitters) {
       const auto on_emitter = random.uniform_pair(next_ray, detail::kEmitterU);
       const detail::Emitters::Sample e = emitters_->sample(on_emitter.first, on_emitter.second);
       const Vec3 to_emitter = e.point - at.surface.point;
@@ -180,7 +193,7 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
         }
       }
     }
-    if ((w.diffuse > 0 || w.glossy > 0) && sample_environment) {
+    if (w.lit() && sample_environment) {
       const EnvironmentMap::Sample s = environment->sample(random.uniform(next_ray, detail::kEnvironmentU),
                                                            random.uniform(next_ray, detail::kEnvironmentV));
       if (dot(s.direction, at.facing) > 0 && s.pdf > 0 &&
@@ -202,7 +215,7 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
       if (!(random.uniform(next, detail::kRoulette) < survival)) break;
       throughput = throughput / survival;
     }
-    const int lobe = choose_lobe({w.diffuse, w.glossy, w.mirror, w.dielectric},
+    const int lobe = choose_lobe({w.diffuse, w.glossy, w.mirror, w.dielectric, w.ggx},
                                  random.uniform(next, detail::kLobe) * total);
     const auto [u1, u2] = random.uniform_pair(next, detail::kDirection1);
     Vec3 direction, weight;
@@ -224,6 +237,14 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
       if (next_event) {
         bounce_density = w.glossy / total * (n + 1.0f) * 0.5f * kInvPi * phong_cos_power(dot(direction, mirror), n);
       }
+    } else if (lobe == 4) {
+      kind = RayKind::Glossy;
+      if (!ggx.facing()) break;  // the viewer below the shading normal: the lobe gives nothing
+      direction = ggx.sample(u1, u2);
+      if (!(dot(direction, at.normal) > 0)) break;  // below the surface: the lobe gives nothing
+      // BRDF x cos over the density: G1 of the direction.
+      weight = material.ggx_color * (ggx.masking(direction) * (total / w.ggx));
+      if (next_event) bounce_density = w.ggx / total * ggx.pdf(direction);
     } else {
       kind = RayKind::Reflection;
       // The lobe's weight (reflectance or transmittance) over its probability

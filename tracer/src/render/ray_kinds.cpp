@@ -83,9 +83,9 @@ RayKindPlan plan_path_ray_kinds(const Scene& scene, int max_bounces, bool enviro
   bool lit = false, diffuse = false, glossy = false, reflects = false, transmits = false;
   for (const Material* material : used_materials(scene)) {
     const detail::LobeWeights w = detail::lobe_weights(*material);
-    lit = lit || w.diffuse > 0 || w.glossy > 0;
+    lit = lit || w.lit();
     diffuse = diffuse || w.diffuse > 0;
-    glossy = glossy || w.glossy > 0;
+    glossy = glossy || w.glossy > 0 || w.ggx > 0;
     reflects = reflects || w.mirror > 0 || w.dielectric > 0;  // Fresnel and TIR reflect too
     transmits = transmits || w.dielectric > 0;
   }

@@ -1,5 +1,6 @@
 // Whitted shading of one pixel: its primary ray, and at each hit the shadow
-// rays to the lights in front of the surface, a Phong highlight, then
+// rays to the lights in front of the surface, a Phong highlight (and a GGX
+// lobe's light from them, as the path tracer's point lights give it), then
 // reflection and refraction depth-first; what both integrators know of a hit;
 // a pixel's samples (docs/ARCHITECTURE.md "What a traversal
 // fetches": the order of the records is the order of these rays).
@@ -7,9 +8,11 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "nodetrace/base/portable_math.hpp"
 #include "render/fresnel.hpp"
+#include "render/ggx.hpp"
 #include "nodetrace/tracer/render/interaction.hpp"
 #include "nodetrace/tracer/render/render.hpp"
 #include "render/ray_timing.hpp"
@@ -102,6 +105,9 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
   // (no shadow rays go to it: the Whitted tracer's light is its point lights').
   Vec3 color = material.emission + scene_.ambient * (material.ambient ? *material.ambient : material.diffuse);
   if (plan_.casts(RayKind::Shadow)) {
+    // A GGX lobe reflects the point lights only, no rays of its own.
+    std::optional<detail::GgxLobe> ggx;
+    if (detail::lobe_weights(material).ggx > 0) ggx.emplace(detail::ggx_alpha(material.ggx_roughness), normal, view);
     const Vec3 shadow_origin = offset_ray_origin(surface, facing);
     for (std::size_t i = 0; i < lights_shadowed_; ++i) {
       const PointLight& light = scene_.lights[i];
@@ -117,6 +123,7 @@ Vec3 Renderer::shade(const Ray& ray, RayKind kind, int depth, Context& context) 
         specular = math::pow(std::max(0.0f, dot(detail::reflect(-l, normal), view)), material.shininess);
       }
       color += light.color * light_scale_ * (material.diffuse * diffuse + material.specular * specular);
+      if (ggx) color += light.color * material.ggx_color * (light_scale_ * ggx->point_light(l));
     }
   }
   if (depth >= options_.max_depth) return color;

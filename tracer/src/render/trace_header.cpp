@@ -8,6 +8,8 @@
 
 #include "nodetrace/formats/container/metadata.hpp"
 #include "render/emitters.hpp"
+#include "render/ggx.hpp"
+#include "render/path_lobes.hpp"
 #include "render/path_random.hpp"
 
 namespace nodetrace::tracer {
@@ -55,6 +57,29 @@ nlohmann::json path_tracing_description(const PathOptions& path) {
   // Written only when given, so the headers of renders without it are as before.
   if (path.seed != 0) description["seed"] = fmt::format("--path-seed {}: XORed into the keys above", path.seed);
   return description;
+}
+
+// Some triangle's material has a GGX lobe.
+bool has_ggx_lobe(const Scene& scene) {
+  for (const Triangle& t : scene.triangles) {
+    if (t.material < scene.materials.size() && detail::lobe_weights(scene.materials[t.material]).ggx > 0) return true;
+  }
+  return false;
+}
+
+// What a GGX lobe is and how the integrator lights it.
+std::string ggx_description(Integrator integrator) {
+  const std::string lobe = fmt::format(
+      "GGX microfacet lobes (OBJ Pr with Ks, AFF fg): Blender Cycles' Glossy BSDF with distribution GGX, "
+      "alpha = max(roughness^2, {}), GGX D, separable Smith G = G1(v) G1(l), no Fresnel term, BRDF x cos = "
+      "colour D G / (4 cos_v)",
+      shortest(detail::kMinGgxAlpha));
+  if (integrator == Integrator::Whitted) {
+    return lobe + "; they reflect the point lights only (pi x BRDF x cos, the lights' convention), no rays of their own";
+  }
+  return lobe + "; one bounce chooses one with probability proportional to its mean colour and draws a visible "
+                "normal (Heitz 2018) from random dimensions 1 and 2, weight colour x G1(l); lit by next-event "
+                "estimation as a diffuse lobe is, combined per lobe with the bounce ray by the power heuristic";
 }
 
 // The map as the user named it, its size and checksum, and how it lights.
@@ -109,6 +134,8 @@ nlohmann::json make_trace_header(const SceneSource& source, const Scene& first_s
                         {"fov", shortest(r.fov_y_degrees.value_or(c.fov_y_degrees))}};
   }
   if (r.fov_y_degrees) render["fov"] = shortest(*r.fov_y_degrees);
+  // Written only for a scene with a GGX lobe, so other headers are as before.
+  if (has_ggx_lobe(first_scene)) render["ggx"] = ggx_description(r.integrator);
   // Written only when narrowed, so a default render's header is as before.
   if (r.rays != RayScope::Whitted) render["rays"] = ray_scope_name(r.rays);
   if (r.first_light_only) render["lights"] = "first";

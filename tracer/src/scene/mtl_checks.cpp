@@ -16,7 +16,8 @@ namespace nodetrace::tracer::detail {
 
 namespace {
 
-constexpr std::array<std::string_view, 9> kCheckedKeywords = {"Ka", "Kd", "Ks", "Ke", "Tf", "Ns", "Ni", "d", "Tr"};
+constexpr std::array<std::string_view, 10> kCheckedKeywords = {"Ka", "Kd", "Ks", "Ke", "Tf", "Ns", "Ni", "d", "Tr",
+                                                                "Pr"};
 
 std::optional<double> number(const std::string& word) {
   std::string_view text = word;
@@ -54,6 +55,9 @@ void check_mtl_numbers(std::string_view text, const std::filesystem::path& path)
       }
       if (*value < 0) fail("a number of at least 0 (a negative one would give negative radiance)");
       if (keyword == "Ni" && *value == 0) fail("an index of refraction above 0");
+      if (keyword == "Pr" && !(*value > 0 && *value <= 1)) {
+        fail("a roughness above 0 and at most 1 (a smooth mirror is illum 3, not Pr 0)");
+      }
     }
   }
 }

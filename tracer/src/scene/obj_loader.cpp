@@ -40,7 +40,9 @@ Vec3 vec3(const tinyobj::real_t* v) {
 // MTL illumination models: 3 and 5 are mirrors (reflection from Ks); 4, 6
 // and 7 are glass (reflection from Ks plus transmission); a dissolve d < 1
 // (or Tr > 0, which tinyobjloader folds into d) makes any material
-// transmissive.
+// transmissive. `Pr` (the PBR extension's roughness, above 0: check_mtl_numbers
+// refuses 0) gives a GGX lobe of colour Ks, and Ks is then that lobe's alone:
+// no Phong highlight, and no mirror or glass reflectance from it.
 Material whitted_material(const tinyobj::material_t& m) {
   Material material;
   material.name = m.name;
@@ -51,7 +53,14 @@ Material whitted_material(const tinyobj::material_t& m) {
   material.ior = static_cast<float>(m.ior);  // above 0: check_mtl_numbers refuses the rest
   const bool mirror = m.illum == 3 || m.illum == 5;
   const bool glass = m.illum == 4 || m.illum == 6 || m.illum == 7;
-  if (mirror || glass) material.reflectance = std::clamp(mean3(m.specular), 0.0f, 1.0f);
+  const bool ggx = m.roughness > 0;
+  if (ggx) {
+    material.ggx_color = material.specular;
+    material.ggx_roughness = static_cast<float>(m.roughness);
+    material.specular = {0, 0, 0};
+    material.shininess = 0;
+  }
+  if ((mirror || glass) && !ggx) material.reflectance = std::clamp(mean3(m.specular), 0.0f, 1.0f);
   if (m.dissolve < 1) {
     material.transmittance = std::clamp(static_cast<float>(1 - m.dissolve), 0.0f, 1.0f);
   } else if (glass) {

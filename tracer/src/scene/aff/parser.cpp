@@ -96,6 +96,7 @@ class AffParser {
       else if (keyword == "f") parse_nff_material(tokens);
       else if (keyword == "fm") parse_extended_material(tokens);
       else if (keyword == "fe") parse_emission(tokens);
+      else if (keyword == "fg") parse_ggx(tokens);
       else if (keyword == "p") parse_polygon(tokens, false, false);
       else if (keyword == "pp") parse_polygon(tokens, true, false);
       else if (keyword == "tpp") parse_polygon(tokens, true, true);
@@ -113,7 +114,7 @@ class AffParser {
         node_stack_.pop_back();
       } else {
         tokens.fail("unknown keyword '" + std::string(keyword) +
-                    "' (expected one of v b am l f fm p pp tpp tp m s c i xs x k a })");
+                    "' (expected one of v b am l f fm fe fg p pp tpp tp m s c i xs x k a })");
       }
     }
   }
@@ -167,11 +168,13 @@ class AffParser {
   std::uint32_t add_material(Material material, const Tokenizer& tokens) {
     // Identical definitions (the BART city includes the same colour files
     // hundreds of times) share one entry.
-    auto key = std::array<float, 17>{material.diffuse.x, material.diffuse.y, material.diffuse.z,
+    auto key = std::array<float, 21>{material.diffuse.x, material.diffuse.y, material.diffuse.z,
                                      material.specular.x, material.specular.y, material.specular.z,
                                      material.shininess, material.reflectance, material.transmittance,
                                      material.ior, 0, 0, 0, 0,
-                                     material.emission.x, material.emission.y, material.emission.z};
+                                     material.emission.x, material.emission.y, material.emission.z,
+                                     material.ggx_color.x, material.ggx_color.y, material.ggx_color.z,
+                                     material.ggx_roughness};
     if (material.ambient) {
       key[10] = 1, key[11] = material.ambient->x, key[12] = material.ambient->y, key[13] = material.ambient->z;
     }
@@ -222,6 +225,21 @@ class AffParser {
     if (current_material_ >= out_.materials.size()) tokens.fail("'fe' needs a material before it ('f' or 'fm')");
     Material material = out_.materials[current_material_];
     material.emission = tokens.non_negative_vec3("emitted radiance");
+    current_material_ = add_material(std::move(material), tokens);
+  }
+
+  // `fg R G B roughness` (our extension): the current material (the last
+  // `f` or `fm`, with its `fe`) gaining a GGX lobe (Cycles' Glossy BSDF with
+  // distribution GGX) of colour R G B and roughness above 0 and at most 1;
+  // its other lobes stay. The next `f` or `fm` has none again.
+  void parse_ggx(Tokenizer& tokens) {
+    if (current_material_ >= out_.materials.size()) tokens.fail("'fg' needs a material before it ('f' or 'fm')");
+    Material material = out_.materials[current_material_];
+    material.ggx_color = tokens.non_negative_vec3("GGX colour");
+    material.ggx_roughness = tokens.real("GGX roughness");
+    if (!(material.ggx_roughness > 0 && material.ggx_roughness <= 1)) {
+      tokens.fail(fmt::format("expected a GGX roughness above 0 and at most 1, got {:g}", material.ggx_roughness));
+    }
     current_material_ = add_material(std::move(material), tokens);
   }
 
@@ -440,7 +458,7 @@ class AffParser {
   ParsedAff& out_;
   std::vector<int> node_stack_;
   std::uint32_t current_material_ = 0;
-  std::map<std::array<float, 17>, std::uint32_t> material_index_;
+  std::map<std::array<float, 21>, std::uint32_t> material_index_;
   std::unordered_map<std::string, std::string> files_;
   std::uint64_t hash_ = kFnvOffset;
   std::size_t files_parsed_ = 0, triangles_ = 0;

@@ -20,7 +20,7 @@ enum class RayKind : std::uint8_t {
   Reflection = 2,
   Refraction = 3,
   Diffuse = 4,  // path tracing: cosine-weighted bounce
-  Glossy = 5,   // path tracing: modified-Phong lobe bounce
+  Glossy = 5,   // path tracing: modified-Phong or GGX lobe bounce
 };
 inline constexpr int kRayKindCount = 6;
 std::string_view ray_kind_name(RayKind kind);

@@ -25,6 +25,12 @@ struct Material {
   // Emitted radiance (OBJ `Ke`, AFF `fe`): a triangle of a material that
   // emits is an area light, emitting from both faces.
   Vec3 emission{0, 0, 0};
+  // A GGX microfacet lobe (OBJ `Pr` with `Ks` its colour, AFF `fg`): Blender
+  // Cycles' Glossy BSDF with distribution GGX, of this colour and roughness
+  // (the node's Roughness, 0 to 1; alpha is its square). Roughness 0: no
+  // such lobe.
+  Vec3 ggx_color{0, 0, 0};
+  float ggx_roughness = 0;
   // Ambient reflectance (AFF `fm`), multiplied by Scene::ambient; nullopt:
   // use `diffuse`.
   std::optional<Vec3> ambient;
