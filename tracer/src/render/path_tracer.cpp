@@ -29,6 +29,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 
 #include "nodetrace/base/portable_math.hpp"
 #include "nodetrace/tracer/render/render.hpp"
@@ -114,7 +115,9 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
     const ShadingPoint at = shading_point(ray, *hit);
     const Material& material = *at.material;
     const detail::LobeWeights w = detail::lobe_weights(material);
-    const detail::GgxLobe ggx(detail::ggx_alpha(material.ggx_roughness), at.normal, at.view);
+    // Built only for a material that has the lobe: its frame and masking cost every hit otherwise.
+    std::optional<detail::GgxLobe> ggx;
+    if (w.ggx > 0) ggx.emplace(detail::ggx_alpha(material.ggx_roughness), at.normal, at.view);
     radiance += throughput * scene_.ambient * (material.ambient ? *material.ambient : material.diffuse);
     if (detail::emits(material)) {
       float weight = 1;
@@ -146,7 +149,7 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
         }
         radiance += throughput * light.color * reflectance * (light_scale_ * cos_light);
         if (w.ggx > 0) {
-          radiance += throughput * light.color * material.ggx_color * (light_scale_ * ggx.point_light(l));
+          radiance += throughput * light.color * material.ggx_color * (light_scale_ * ggx->point_light(l));
         }
       }
     }
@@ -172,9 +175,9 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
         brdf_cos += material.specular * ((n + 2.0f) * lobe * cos_surface * weight);
       }
       if (w.ggx > 0) {
-        const float lobe_density = w.ggx / total * ggx.pdf(l);
+        const float lobe_density = w.ggx / total * ggx->pdf(l);
         const float weight = last ? 1.0f : power_heuristic(light_density, lobe_density);
-        brdf_cos += material.ggx_color * (ggx.brdf_cos(l) * weight);
+        brdf_cos += material.ggx_color * (ggx->brdf_cos(l) * weight);
       }
       return brdf_cos;
     };
@@ -239,12 +242,12 @@ Vec3 Renderer::trace_path(std::uint32_t pixel, std::uint32_t sample, Context& co
       }
     } else if (lobe == 4) {
       kind = RayKind::Glossy;
-      if (!ggx.facing()) break;  // the viewer below the shading normal: the lobe gives nothing
-      direction = ggx.sample(u1, u2);
+      if (!ggx->facing()) break;  // the viewer below the shading normal: the lobe gives nothing
+      direction = ggx->sample(u1, u2);
       if (!(dot(direction, at.normal) > 0)) break;  // below the surface: the lobe gives nothing
       // BRDF x cos over the density: G1 of the direction.
-      weight = material.ggx_color * (ggx.masking(direction) * (total / w.ggx));
-      if (next_event) bounce_density = w.ggx / total * ggx.pdf(direction);
+      weight = material.ggx_color * (ggx->masking(direction) * (total / w.ggx));
+      if (next_event) bounce_density = w.ggx / total * ggx->pdf(direction);
     } else {
       kind = RayKind::Reflection;
       // The lobe's weight (reflectance or transmittance) over its probability
