@@ -24,8 +24,9 @@ class MarkedRecencySets {
   static constexpr bool kVectorWays = FixedWays == 4 || FixedWays == 8;
 
  public:
-  // `use_avx2`: prefetch runs take the AVX2 form where the processor has it
-  // (4 and 8 ways); false keeps the scalar one (tests compare the two).
+  // `use_avx2`: demand and prefetch runs take the AVX2 forms where the
+  // processor has it (4 and 8 ways); false keeps the scalar ones (tests
+  // compare the two).
   explicit MarkedRecencySets(const CacheGeometry& geometry, bool use_avx2 = true)
       : assoc_(FixedWays != 0 ? FixedWays : geometry.assoc),
         lru_(geometry.replacement == ReplacementPolicy::Lru),
@@ -34,8 +35,8 @@ class MarkedRecencySets {
         tags_(geometry.size / geometry.block_size, kInvalid),
         marks_(set_mask_ + 1, 0) {}
 
-  // Whether prefetch runs take the AVX2 form.
-  bool vector_prefetch() const { return avx2_; }
+  // Whether demand and prefetch runs take the AVX2 forms.
+  bool vector_runs() const { return avx2_; }
 
   PrefetchDemand demand(std::uint64_t block) {
     const std::uint64_t set = block & set_mask_;

@@ -1,9 +1,10 @@
 // The forms of a treelet prefetcher's LRU and FIFO sets
 // (marked_recency_sets.hpp): with 4 and 8 ways fixed at compile time, the
-// AVX2 prefetch run that processors with AVX2 take and the scalar one, and
-// the form for any number of ways, must miss, hit prefetched blocks and
-// place prefetches alike on the same demand fetches, prefetch runs and
-// invalidations. (The sweep's tests hold them to the reference model.)
+// AVX2 demand and prefetch runs that processors with AVX2 take and the
+// scalar ones, and the form for any number of ways, must miss, hit
+// prefetched blocks and place prefetches alike on the same demand fetches,
+// prefetch runs and invalidations. (The sweep's tests hold them to the
+// reference model.)
 #include <gtest/gtest.h>
 
 #include <random>
@@ -77,12 +78,12 @@ TEST(MarkedRecencySets, EightWaysAgreeInEveryFormUnderFifo) { expect_forms_agree
 
 TEST(MarkedRecencySets, TheVectorFormIsTakenWhereTheProcessorHasAvx2) {
   const CacheGeometry geometry{256, 8, 4, ReplacementPolicy::Lru};
-  EXPECT_EQ(MarkedRecencySets<4>(geometry).vector_prefetch(), cpu_has_avx2());
-  EXPECT_EQ(MarkedRecencySets<8>(CacheGeometry{512, 8, 8, ReplacementPolicy::Lru}).vector_prefetch(),
+  EXPECT_EQ(MarkedRecencySets<4>(geometry).vector_runs(), cpu_has_avx2());
+  EXPECT_EQ(MarkedRecencySets<8>(CacheGeometry{512, 8, 8, ReplacementPolicy::Lru}).vector_runs(),
             cpu_has_avx2());
-  EXPECT_FALSE(MarkedRecencySets<4>(geometry, false).vector_prefetch());
-  EXPECT_FALSE(MarkedRecencySets<2>(CacheGeometry{256, 8, 2, ReplacementPolicy::Lru}).vector_prefetch());
-  EXPECT_FALSE(MarkedRecencySets<>(geometry).vector_prefetch());
+  EXPECT_FALSE(MarkedRecencySets<4>(geometry, false).vector_runs());
+  EXPECT_FALSE(MarkedRecencySets<2>(CacheGeometry{256, 8, 2, ReplacementPolicy::Lru}).vector_runs());
+  EXPECT_FALSE(MarkedRecencySets<>(geometry).vector_runs());
 }
 
 }  // namespace
