@@ -308,6 +308,11 @@ class Simulator final : public ConfigSimulator {
   // Din addresses need no rounding here: blocks are at least 4 bytes.
   void feed_blocks(const Record* records, std::size_t count, std::uint64_t first_record) {
     const unsigned shift = shift_;
+    if constexpr (!Router::kSplit && requires { low_.access_blocks_of(records, count, shift); }) {
+      // A treelet prefetcher's loop of its own.
+      count_fast(count, 0, 0, low_.access_blocks_of(records, count, shift));
+      return;
+    }
     std::uint64_t high_refs = 0;
     std::uint64_t high_misses = 0;
     std::uint64_t low_misses = 0;
