@@ -49,6 +49,7 @@ class MarkedRecencySets {
   // where a caller's loop of demand() reloads them after every store.
   template <typename BlockAt, typename OnMiss>
   std::uint64_t demand_run(std::size_t count, BlockAt block_at, std::uint64_t& useful, OnMiss on_miss) {
+#if defined(NODETRACE_MARKED_SETS_AVX2)  // the AVX2 forms exist on x86-64 only
     if constexpr (kVectorWays) {
       if (avx2_) {
         const auto run = lru_ ? demand_run_avx2<FixedWays, true, BlockAt, OnMiss>
@@ -56,6 +57,7 @@ class MarkedRecencySets {
         return run(tags_.data(), marks_.data(), set_mask_, count, block_at, useful, on_miss);
       }
     }
+#endif
     std::uint64_t* const tags = tags_.data();
     std::uint32_t* const marks = marks_.data();
     const std::uint64_t set_mask = set_mask_;
@@ -80,9 +82,11 @@ class MarkedRecencySets {
   // Places each block from `first` to `last` newest in its set, marked,
   // unless it is resident; returns how many were placed.
   std::uint64_t prefetch_run(std::uint64_t first, std::uint64_t last) {
+#if defined(NODETRACE_MARKED_SETS_AVX2)
     if constexpr (kVectorWays) {
       if (avx2_) return prefetch_run_avx2<FixedWays>(tags_.data(), marks_.data(), set_mask_, first, last);
     }
+#endif
     // Locals: stores through the arrays cannot change them.
     std::uint64_t* const tags = tags_.data();
     std::uint32_t* const marks = marks_.data();
