@@ -91,18 +91,14 @@ def main():
         """The image's mean squared error, less the reference's own."""
         return max(0.0, float(numpy.mean((image - reference) ** 2)) - reference_mse)
 
-    def rmse(image):
-        return math.sqrt(mse(image))
-
-    def ours(spp, sampler, seeds=(0,)):
-        """Median CPU and root mean squared error over renders with each --path-seed."""
+    def ours(spp, sampler, seeds):
+        """Median CPU and root mean squared error over one render with each --path-seed."""
         cpus, errors = [], []
         for seed in seeds:
             prefix = os.path.join(args.out, f"ours-{sampler}-{spp}-seed{seed}")
-            runs = args.runs if len(seeds) == 1 else 1
-            cpus += [cpu_of([tracer, "render", aff, "--integrator", "path", "--spp", str(spp), "--sampler", sampler,
-                             "--path-seed", str(seed), "--threads", "1", "--pfm", prefix + ".pfm", "-q"] + size,
-                            prefix + ".log") for _ in range(runs)]
+            cpus.append(cpu_of([tracer, "render", aff, "--integrator", "path", "--spp", str(spp), "--sampler",
+                                sampler, "--path-seed", str(seed), "--threads", "1", "--pfm", prefix + ".pfm", "-q"] +
+                               size, prefix + ".log"))
             errors.append(mse(common.read_pfm(prefix + ".pfm")))
         return {"spp": spp, "cpu": statistics.median(cpus), "rmse": math.sqrt(statistics.mean(errors))}
 

@@ -68,11 +68,6 @@ inline std::uint32_t owen_scramble_reversed(std::uint32_t v, std::uint32_t seed)
   return reverse_bits(v);
 }
 
-// The same scrambling of a fraction given as it is.
-inline std::uint32_t owen_scramble(std::uint32_t v, std::uint32_t seed) {
-  return owen_scramble_reversed(reverse_bits(v), seed);
-}
-
 // Point `index` of Sobol dimension 0 or 1, Owen-scrambled by `seed`.
 inline std::uint32_t scrambled_sobol(std::uint32_t index, int dimension, std::uint32_t seed) {
   return owen_scramble_reversed(sobol_bits_reversed(index, dimension), seed);
